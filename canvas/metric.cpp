@@ -1,0 +1,123 @@
+#include "rvor/metric.h"
+
+#include <cmath>
+#include <sstream>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
+
+#include "rvor/error.h"
+
+namespace rvor {
+
+namespace {
+
+// Applies f to the eigenvalues of a symmetric matrix.
+template <typename Function>
+Mat3 spectral_map(const Mat3& S, Function f) {
+  Eigen::SelfAdjointEigenSolver<Mat3> eigen(S);
+  Vec3 values = eigen.eigenvalues();
+  for (int i = 0; i < 3; ++i) values[i] = f(values[i]);
+  return eigen.eigenvectors() * values.asDiagonal() * eigen.eigenvectors().transpose();
+}
+
+std::string describe(const Mat3& G) {
+  std::ostringstream out;
+  out.precision(6);
+  out << "[" << G(0, 0) << " " << G(0, 1) << " " << G(1, 1) << " " << G(0, 2) << " " << G(1, 2)
+      << " " << G(2, 2) << "] (m11 m12 m22 m13 m23 m33)";
+  return out.str();
+}
+
+Mat3 normalised_weighted_sum(const std::vector<Mat3>& terms, const std::vector<double>& weights) {
+  if (terms.empty() || terms.size() != weights.size())
+    throw Error("metric interpolation needs as many weights as metrics, and at least one");
+  double total = 0;
+  for (double w : weights) {
+    if (!std::isfinite(w) || w < 0) throw Error("metric interpolation weight is negative or not finite");
+    total += w;
+  }
+  if (total <= 0) throw Error("metric interpolation weights sum to zero");
+  Mat3 sum = Mat3::Zero();
+  for (std::size_t i = 0; i < terms.size(); ++i) sum += (weights[i] / total) * terms[i];
+  return sum;
+}
+
+}  // namespace
+
+Mat3 tensor_from_sol(const SolTensor& c) {
+  Mat3 G;
+  G << c[0], c[1], c[3], c[1], c[2], c[4], c[3], c[4], c[5];
+  return G;
+}
+
+SolTensor tensor_to_sol(const Mat3& G) {
+  return {G(0, 0), G(0, 1), G(1, 1), G(0, 2), G(1, 2), G(2, 2)};
+}
+
+bool is_spd(const Mat3& G) {
+  if (!G.allFinite()) return false;
+  const double scale = G.cwiseAbs().maxCoeff();
+  if (scale <= 0) return false;
+  if ((G - G.transpose()).cwiseAbs().maxCoeff() > 1e-9 * scale) return false;
+  Eigen::LLT<Mat3> cholesky(0.5 * (G + G.transpose()));
+  if (cholesky.info() != Eigen::Success) return false;
+  // Cholesky accepts some matrices that are numerically singular: require a positive spectrum.
+  Eigen::SelfAdjointEigenSolver<Mat3> eigen(0.5 * (G + G.transpose()), Eigen::EigenvaluesOnly);
+  return eigen.eigenvalues().minCoeff() > 0;
+}
+
+void require_spd(const Mat3& G, const std::string& where) {
+  if (!G.allFinite()) throw Error("metric " + where + " is not finite: " + describe(G));
+  if (!is_spd(G)) throw Error("metric " + where + " is not symmetric positive definite: " + describe(G));
+}
+
+Mat3 metric_sqrt(const Mat3& G) {
+  return spectral_map(G, [](double x) { return std::sqrt(std::max(x, 0.0)); });
+}
+
+Mat3 metric_log(const Mat3& G) {
+  return spectral_map(G, [](double x) { return std::log(x); });
+}
+
+Mat3 metric_exp(const Mat3& S) {
+  return spectral_map(S, [](double x) { return std::exp(x); });
+}
+
+double metric_length(const Mat3& G, const Vec3& v) { return std::sqrt(std::max(0.0, v.dot(G * v))); }
+
+double distortion(const Mat3& G1, const Mat3& G2) {
+  const Mat3 F1 = metric_sqrt(G1), F2 = metric_sqrt(G2);
+  auto spectral_norm = [](const Mat3& A) {
+    Eigen::JacobiSVD<Mat3> svd(A);
+    return svd.singularValues()[0];
+  };
+  return std::max(spectral_norm(F1 * F2.inverse()), spectral_norm(F2 * F1.inverse()));
+}
+
+Mat3 interpolate_log_euclidean(const std::vector<Mat3>& metrics, const std::vector<double>& weights) {
+  std::vector<Mat3> logs;
+  logs.reserve(metrics.size());
+  for (const Mat3& G : metrics) logs.push_back(metric_log(G));
+  return metric_exp(normalised_weighted_sum(logs, weights));
+}
+
+Mat3 interpolate_linear(const std::vector<Mat3>& metrics, const std::vector<double>& weights) {
+  return normalised_weighted_sum(metrics, weights);
+}
+
+Mat3 metric_from_frame(int dimension, const Vec3& v1, double a, const Vec3& v2, double b, double c) {
+  Mat3 G = a * a * v1 * v1.transpose() + b * b * v2 * v2.transpose();
+  if (dimension == 3) {
+    const Vec3 v3 = v1.cross(v2);
+    G += c * c * v3 * v3.transpose();
+  } else {
+    G.row(2).setZero();
+    G.col(2).setZero();
+    G(2, 2) = 1.0;
+  }
+  return G;
+}
+
+}  // namespace rvor

@@ -1,0 +1,24 @@
+#pragma once
+// Output files are never half-written: they are written under a temporary name in the same
+// directory and renamed over the target only once complete.
+#include <functional>
+#include <ostream>
+#include <string>
+
+namespace rvor {
+
+// Writes `path` through `writer`; throws rvor::Error naming the path when the directory is not
+// writable or the stream fails. On failure the previous file (if any) is untouched.
+void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& writer,
+                           bool binary = false);
+
+// For writers that need a file name (OpenVDB): a unique temporary name next to `path`, and the
+// rename that publishes it (throws rvor::Error naming both paths on failure).
+std::string temporary_path_for(const std::string& path);
+void publish_temporary(const std::string& temporary, const std::string& path);
+
+// Throws rvor::Error "cannot write to output directory DIR: reason" unless DIR exists (it is
+// created with its parents if missing) and a file can be created in it.
+void prepare_output_directory(const std::string& dir);
+
+}  // namespace rvor

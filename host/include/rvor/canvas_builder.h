@@ -1,0 +1,29 @@
+#pragma once
+// Builds a Canvas from a domain and a metric field on OpenVDB: the domain becomes the active
+// topology of a sparse grid, the metric is sampled and validated at every active voxel, and the
+// active leaves are packed into bricks.
+#include <cstddef>
+#include <cstdint>
+
+#include "rvor/canvas.h"
+#include "rvor/domain.h"
+#include "rvor/metric_field.h"
+
+namespace rvor {
+
+struct CanvasOptions {
+  int resolution = 128;            // voxels along the longest side of the domain's bounding box
+  std::uint64_t memory_budget = 0;  // bytes; 0 = 75% of physical memory
+};
+
+// Bytes the canvas and a propagation over it need per active voxel (packed metric, activity,
+// distance, label, solver work arrays), used for the up-front estimate.
+std::uint64_t estimated_bytes_per_active_voxel();
+std::uint64_t default_memory_budget();  // 75% of physical memory
+
+// Throws rvor::Error when the resolution is not in [2, 65536], the domain is empty, the estimate
+// exceeds the budget (the message gives the estimate and the budget), or the metric is not SPD
+// somewhere (the message gives the position).
+Canvas build_canvas(const DomainSpec& domain, const MetricField& metric, const CanvasOptions& options);
+
+}  // namespace rvor

@@ -1,0 +1,27 @@
+#pragma once
+// Canvas outputs for people: the labeled canvas as a VTK .vtu (ParaView) and probe samples.
+#include <string>
+#include <vector>
+
+#include "rvor/canvas.h"
+#include "rvor/propagation.h"
+
+namespace rvor {
+
+// Active voxels as VTK_VOXEL cells with cell data `label` (int) and `distance` (float);
+// binary appended data. Atomic.
+void write_canvas_vtu(const std::string& path, const Canvas& canvas, const VoronoiField& field);
+
+struct ProbeSample {
+  Vec3 query;         // the probe point as given
+  Vec3 voxel_centre;  // centre of the nearest active voxel
+  float distance;
+  int label;
+};
+// For each point, the nearest active voxel (by index distance, searched outwards in shells).
+std::vector<ProbeSample> probe_field(const Canvas& canvas, const VoronoiField& field,
+                                     const std::vector<Vec3>& points);
+// CSV with header x,y,z,distance,label (x,y,z = the voxel centre). Atomic.
+void write_probe_csv(const std::string& path, const std::vector<ProbeSample>& samples);
+
+}  // namespace rvor

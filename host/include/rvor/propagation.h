@@ -1,0 +1,50 @@
+#pragma once
+// Multi-source Riemannian eikonal propagation: for every active canvas voxel, the geodesic
+// distance to its nearest seed and that seed's label. The discrete scheme (Selling stencils,
+// per-label updates, exact initialisation, additive source factorization) is specified in
+// docs/scheme.md; every Propagator implements exactly that scheme and converges to its unique
+// solution, so implementations agree up to floating-point rounding.
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rvor/canvas.h"
+
+namespace rvor {
+
+// Per canvas slot: distance (+inf where unreached or inactive) and label (seed index, -1 where none).
+struct VoronoiField {
+  std::vector<float> distance;
+  std::vector<int32_t> label;
+};
+
+struct PropagationStats {
+  std::uint64_t iterations = 0;     // outer iterations (reference: queue pops / active-list rounds)
+  std::uint64_t voxel_updates = 0;  // local solves performed, all labels counted once per voxel visit
+  double seconds = 0.0;
+};
+
+class Propagator {
+ public:
+  virtual ~Propagator() = default;
+  // What runs the propagation, e.g. "cpu reference" or "OpenCL: pthread-haswell (PoCL 3.1)".
+  virtual std::string device_description() const = 0;
+  // Solves from scratch: seed i gets label i. Validates the seeds first (validate_seeds).
+  virtual PropagationStats solve(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                                 VoronoiField& field) = 0;
+  // Adds seeds[first_new..] to a field solved for seeds[0..first_new): values only decrease, and
+  // only what the new seeds change is recomputed. The result equals solve() with all seeds.
+  virtual PropagationStats insert(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                                  std::size_t first_new, VoronoiField& field) = 0;
+};
+
+// The sequential CPU reference solver: clear on purpose, the ground truth for every kernel.
+std::unique_ptr<Propagator> make_reference_propagator();
+
+// "cpu" -> the reference; "auto", "opencl", "opencl:N", "pocl" -> the OpenCL engine (added by
+// the OpenCL runtime). Throws rvor::Error for unknown names or missing devices.
+std::unique_ptr<Propagator> make_propagator(const std::string& device);
+
+}  // namespace rvor

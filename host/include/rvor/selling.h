@@ -1,0 +1,21 @@
+#pragma once
+// Selling's decomposition of a symmetric positive definite D (the dual metric G^-1):
+// D = sum_i rho_i e_i e_i^T with rho_i >= 0 and integer offsets e_i (3 terms in 2D, 6 in 3D),
+// from an obtuse superbase found by Selling's iterative algorithm (Mirebeau 2019).
+#include <array>
+
+#include "rvor/metric.h"
+
+namespace rvor {
+
+struct SellingStencil {
+  int size = 0;                              // number of terms with rho > 0 (<= 6)
+  std::array<double, 6> weight{};            // rho_i
+  std::array<std::array<int, 3>, 6> offset{};  // e_i (z = 0 in 2D)
+};
+
+// `dimension` 2 uses the upper-left 2x2 block. Terms with rho == 0 are dropped. Throws rvor::Error
+// if D is not SPD or the iteration does not terminate (which only happens for non-SPD input).
+SellingStencil selling_decomposition(const Mat3& D, int dimension);
+
+}  // namespace rvor

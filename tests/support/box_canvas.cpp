@@ -1,0 +1,41 @@
+#include "support/box_canvas.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rvor::test {
+
+Canvas make_box_canvas(int dimension, const Vec3& lo, const Vec3& hi, int resolution,
+                       const MetricFunction& metric) {
+  const Vec3 extent = hi - lo;
+  const double longest = dimension == 3 ? extent.maxCoeff() : std::max(extent.x(), extent.y());
+  const double h = longest / resolution;
+  std::array<int, 3> dims{};
+  for (int a = 0; a < 3; ++a) dims[a] = std::max(1, static_cast<int>(std::lround(extent[a] / h)));
+  if (dimension == 2) dims[2] = 1;
+  const Vec3 origin = lo + 0.5 * h * Vec3(1, 1, dimension == 3 ? 1 : 0);
+
+  const int ez = dimension == 3 ? Canvas::kBrickEdge : 1;
+  std::vector<VoxelIndex> bricks;
+  for (int k = 0; k < dims[2]; k += ez)
+    for (int j = 0; j < dims[1]; j += Canvas::kBrickEdge)
+      for (int i = 0; i < dims[0]; i += Canvas::kBrickEdge) bricks.push_back({i, j, k});
+
+  Canvas canvas;
+  canvas.allocate(dimension, h, origin, dims, bricks);
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
+    const VoxelIndex v = canvas.voxel_of(slot);
+    if (v.i >= dims[0] || v.j >= dims[1] || v.k >= dims[2]) continue;
+    canvas.set_active(slot, metric(canvas.world_of(v)));
+  }
+  canvas.finalize();
+  canvas.description = "test box canvas";
+  return canvas;
+}
+
+Canvas make_uniform_box_canvas(int dimension, const Vec3& lo, const Vec3& hi, int resolution,
+                               const Mat3& G) {
+  return make_box_canvas(dimension, lo, hi, resolution, [&G](const Vec3&) { return G; });
+}
+
+}  // namespace rvor::test
