@@ -1,1 +1,64 @@
-// Placeholder: implemented in a later commit.
+#include "rvor/atomic_file.h"
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include <unistd.h>
+
+#include "rvor/error.h"
+
+namespace fs = std::filesystem;
+
+namespace rvor {
+
+std::string temporary_path_for(const std::string& path) {
+  static thread_local std::mt19937_64 random{std::random_device{}()};
+  const fs::path target(path);
+  const std::string name = "." + target.filename().string() + ".tmp-" + std::to_string(getpid()) +
+                           "-" + std::to_string(random() % 1000000000ULL);
+  return (target.parent_path() / name).string();
+}
+
+void publish_temporary(const std::string& temporary, const std::string& path) {
+  std::error_code error;
+  fs::rename(temporary, path, error);
+  if (error) {
+    fs::remove(temporary, error);
+    throw Error("cannot write " + path + ": rename from temporary file failed");
+  }
+}
+
+void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& writer,
+                           bool binary) {
+  const std::string temporary = temporary_path_for(path);
+  try {
+    std::ofstream out(temporary, binary ? std::ios::binary | std::ios::trunc : std::ios::trunc);
+    if (!out) throw Error("cannot write " + path + ": " + std::strerror(errno));
+    writer(out);
+    out.flush();
+    if (!out) throw Error("cannot write " + path + ": write failed (disk full?)");
+  } catch (...) {
+    std::error_code ignored;
+    fs::remove(temporary, ignored);
+    throw;
+  }
+  publish_temporary(temporary, path);
+}
+
+void prepare_output_directory(const std::string& dir) {
+  std::error_code error;
+  if (fs::exists(dir, error) && !fs::is_directory(dir, error))
+    throw Error("cannot write to output directory " + dir + ": it exists and is not a directory");
+  fs::create_directories(dir, error);
+  if (error) throw Error("cannot write to output directory " + dir + ": " + error.message());
+  const std::string probe = temporary_path_for((fs::path(dir) / "probe").string());
+  std::ofstream out(probe);
+  if (!out) throw Error("cannot write to output directory " + dir + ": " + std::strerror(errno));
+  out.close();
+  fs::remove(probe, error);
+}
+
+}  // namespace rvor

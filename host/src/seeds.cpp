@@ -1,1 +1,105 @@
-// Placeholder: implemented in a later commit.
+#include "rvor/seeds.h"
+
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <random>
+#include <sstream>
+
+#include "rvor/atomic_file.h"
+#include "rvor/error.h"
+
+namespace rvor {
+
+namespace {
+
+std::string format_point(const Vec3& p) {
+  std::ostringstream out;
+  out << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
+  return out.str();
+}
+
+// Parses 2 or 3 numbers separated by whitespace and/or commas; nothing else may follow.
+bool parse_point(std::string line, Vec3& point) {
+  for (char& c : line)
+    if (c == ',' || c == ';' || c == '\t') c = ' ';
+  std::istringstream in(line);
+  double values[4];
+  int count = 0;
+  std::string token;
+  while (in >> token) {
+    if (count == 4) return false;
+    char* end = nullptr;
+    values[count] = std::strtod(token.c_str(), &end);
+    if (end == token.c_str() || *end != '\0') return false;
+    ++count;
+  }
+  if (count != 2 && count != 3) return false;
+  point = Vec3(values[0], values[1], count == 3 ? values[2] : 0.0);
+  return true;
+}
+
+}  // namespace
+
+std::vector<Vec3> read_xyz(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw Error("cannot read point file " + path);
+  std::vector<Vec3> points;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    const auto first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#') continue;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    Vec3 point;
+    if (!parse_point(line, point))
+      throw Error(path + ":" + std::to_string(number) +
+                  ": expected 2 or 3 numbers per line, got '" + line + "'");
+    if (!point.allFinite())
+      throw Error(path + ":" + std::to_string(number) + ": coordinate is not finite");
+    points.push_back(point);
+  }
+  if (points.empty()) throw Error(path + ": no points in file");
+  return points;
+}
+
+void write_xyz(const std::string& path, const std::vector<Vec3>& points, int dimension) {
+  write_file_atomically(path, [&](std::ostream& out) {
+    out << std::setprecision(17);
+    for (const Vec3& p : points) {
+      out << p.x() << " " << p.y();
+      if (dimension == 3) out << " " << p.z();
+      out << "\n";
+    }
+  });
+}
+
+void validate_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds) {
+  if (seeds.empty()) throw Error("no seeds given");
+  for (std::size_t n = 0; n < seeds.size(); ++n) {
+    const Vec3& s = seeds[n];
+    if (!s.allFinite()) throw Error("seed " + std::to_string(n) + " has a coordinate that is not finite");
+    if (canvas.slot_of(canvas.voxel_containing(s)) < 0)
+      throw Error("seed " + std::to_string(n) + " at " + format_point(s) +
+                  " is outside the domain (its voxel is not an active canvas voxel)");
+  }
+}
+
+std::vector<Vec3> random_seeds(const Canvas& canvas, std::size_t count, std::uint64_t rng_seed) {
+  if (canvas.active_voxel_count == 0) throw Error("cannot draw seeds on an empty canvas");
+  std::vector<std::size_t> active_slots;
+  active_slots.reserve(canvas.active_voxel_count);
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot)
+    if (canvas.active[slot]) active_slots.push_back(slot);
+  std::mt19937_64 random(rng_seed);
+  std::uniform_int_distribution<std::size_t> pick(0, active_slots.size() - 1);
+  std::uniform_real_distribution<double> jitter(-0.49, 0.49);
+  std::vector<Vec3> seeds;
+  seeds.reserve(count);
+  for (std::size_t n = 0; n < count; ++n) {
+    Vec3 offset(jitter(random), jitter(random), canvas.dimension == 3 ? jitter(random) : 0.0);
+    seeds.push_back(canvas.world_of(active_slots[pick(random)]) + canvas.voxel_size * offset);
+  }
+  return seeds;
+}
+
+}  // namespace rvor
