@@ -31,8 +31,8 @@ void publish_temporary(const std::string& temporary, const std::string& path) {
   }
 }
 
-void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& writer,
-                           bool binary) {
+void write_file_atomically(const std::string& path,
+                           const std::function<void(std::ostream&)>& writer, bool binary) {
   const std::string temporary = temporary_path_for(path);
   try {
     std::ofstream out(temporary, binary ? std::ios::binary | std::ios::trunc : std::ios::trunc);

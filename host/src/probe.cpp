@@ -1,1 +1,70 @@
-// Placeholder: implemented in a later commit.
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+
+#include "rvor/atomic_file.h"
+#include "rvor/canvas_output.h"
+#include "rvor/error.h"
+
+namespace rvor {
+
+namespace {
+
+// The active voxel nearest (in index space) to continuous index coordinates c: searched in
+// growing cubic shells around the containing voxel, stopping once no farther shell can be closer.
+int64_t nearest_active_slot(const Canvas& canvas, const Vec3& c) {
+  const int ci = static_cast<int>(std::lround(std::clamp(c.x(), -1.0, canvas.dims[0] + 0.0)));
+  const int cj = static_cast<int>(std::lround(std::clamp(c.y(), -1.0, canvas.dims[1] + 0.0)));
+  const int ck = canvas.dimension == 3
+                     ? static_cast<int>(std::lround(std::clamp(c.z(), -1.0, canvas.dims[2] + 0.0)))
+                     : 0;
+  const int max_radius = std::max({canvas.dims[0], canvas.dims[1], canvas.dims[2]}) + 2;
+  int64_t best = -1;
+  double best_distance = std::numeric_limits<double>::infinity();
+  for (int r = 0; r <= max_radius; ++r) {
+    // Every voxel of shell r is at least r - 1 away from c (c lies within its rounded voxel).
+    if (best >= 0 && r - 1 > std::sqrt(best_distance)) break;
+    const int rk = canvas.dimension == 3 ? r : 0;
+    for (int k = ck - rk; k <= ck + rk; ++k)
+      for (int j = cj - r; j <= cj + r; ++j)
+        for (int i = ci - r; i <= ci + r; ++i) {
+          const bool on_shell =
+              std::abs(i - ci) == r || std::abs(j - cj) == r || std::abs(k - ck) == rk;
+          if (!on_shell) continue;
+          const int64_t slot = canvas.slot_of(i, j, k);
+          if (slot < 0) continue;
+          const double d =
+              (Vec3(i, j, k) - Vec3(c.x(), c.y(), canvas.dimension == 3 ? c.z() : 0)).squaredNorm();
+          if (d < best_distance) best_distance = d, best = slot;
+        }
+  }
+  return best;
+}
+
+}  // namespace
+
+std::vector<ProbeSample> probe_field(const Canvas& canvas, const VoronoiField& field,
+                                     const std::vector<Vec3>& points) {
+  std::vector<ProbeSample> samples;
+  samples.reserve(points.size());
+  for (std::size_t n = 0; n < points.size(); ++n) {
+    const int64_t slot = nearest_active_slot(canvas, canvas.index_coordinates(points[n]));
+    if (slot < 0)
+      throw Error("probe point " + std::to_string(n) + ": the canvas has no active voxel");
+    samples.push_back({points[n], canvas.world_of(static_cast<std::size_t>(slot)),
+                       field.distance[slot], field.label[slot]});
+  }
+  return samples;
+}
+
+void write_probe_csv(const std::string& path, const std::vector<ProbeSample>& samples) {
+  write_file_atomically(path, [&](std::ostream& out) {
+    out << "x,y,z,distance,label\n" << std::setprecision(9);
+    for (const ProbeSample& s : samples)
+      out << s.voxel_centre.x() << "," << s.voxel_centre.y() << "," << s.voxel_centre.z() << ","
+          << s.distance << "," << s.label << "\n";
+  });
+}
+
+}  // namespace rvor

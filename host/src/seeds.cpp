@@ -77,7 +77,8 @@ void validate_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds) {
   if (seeds.empty()) throw Error("no seeds given");
   for (std::size_t n = 0; n < seeds.size(); ++n) {
     const Vec3& s = seeds[n];
-    if (!s.allFinite()) throw Error("seed " + std::to_string(n) + " has a coordinate that is not finite");
+    if (!s.allFinite())
+      throw Error("seed " + std::to_string(n) + " has a coordinate that is not finite");
     if (canvas.slot_of(canvas.voxel_containing(s)) < 0)
       throw Error("seed " + std::to_string(n) + " at " + format_point(s) +
                   " is outside the domain (its voxel is not an active canvas voxel)");

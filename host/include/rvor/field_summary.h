@@ -1,0 +1,22 @@
+#pragma once
+// Statistics of a solved field, for report.json and the terminal summary.
+#include <cstddef>
+
+#include "rvor/canvas.h"
+#include "rvor/propagation.h"
+
+namespace rvor {
+
+struct FieldSummary {
+  std::size_t reached_voxels = 0;    // active voxels with a finite distance
+  std::size_t unreached_voxels = 0;  // active voxels no seed reached (disconnected components)
+  std::size_t non_empty_cells = 0;   // labels that own at least one voxel
+  std::size_t smallest_cell = 0;     // voxels in the smallest non-empty cell
+  std::size_t largest_cell = 0;      // voxels in the largest cell
+  double max_distance = 0.0;         // the farthest voxel from its seed (metric units)
+  double mean_distance = 0.0;
+};
+
+FieldSummary summarize_field(const Canvas& canvas, const VoronoiField& field, std::size_t seed_count);
+
+}  // namespace rvor
