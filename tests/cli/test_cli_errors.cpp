@@ -1,0 +1,144 @@
+// Bad input through the real tool: each case must end with exit code 1 (not a crash), exactly one
+// line on stderr that names the problem and where, and no output file left behind.
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "support/run_command.h"
+#include "support/temp_dir.h"
+
+namespace rvor::test {
+namespace {
+
+class CliErrors : public ::testing::Test {
+ protected:
+  TempDir dir;
+  std::string out() const { return dir.file("out"); }
+
+  // A valid small 2D run; tests replace one piece of it.
+  std::string voronoi(const std::string& args) const {
+    return rvor_binary() + " voronoi --quiet --out " + out() + " " + args;
+  }
+  std::string seeds2d() const {
+    write_text(dir.file("seeds.xyz"), "0.1 0.2\n-0.5 0.3\n");
+    return dir.file("seeds.xyz");
+  }
+
+  void expect_error(const std::string& args, const std::string& fragment) const {
+    const CommandResult result = run_command(voronoi(args));
+    EXPECT_EQ(result.exit_code, 1) << "stderr: " << result.err;
+    ASSERT_FALSE(result.err.empty());
+    EXPECT_EQ(result.err.find('\n'), result.err.size() - 1) << "more than one line: " << result.err;
+    EXPECT_NE(result.err.find("rvor: error: "), std::string::npos) << result.err;
+    EXPECT_NE(result.err.find(fragment), std::string::npos)
+        << "expected '" << fragment << "' in: " << result.err;
+    EXPECT_FALSE(std::filesystem::exists(out() + "/voronoi.vdb"));
+  }
+};
+
+TEST_F(CliErrors, NonSpdUniformMetric) {
+  expect_error(
+      "--domain rect:-1,-1,1,1 --resolution 16 --metric uniform:1,2,1 --seeds " + seeds2d(),
+      "not symmetric positive definite");
+}
+
+TEST_F(CliErrors, NanUniformMetric) {
+  expect_error(
+      "--domain rect:-1,-1,1,1 --resolution 16 --metric uniform:nan,0,1 --seeds " + seeds2d(),
+      "uniform");
+}
+
+TEST_F(CliErrors, UnknownMetricName) {
+  expect_error("--domain rect:-1,-1,1,1 --resolution 16 --metric swirly --seeds " + seeds2d(),
+               "swirly");
+}
+
+TEST_F(CliErrors, MalformedSeedFile) {
+  write_text(dir.file("bad.xyz"), "0.1 0.2\n0.3 zero\n");
+  expect_error("--domain rect:-1,-1,1,1 --resolution 16 --seeds " + dir.file("bad.xyz"),
+               "bad.xyz:2");
+}
+
+TEST_F(CliErrors, EmptySeedFile) {
+  write_text(dir.file("empty.xyz"), "# nothing\n");
+  expect_error("--domain rect:-1,-1,1,1 --resolution 16 --seeds " + dir.file("empty.xyz"),
+               "no points");
+}
+
+TEST_F(CliErrors, SeedOutsideDomain) {
+  write_text(dir.file("far.xyz"), "0 0\n5 5\n");
+  expect_error("--domain rect:-1,-1,1,1 --resolution 16 --seeds " + dir.file("far.xyz"),
+               "seed 1 at (5, 5, 0) is outside the domain");
+}
+
+TEST_F(CliErrors, EmptyDomain) {
+  expect_error("--domain box:0,0,0,0,1,1 --resolution 16 --random-seeds 3", "box:0,0,0,0,1,1");
+}
+
+TEST_F(CliErrors, ZeroResolution) {
+  expect_error("--domain rect:-1,-1,1,1 --resolution 0 --seeds " + seeds2d(), "resolution");
+}
+
+TEST_F(CliErrors, AbsurdResolutionIsRefusedByTheMemoryEstimate) {
+  expect_error("--domain box:-1,-1,-1,1,1,1 --resolution 60000 --random-seeds 3", "memory budget");
+}
+
+TEST_F(CliErrors, MemoryBudgetOverride) {
+  expect_error("--domain box:-1,-1,-1,1,1,1 --resolution 64 --memory-budget 1M --random-seeds 3",
+               "memory budget");
+}
+
+TEST_F(CliErrors, MalformedDomain) {
+  expect_error("--domain box:1,2,3 --resolution 16 --random-seeds 3", "box:1,2,3");
+}
+
+TEST_F(CliErrors, TruncatedMeditMesh) {
+  write_text(dir.file("m.mesh"),
+             "MeshVersionFormatted 2\nDimension 2\nVertices\n3\n0 0 0\n1 0 0\n");
+  write_text(
+      dir.file("m.sol"),
+      "MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n3\n1 3\n1 0 1\n1 0 1\n1 0 1\nEnd\n");
+  expect_error("--domain rect:0,0,1,1 --resolution 16 --metric-mesh " + dir.file("m.mesh") +
+                   " --metric-file " + dir.file("m.sol") + " --seeds " + seeds2d(),
+               "m.mesh");
+}
+
+TEST_F(CliErrors, NonSpdTensorInSol) {
+  write_text(dir.file("m.mesh"),
+             "MeshVersionFormatted 2\nDimension 2\nVertices\n3\n0 0 0\n1 0 0\n0 1 "
+             "0\nTriangles\n1\n1 2 3 0\nEnd\n");
+  write_text(
+      dir.file("m.sol"),
+      "MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n3\n1 3\n1 0 1\n1 5 1\n1 0 1\nEnd\n");
+  expect_error("--domain rect:0,0,1,1 --resolution 16 --metric-mesh " + dir.file("m.mesh") +
+                   " --metric-file " + dir.file("m.sol") + " --seeds " + seeds2d(),
+               "m.sol");
+}
+
+TEST_F(CliErrors, UnwritableOutputDirectory) {
+  write_text(dir.file("a-file"), "not a directory");
+  const CommandResult result =
+      run_command(rvor_binary() + " voronoi --quiet --out " + dir.file("a-file") +
+                  "/sub --domain rect:-1,-1,1,1 --resolution 16 --seeds " + seeds2d());
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_NE(result.err.find("cannot write to output directory"), std::string::npos) << result.err;
+}
+
+TEST_F(CliErrors, ExistingOutputsAreNotReplacedWithoutOverwrite) {
+  std::filesystem::create_directories(out());
+  write_text(out() + "/report.json", "mine");
+  const CommandResult result =
+      run_command(voronoi("--domain rect:-1,-1,1,1 --resolution 16 --seeds " + seeds2d()));
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_NE(result.err.find("--overwrite"), std::string::npos) << result.err;
+  EXPECT_EQ(read_text(out() + "/report.json"), "mine");
+}
+
+TEST_F(CliErrors, UnknownDevice) {
+  expect_error("--domain rect:-1,-1,1,1 --resolution 16 --device quantum --seeds " + seeds2d(),
+               "quantum");
+}
+
+}  // namespace
+}  // namespace rvor::test

@@ -1,0 +1,28 @@
+#include "support/run_command.h"
+
+#include <sys/wait.h>
+#include <cstdlib>
+
+#include "support/temp_dir.h"
+
+namespace rvor::test {
+
+CommandResult run_command(const std::string& command_line) {
+  TempDir capture;
+  const std::string out = capture.file("out"), err = capture.file("err");
+  const int status = std::system((command_line + " >" + out + " 2>" + err + " </dev/null").c_str());
+  CommandResult result;
+  if (WIFEXITED(status))
+    result.exit_code = WEXITSTATUS(status);
+  else if (WIFSIGNALED(status))
+    result.exit_code = 128 + WTERMSIG(status);
+  result.out = read_text(out);
+  result.err = read_text(err);
+  return result;
+}
+
+std::string rvor_binary() {
+  return std::string(RVOR_BINARY_DIR) + "/bin/rvor";
+}
+
+}  // namespace rvor::test

@@ -1,0 +1,16 @@
+#pragma once
+// Runs a command line through the shell and captures its exit status, stdout and stderr.
+#include <string>
+
+namespace rvor::test {
+
+struct CommandResult {
+  int exit_code = -1;  // the process's exit status; 128 + N when killed by signal N
+  std::string out, err;
+};
+
+CommandResult run_command(const std::string& command_line);
+// Path of the built rvor tool.
+std::string rvor_binary();
+
+}  // namespace rvor::test
