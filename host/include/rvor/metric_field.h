@@ -4,6 +4,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "rvor/metric.h"
 
@@ -37,6 +38,8 @@ class MetricField {
 // Throws rvor::Error naming the spec on unknown names, bad keys or values, a dimension the field
 // does not support, or a non-SPD uniform tensor.
 std::unique_ptr<MetricField> make_analytic_metric(const std::string& spec, int dimension);
+// The names make_analytic_metric() knows, in a stable order (for --help texts).
+std::vector<std::string> analytic_metric_names();
 
 // Metric given at the vertices of a Medit .mesh (triangles in 2D, tetrahedra in 3D) by a .sol
 // (SolAtVertices, type 3 = symmetric tensor), interpolated with Log-Euclidean barycentric
