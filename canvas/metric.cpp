@@ -1,6 +1,7 @@
 #include "rvor/metric.h"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include <Eigen/Cholesky>
@@ -44,6 +45,15 @@ Mat3 normalised_weighted_sum(const std::vector<Mat3>& terms, const std::vector<d
   return sum;
 }
 
+// A rotated singular matrix often comes out of rounding with a tiny positive eigenvalue
+// (~eps |S|): eigenvalues that small are noise, not a positive spectrum.
+template <typename Matrix>
+bool has_clearly_positive_spectrum(const Matrix& S) {
+  Eigen::SelfAdjointEigenSolver<Matrix> eigen(S, Eigen::EigenvaluesOnly);
+  const auto values = eigen.eigenvalues();
+  return values.minCoeff() > 64 * std::numeric_limits<double>::epsilon() * values.maxCoeff();
+}
+
 }  // namespace
 
 Mat3 tensor_from_sol(const SolTensor& c) {
@@ -61,11 +71,15 @@ bool is_spd(const Mat3& G) {
   const double scale = G.cwiseAbs().maxCoeff();
   if (scale <= 0) return false;
   if ((G - G.transpose()).cwiseAbs().maxCoeff() > 1e-9 * scale) return false;
-  Eigen::LLT<Mat3> cholesky(0.5 * (G + G.transpose()));
+  const Mat3 S = 0.5 * (G + G.transpose());
+  Eigen::LLT<Mat3> cholesky(S);
   if (cholesky.info() != Eigen::Success) return false;
-  // Cholesky accepts some matrices that are numerically singular: require a positive spectrum.
-  Eigen::SelfAdjointEigenSolver<Mat3> eigen(0.5 * (G + G.transpose()), Eigen::EigenvaluesOnly);
-  return eigen.eigenvalues().minCoeff() > 0;
+  // Cholesky accepts some matrices that are numerically singular: require a clearly positive
+  // spectrum. A 2D metric's z entry is decoupled from its xy block: judge them separately, so
+  // that a large xy block next to G(2,2) = 1 is not mistaken for a singular matrix.
+  if (S(0, 2) == 0 && S(1, 2) == 0)
+    return S(2, 2) > 0 && has_clearly_positive_spectrum(Eigen::Matrix2d(S.topLeftCorner<2, 2>()));
+  return has_clearly_positive_spectrum(S);
 }
 
 void require_spd(const Mat3& G, const std::string& where) {
