@@ -1,0 +1,90 @@
+// Uniform anisotropic metrics: the factored scheme must reproduce |F (x - p)| closely.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "rvor/error.h"
+#include "solver_fixtures.h"
+
+namespace rvor::test {
+namespace {
+
+constexpr double kAnisotropy = 10;
+constexpr double kMinExact = 0.1;  // errors are measured beyond this metric distance
+
+struct UniformCase {
+  int dimension;
+  int resolution;
+  bool rotated;
+};
+
+std::string name_of(const UniformCase& c) {
+  return std::to_string(c.dimension) + "D " + std::to_string(c.resolution) +
+         (c.rotated ? " rotated" : " axis-aligned") + " anisotropy 10";
+}
+
+class UniformMetric : public ::testing::TestWithParam<UniformCase> {};
+
+TEST_P(UniformMetric, DistanceMatchesExactNorm) {
+  const UniformCase c = GetParam();
+  const Vec3 axis = c.rotated ? (c.dimension == 3 ? Vec3(1, 1, 1) : Vec3(1, 1, 0)) : Vec3(1, 0, 0);
+  const Mat3 G = uniform_anisotropic_metric(axis, kAnisotropy);
+  const Canvas canvas =
+      make_uniform_box_canvas(c.dimension, Vec3(-1, -1, -1), Vec3(1, 1, 1), c.resolution, G);
+  const Vec3 seed = voxel_centre_near(canvas, Vec3(0.1, -0.05, c.dimension == 3 ? 0.02 : 0));
+  const Mat3 F = metric_sqrt(G);
+
+  PropagationStats stats;
+  const detail::ExactField field = solve_exact(canvas, {seed}, &stats);
+  const ErrorStats errors = relative_errors(
+      canvas, field.distance, [&](const Vec3& x) { return (F * (x - seed)).norm(); }, kMinExact);
+  report(name_of(c), errors, stats);
+
+  EXPECT_EQ(errors.unreached, 0u);
+  EXPECT_LE(errors.max_relative, 0.01);
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot)
+    if (canvas.active[slot]) {
+      ASSERT_EQ(field.label[slot], 0);
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Reference, UniformMetric,
+                         ::testing::Values(UniformCase{2, 128, false}, UniformCase{2, 128, true},
+                                           UniformCase{2, 512, false}, UniformCase{2, 512, true},
+                                           UniformCase{3, 128, false}, UniformCase{3, 128, true}),
+                         [](const ::testing::TestParamInfo<UniformCase>& info) {
+                           return "D" + std::to_string(info.param.dimension) + "_" +
+                                  std::to_string(info.param.resolution) +
+                                  (info.param.rotated ? "_rotated" : "_aligned");
+                         });
+
+// The public float interface gives the same field (to float rounding) as the double solver.
+TEST(ReferencePropagator, PublicInterfaceMatchesExactSolver) {
+  const Mat3 G = uniform_anisotropic_metric(Vec3(1, 1, 1), 4);
+  const Canvas canvas = make_uniform_box_canvas(3, Vec3(-1, -1, -1), Vec3(1, 1, 1), 32, G);
+  const std::vector<Vec3> seeds = {Vec3(0.1, -0.05, 0.02), Vec3(-0.5, 0.4, 0.3)};
+  auto propagator = make_reference_propagator();
+  EXPECT_EQ(propagator->device_description(), "cpu reference");
+  VoronoiField field;
+  const PropagationStats stats = propagator->solve(canvas, seeds, field);
+  EXPECT_GT(stats.iterations, 0u);
+  EXPECT_GE(stats.voxel_updates, stats.iterations);
+  const detail::ExactField exact = solve_exact(canvas, seeds);
+  ASSERT_EQ(field.distance.size(), canvas.slot_count());
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
+    EXPECT_EQ(field.distance[slot], static_cast<float>(exact.distance[slot]));
+    EXPECT_EQ(field.label[slot], exact.label[slot]);
+  }
+}
+
+TEST(ReferencePropagator, RejectsSeedsOutsideTheDomain) {
+  const Canvas canvas =
+      make_uniform_box_canvas(2, Vec3(-1, -1, 0), Vec3(1, 1, 0), 16, Mat3::Identity());
+  auto propagator = make_reference_propagator();
+  VoronoiField field;
+  EXPECT_THROW(propagator->solve(canvas, {Vec3(2, 0, 0)}, field), Error);
+  EXPECT_THROW(propagator->solve(canvas, {}, field), Error);
+}
+
+}  // namespace
+}  // namespace rvor::test
