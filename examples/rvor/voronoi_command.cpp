@@ -1,9 +1,209 @@
+// rvor voronoi: domain + metric + seeds -> distance and label per voxel, written as .vdb (and
+// .vtu, probes) with a report.json.
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
 #include "commands.h"
+#include "rvor/atomic_file.h"
+#include "rvor/canvas_builder.h"
+#include "rvor/canvas_output.h"
+#include "rvor/error.h"
+#include "rvor/field_summary.h"
+#include "rvor/metric_field.h"
+#include "rvor/propagation.h"
+#include "rvor/seeds.h"
+#include "rvor/vdb_io.h"
+#include "terminal.h"
 
 namespace rvor::cli {
 
+namespace {
+
+struct VoronoiOptions {
+  std::string domain;
+  int resolution = 128;
+  std::string metric = "euclidean";
+  std::string metric_sol, metric_mesh, metric_vdb;
+  std::string seeds_file;
+  std::size_t random_seed_count = 0;
+  std::uint64_t rng_seed = 1;
+  std::string device = default_device();
+  std::string probe_file;
+  std::string out_dir = "rvor-out";
+  bool vtu = false;
+  bool overwrite = false;
+  std::string memory_budget;
+  bool quiet = false;
+};
+
+std::unique_ptr<MetricField> load_metric(const VoronoiOptions& o, int dimension) {
+  if (!o.metric_vdb.empty()) return load_vdb_metric(o.metric_vdb);
+  if (!o.metric_sol.empty() || !o.metric_mesh.empty()) {
+    if (o.metric_sol.empty() || o.metric_mesh.empty())
+      throw Error("--metric-file and --metric-mesh must be given together");
+    return load_mesh_metric(o.metric_mesh, o.metric_sol);
+  }
+  return make_analytic_metric(o.metric, dimension);
+}
+
+std::vector<std::string> output_names(const VoronoiOptions& o) {
+  std::vector<std::string> names = {"voronoi.vdb", "report.json", "seeds.xyz"};
+  if (o.vtu) names.push_back("canvas.vtu");
+  if (!o.probe_file.empty()) names.push_back("probe.csv");
+  return names;
+}
+
+// Refuses to replace files a previous run (or the user) left, unless --overwrite was given.
+void check_outputs_free(const VoronoiOptions& o) {
+  if (o.overwrite) return;
+  for (const std::string& name : output_names(o)) {
+    const std::string path = (std::filesystem::path(o.out_dir) / name).string();
+    if (std::filesystem::exists(path))
+      throw Error(path + " already exists; pass --overwrite to replace it");
+  }
+}
+
+std::vector<Vec3> choose_seeds(const VoronoiOptions& o, const Canvas& canvas) {
+  if (!o.seeds_file.empty() && o.random_seed_count > 0)
+    throw Error("give either --seeds or --random-seeds, not both");
+  if (!o.seeds_file.empty()) return read_xyz(o.seeds_file);
+  if (o.random_seed_count > 0) return random_seeds(canvas, o.random_seed_count, o.rng_seed);
+  throw Error("no seeds: give --seeds FILE.xyz or --random-seeds N");
+}
+
+nlohmann::json summary_json(const FieldSummary& s) {
+  return {{"reached_voxels", s.reached_voxels},    {"unreached_voxels", s.unreached_voxels},
+          {"non_empty_cells", s.non_empty_cells},  {"smallest_cell_voxels", s.smallest_cell},
+          {"largest_cell_voxels", s.largest_cell}, {"max_distance", s.max_distance},
+          {"mean_distance", s.mean_distance}};
+}
+
+void run_voronoi(const VoronoiOptions& o) {
+  const auto start = std::chrono::steady_clock::now();
+  Progress progress(o.quiet);
+  const std::string out = o.out_dir;
+  prepare_output_directory(out);
+  check_outputs_free(o);
+  auto path = [&](const std::string& name) { return (std::filesystem::path(out) / name).string(); };
+
+  progress.begin("building canvas");
+  const DomainSpec domain = parse_domain(o.domain);
+  const std::unique_ptr<MetricField> metric = load_metric(o, domain.dimension());
+  CanvasOptions canvas_options;
+  canvas_options.resolution = o.resolution;
+  if (!o.memory_budget.empty()) canvas_options.memory_budget = parse_byte_size(o.memory_budget);
+  const Canvas canvas = build_canvas(domain, *metric, canvas_options);
+  const double canvas_seconds =
+      progress.end(std::to_string(canvas.active_voxel_count) + " active voxels");
+
+  const std::vector<Vec3> seeds = choose_seeds(o, canvas);
+  validate_seeds(canvas, seeds);
+  progress.begin("propagating from " + std::to_string(seeds.size()) + " seeds");
+  std::unique_ptr<Propagator> propagator = make_propagator(o.device);
+  VoronoiField field;
+  const PropagationStats stats = propagator->solve(canvas, seeds, field);
+  const double propagation_seconds = progress.end(propagator->device_description());
+
+  progress.begin("writing outputs");
+  write_voronoi_vdb(path("voronoi.vdb"), canvas, field);
+  write_xyz(path("seeds.xyz"), seeds, canvas.dimension);
+  if (o.vtu) write_canvas_vtu(path("canvas.vtu"), canvas, field);
+  if (!o.probe_file.empty())
+    write_probe_csv(path("probe.csv"), probe_field(canvas, field, read_xyz(o.probe_file)));
+  const FieldSummary summary = summarize_field(canvas, field, seeds.size());
+  const double output_seconds = progress.end("");
+
+  const double total =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  nlohmann::json report = {
+      {"generator", "rvor voronoi"},
+      {"domain", domain.description()},
+      {"metric", metric->description()},
+      {"dimension", canvas.dimension},
+      {"resolution", o.resolution},
+      {"voxel_size", canvas.voxel_size},
+      {"index_box", canvas.dims},
+      {"active_voxels", canvas.active_voxel_count},
+      {"seeds", seeds.size()},
+      {"device", propagator->device_description()},
+      {"iterations", stats.iterations},
+      {"voxel_updates", stats.voxel_updates},
+      {"updates_per_voxel",
+       canvas.active_voxel_count ? double(stats.voxel_updates) / canvas.active_voxel_count : 0.0},
+      {"timings",
+       {{"canvas", canvas_seconds},
+        {"propagation", propagation_seconds},
+        {"outputs", output_seconds},
+        {"total", total}}},
+      {"field", summary_json(summary)},
+      {"outputs", output_names(o)}};
+  write_file_atomically(path("report.json"), [&](std::ostream& s) { s << report.dump(2) << "\n"; });
+  if (!o.quiet)
+    print_voronoi_summary(std::cout, out, canvas.active_voxel_count, seeds.size(), summary,
+                          propagation_seconds, total);
+}
+
+}  // namespace
+
 void add_voronoi_command(CLI::App& app) {
-  app.add_subcommand("voronoi", "Compute a Riemannian Voronoi diagram on a canvas");
+  auto options = std::make_shared<VoronoiOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "voronoi",
+      "Compute a Riemannian Voronoi diagram: geodesic distance to the nearest seed and its label "
+      "at every voxel of a canvas.");
+  cmd->footer(
+      "Examples:\n"
+      "  rvor voronoi --domain box:-1,-1,-1,1,1,1 --metric hyperbolic_shock --resolution 128 \\\n"
+      "               --random-seeds 200 --out out/shock\n"
+      "  rvor voronoi --domain rect:-1,-1,1,1 --metric uniform:100,0,1 --seeds seeds.xyz --vtu\n"
+      "  rvor voronoi --domain mesh:part.off --metric-file m.sol --metric-mesh m.mesh --seeds "
+      "s.xyz\n"
+      "Outputs in --out: voronoi.vdb (float grid 'distance', int grid 'label'), report.json,\n"
+      "seeds.xyz, and with --vtu canvas.vtu, with --probe probe.csv (x,y,z,distance,label).");
+  cmd->add_option("--domain", options->domain,
+                  "box:X0,Y0,Z0,X1,Y1,Z1 | rect:X0,Y0,X1,Y1 | mesh:FILE(.off/.obj/.stl) | "
+                  "implicit:NAME[:k=v,...] (sphere, ellipsoid, torus, disk)")
+      ->required();
+  cmd->add_option("--resolution", options->resolution,
+                  "Voxels along the longest side of the domain")
+      ->capture_default_str();
+  cmd->add_option("--metric", options->metric,
+                  "NAME[:key=value,...], NAME one of: " + join(analytic_metric_names()) +
+                      "; every field takes scale=S; uniform:m11,m12,m22 (2D) or "
+                      "uniform:m11,m12,m22,m13,m23,m33 (3D)")
+      ->capture_default_str();
+  cmd->add_option("--metric-file", options->metric_sol,
+                  "Metric tensors at mesh vertices (Medit .sol)");
+  cmd->add_option("--metric-mesh", options->metric_mesh,
+                  "The Medit .mesh the --metric-file lives on");
+  cmd->add_option("--metric-vdb", options->metric_vdb,
+                  "Metric as six float grids m11 m12 m22 m13 m23 m33 in a .vdb");
+  cmd->add_option("--seeds", options->seeds_file, "Seeds, one point per line (2 or 3 coordinates)");
+  cmd->add_option("--random-seeds", options->random_seed_count,
+                  "Draw N seeds uniformly in the domain");
+  cmd->add_option("--rng-seed", options->rng_seed, "Random generator seed for --random-seeds")
+      ->capture_default_str();
+  cmd->add_option("--device", options->device, device_option_help())->capture_default_str();
+  cmd->add_option(
+      "--probe", options->probe_file,
+      "Points (.xyz) at which to write probe.csv: nearest active voxel, distance, label");
+  cmd->add_option("--out", options->out_dir, "Output directory (created if missing)")
+      ->capture_default_str();
+  cmd->add_flag("--vtu", options->vtu, "Also write the labeled canvas as canvas.vtu (ParaView)");
+  cmd->add_flag("--overwrite", options->overwrite, "Replace output files left by an earlier run");
+  cmd->add_option("--memory-budget", options->memory_budget,
+                  "Refuse canvases needing more memory than this (bytes, or with K/M/G/T); "
+                  "default 75% of physical memory");
+  cmd->add_flag("--quiet", options->quiet, "Print nothing but errors");
+  cmd->callback([options] { run_voronoi(*options); });
 }
 
 }  // namespace rvor::cli

@@ -1,0 +1,82 @@
+#include "terminal.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <iomanip>
+#include <iostream>
+
+#include "rvor/error.h"
+
+namespace rvor::cli {
+
+void Progress::begin(const std::string& stage) {
+  start_ = std::chrono::steady_clock::now();
+  if (!quiet_) std::cerr << stage << " ..." << std::flush;
+}
+
+double Progress::end(const std::string& detail) {
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  if (!quiet_) {
+    std::cerr << " done in " << std::fixed << std::setprecision(2) << seconds << " s";
+    if (!detail.empty()) std::cerr << " (" << detail << ")";
+    std::cerr << std::defaultfloat << "\n";
+  }
+  return seconds;
+}
+
+std::uint64_t parse_byte_size(const std::string& text) {
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  const std::string suffix(end);
+  double factor = 1;
+  if (suffix == "K" || suffix == "k")
+    factor = 1024.0;
+  else if (suffix == "M")
+    factor = 1024.0 * 1024;
+  else if (suffix == "G")
+    factor = 1024.0 * 1024 * 1024;
+  else if (suffix == "T")
+    factor = 1024.0 * 1024 * 1024 * 1024;
+  else if (!suffix.empty())
+    end = const_cast<char*>(text.c_str());
+  if (end == text.c_str() || !std::isfinite(value) || value <= 0)
+    throw Error("memory budget '" + text + "' is not a positive size like 512M, 8G or 1000000");
+  return static_cast<std::uint64_t>(value * factor);
+}
+
+std::string join(const std::vector<std::string>& items, const std::string& separator) {
+  std::string joined;
+  for (const std::string& item : items) joined += (joined.empty() ? "" : separator) + item;
+  return joined;
+}
+
+std::string default_device() {
+  const char* from_environment = std::getenv("RVOR_DEVICE");
+  return from_environment && *from_environment ? from_environment : "cpu";
+}
+
+std::string device_option_help() {
+  return "Where to propagate: cpu (sequential reference); default $RVOR_DEVICE or cpu";
+}
+
+void print_voronoi_summary(std::ostream& out, const std::string& out_dir, std::size_t active_voxels,
+                           std::size_t seeds, const FieldSummary& summary,
+                           double propagation_seconds, double total_seconds) {
+  out << "rvor voronoi: " << active_voxels << " voxels, " << seeds << " seeds, "
+      << summary.non_empty_cells << " non-empty cells (" << summary.smallest_cell << " to "
+      << summary.largest_cell << " voxels each)\n";
+  out << "  farthest voxel from its seed: " << summary.max_distance
+      << " (metric units); mean distance " << summary.mean_distance << "\n";
+  if (summary.unreached_voxels > 0)
+    out << "  warning: " << summary.unreached_voxels
+        << " voxels were reached by no seed (a domain component without seeds)\n";
+  out << "  propagation " << std::fixed << std::setprecision(2) << propagation_seconds << " s ("
+      << std::setprecision(1)
+      << (propagation_seconds > 0 ? active_voxels / propagation_seconds / 1e6 : 0.0)
+      << " M voxels/s), total " << std::setprecision(2) << total_seconds << " s\n"
+      << std::defaultfloat;
+  out << "  outputs in " << out_dir << "/: voronoi.vdb, report.json, seeds.xyz\n";
+}
+
+}  // namespace rvor::cli

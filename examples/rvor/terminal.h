@@ -1,0 +1,37 @@
+#pragma once
+// Terminal conveniences of the rvor tool: stage progress lines, summaries, option parsing helpers.
+#include <chrono>
+#include <cstdint>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "rvor/field_summary.h"
+
+namespace rvor::cli {
+
+// Prints "building canvas ... done in 1.23 s (detail)" lines on stderr so stdout stays clean.
+class Progress {
+ public:
+  explicit Progress(bool quiet) : quiet_(quiet) {}
+  void begin(const std::string& stage);
+  double end(const std::string& detail);  // returns the stage's seconds
+
+ private:
+  bool quiet_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+// "512M", "2G", "1.5T" or plain bytes. Throws rvor::Error on anything else.
+std::uint64_t parse_byte_size(const std::string& text);
+std::string join(const std::vector<std::string>& items, const std::string& separator = ", ");
+
+// The device the tool uses when --device is not given: $RVOR_DEVICE, else the library default.
+std::string default_device();
+std::string device_option_help();
+
+void print_voronoi_summary(std::ostream& out, const std::string& out_dir, std::size_t active_voxels,
+                           std::size_t seeds, const FieldSummary& summary,
+                           double propagation_seconds, double total_seconds);
+
+}  // namespace rvor::cli
