@@ -1,1 +1,364 @@
-// Placeholder: implemented in a later commit.
+#include "rvor/canvas_builder.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <mutex>
+#include <optional>
+#include <sstream>
+#include <tuple>
+
+#include <openvdb/tools/LevelSetUtil.h>
+#include <openvdb/tools/MeshToVolume.h>
+#include <openvdb/tools/Morphology.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "implicit_shapes.h"
+#include "memory_estimate.h"
+#include "rvor/error.h"
+#include "surface_mesh.h"
+#include "vdb_support.h"
+
+namespace rvor {
+
+namespace {
+
+using BoolTree = openvdb::BoolTree;
+using BoolLeaf = BoolTree::LeafNodeType;
+constexpr int kEdge = Canvas::kBrickEdge;
+static_assert(BoolLeaf::DIM == kEdge, "canvas bricks are OpenVDB leaves");
+
+constexpr int kMinResolution = 2;
+constexpr int kMaxResolution = 65536;
+constexpr int kCoarseEstimateResolution = 64;
+
+// Where the voxels go: cell-centred, `resolution` voxels along the longest side of the bounds
+// (the same placement as tests/support/box_canvas.cpp).
+struct Placement {
+  int dimension = 3;
+  double h = 0;
+  Vec3 origin = Vec3::Zero();
+  std::array<int, 3> dims{};
+
+  int edge(int axis) const { return axis == 2 && dimension == 2 ? 1 : kEdge; }
+  std::array<int, 3> brick_grid() const {
+    return {(dims[0] + kEdge - 1) / kEdge, (dims[1] + kEdge - 1) / kEdge,
+            (dims[2] + edge(2) - 1) / edge(2)};
+  }
+  double index_box_voxels() const { return double(dims[0]) * dims[1] * dims[2]; }
+  double brick_table_cells() const {
+    const auto g = brick_grid();
+    return double(g[0]) * g[1] * g[2];
+  }
+  bool in_box(const openvdb::Coord& c) const {
+    return c.x() >= 0 && c.y() >= 0 && c.z() >= 0 && c.x() < dims[0] && c.y() < dims[1] &&
+           c.z() < dims[2];
+  }
+  Vec3 world(const openvdb::Coord& c) const { return origin + h * Vec3(c.x(), c.y(), c.z()); }
+};
+
+// What the domain resolves to: its kind-specific geometry and bounds.
+struct ResolvedDomain {
+  const DomainSpec* spec = nullptr;
+  int dimension = 3;
+  Box bounds;
+  std::optional<ImplicitShape> shape;
+  std::optional<SurfaceMesh> mesh;
+};
+
+std::string format_point(const Vec3& p) {
+  std::ostringstream out;
+  out.precision(6);
+  out << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
+  return out.str();
+}
+
+[[noreturn]] void fail_empty(const DomainSpec& domain, int resolution) {
+  throw Error("domain " + domain.description() + " has no voxel inside at resolution " +
+              std::to_string(resolution) + ": it is empty or thinner than a voxel");
+}
+
+ResolvedDomain resolve(const DomainSpec& domain) {
+  ResolvedDomain resolved;
+  resolved.spec = &domain;
+  resolved.dimension = domain.dimension();
+  resolved.bounds = domain.bounds;
+  if (domain.kind == DomainSpec::Kind::Rectangle)
+    resolved.bounds.lo.z() = resolved.bounds.hi.z() = 0;
+  if (domain.kind == DomainSpec::Kind::Implicit) {
+    resolved.shape = ImplicitShape::parse(domain.implicit);
+    resolved.bounds = resolved.shape->bounds();
+  }
+  if (domain.kind == DomainSpec::Kind::Mesh) {
+    resolved.mesh = read_surface_mesh(domain.path);
+    require_closed(*resolved.mesh, domain.path);
+    resolved.bounds = bounds_of(*resolved.mesh);
+  }
+  return resolved;
+}
+
+Placement place_voxels(const ResolvedDomain& domain, int resolution) {
+  Placement p;
+  p.dimension = domain.dimension;
+  const Vec3 extent = domain.bounds.hi - domain.bounds.lo;
+  const double longest = p.dimension == 3 ? extent.maxCoeff() : std::max(extent.x(), extent.y());
+  if (!(longest > 0) || !std::isfinite(longest)) fail_empty(*domain.spec, resolution);
+  p.h = longest / resolution;
+  for (int a = 0; a < 3; ++a)
+    p.dims[a] = std::max(1, static_cast<int>(std::lround(std::max(0.0, extent[a]) / p.h)));
+  if (p.dimension == 2) p.dims[2] = 1;
+  p.origin = domain.bounds.lo + 0.5 * p.h * Vec3(1, 1, p.dimension == 3 ? 1 : 0);
+  return p;
+}
+
+// --- topology: the active voxels of the domain as an OpenVDB tree in canvas index space ------
+
+BoolTree::Ptr box_topology(const Placement& p) {
+  auto tree = std::make_shared<BoolTree>(false);
+  tree->denseFill(openvdb::CoordBBox(openvdb::Coord(0),
+                                     openvdb::Coord(p.dims[0] - 1, p.dims[1] - 1, p.dims[2] - 1)),
+                  true, true);
+  tree->voxelizeActiveTiles();
+  return tree;
+}
+
+// A block of leaves [lo, hi) in brick-grid coordinates.
+struct LeafBlock {
+  std::array<int, 3> lo, hi;
+};
+
+// Visits the blocks of leaves that may touch the shape, splitting until blocks are at most
+// `min_leaves` leaves wide or lie entirely inside. The signed distance bound at a block's centre
+// tells whether the block can touch the surface at all: this is what keeps the work
+// proportional to the surface, not the bounding box.
+template <typename Visit>
+void visit_shape_blocks(const ImplicitShape& shape, const Placement& p, const LeafBlock& block,
+                        int min_leaves, Visit&& visit) {
+  Vec3 first, last;
+  for (int a = 0; a < 3; ++a) {
+    first[a] = block.lo[a] * p.edge(a);
+    last[a] = std::min(block.hi[a] * p.edge(a), p.dims[a]) - 1;
+  }
+  const double half_diagonal = 0.5 * p.h * (last - first).norm();
+  const double distance = shape.signed_distance_bound(p.origin + p.h * 0.5 * (first + last));
+  if (distance > half_diagonal) return;
+  int widest = 0;
+  for (int a = 1; a < 3; ++a)
+    if (block.hi[a] - block.lo[a] > block.hi[widest] - block.lo[widest]) widest = a;
+  const int width = block.hi[widest] - block.lo[widest];
+  if (distance < -half_diagonal || width <= min_leaves) {
+    visit(block, first, last);
+    return;
+  }
+  LeafBlock lower = block, upper = block;
+  lower.hi[widest] = upper.lo[widest] = block.lo[widest] + width / 2;
+  visit_shape_blocks(shape, p, lower, min_leaves, visit);
+  visit_shape_blocks(shape, p, upper, min_leaves, visit);
+}
+
+LeafBlock whole_brick_grid(const Placement& p) {
+  return LeafBlock{{0, 0, 0}, p.brick_grid()};
+}
+
+// Upper bound on the active voxels of an implicit shape: the voxels of every block, at most
+// 64 per axis, that may touch it.
+double coarse_implicit_voxels(const ImplicitShape& shape, const Placement& p) {
+  const auto grid = p.brick_grid();
+  const int widest = *std::max_element(grid.begin(), grid.end());
+  const int min_leaves = std::max(1, widest / kCoarseEstimateResolution);
+  double voxels = 0;
+  visit_shape_blocks(shape, p, whole_brick_grid(p), min_leaves,
+                     [&](const LeafBlock&, const Vec3& first, const Vec3& last) {
+                       voxels += (last - first + Vec3::Ones()).prod();
+                     });
+  return voxels;
+}
+
+std::unique_ptr<BoolLeaf> shape_leaf(const ImplicitShape& shape, const Placement& p,
+                                     const openvdb::Coord& leaf_origin) {
+  auto leaf = std::make_unique<BoolLeaf>(leaf_origin, false, false);
+  for (openvdb::Index offset = 0; offset < BoolLeaf::SIZE; ++offset) {
+    const openvdb::Coord c = leaf->offsetToGlobalCoord(offset);
+    if (p.in_box(c) && shape.contains(p.world(c))) leaf->setValueOn(offset, true);
+  }
+  return leaf;
+}
+
+BoolTree::Ptr implicit_topology(const ImplicitShape& shape, const Placement& p) {
+  std::vector<openvdb::Coord> candidates;
+  visit_shape_blocks(shape, p, whole_brick_grid(p), 1,
+                     [&](const LeafBlock& block, const Vec3&, const Vec3&) {
+                       for (int z = block.lo[2]; z < block.hi[2]; ++z)
+                         for (int y = block.lo[1]; y < block.hi[1]; ++y)
+                           for (int x = block.lo[0]; x < block.hi[0]; ++x)
+                             candidates.emplace_back(x * kEdge, y * kEdge, z * p.edge(2));
+                     });
+  std::vector<std::unique_ptr<BoolLeaf>> leaves(candidates.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, candidates.size()), [&](const auto& range) {
+    for (std::size_t n = range.begin(); n != range.end(); ++n)
+      leaves[n] = shape_leaf(shape, p, candidates[n]);
+  });
+  auto tree = std::make_shared<BoolTree>(false);
+  for (auto& leaf : leaves)
+    if (!leaf->isEmpty()) tree->addLeaf(leaf.release());
+  return tree;
+}
+
+BoolTree::Ptr mesh_topology(const SurfaceMesh& mesh, const Placement& p) {
+  std::vector<openvdb::Vec3s> points;
+  std::vector<openvdb::Vec3I> triangles;
+  points.reserve(mesh.vertices.size());
+  for (const Vec3& v : mesh.vertices) points.emplace_back(v.x(), v.y(), v.z());
+  for (const auto& t : mesh.triangles) triangles.emplace_back(t[0], t[1], t[2]);
+  const auto transform = canvas_transform(p.h, p.origin);
+  const auto sdf =
+      openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*transform, points, triangles);
+  auto interior = openvdb::tools::sdfInteriorMask(*sdf, 0.0f);  // voxels with sdf <= 0
+  interior->tree().voxelizeActiveTiles();
+  return interior->treePtr();
+}
+
+// meshToLevelSet at a coarse resolution, interior grown by one voxel to cover the surface band,
+// scaled to the requested voxel size: a cheap estimate of the active voxel count.
+double coarse_mesh_voxels(const ResolvedDomain& domain, const Placement& fine) {
+  const Placement coarse = place_voxels(domain, kCoarseEstimateResolution);
+  auto tree = mesh_topology(*domain.mesh, coarse);
+  openvdb::tools::dilateActiveValues(*tree, 1, openvdb::tools::NN_FACE_EDGE_VERTEX);
+  return double(tree->activeVoxelCount()) * std::pow(coarse.h / fine.h, 3);
+}
+
+// Checks the budget against an exact count (box), the index box, or a coarse estimate.
+void check_budget(const ResolvedDomain& domain, const Placement& p, int resolution,
+                  std::uint64_t budget) {
+  const double cells = p.brick_table_cells();
+  const double box_voxels = p.index_box_voxels();
+  const bool cheap_bound_fits = estimated_canvas_bytes(box_voxels, cells) <=
+                                double(budget ? budget : default_memory_budget());
+  if (domain.spec->kind == DomainSpec::Kind::Box ||
+      domain.spec->kind == DomainSpec::Kind::Rectangle || cheap_bound_fits ||
+      resolution <= kCoarseEstimateResolution) {
+    check_memory_budget(box_voxels, cells, budget);
+  } else if (domain.shape) {
+    check_memory_budget(coarse_implicit_voxels(*domain.shape, p), cells, budget);
+  } else {
+    check_memory_budget(coarse_mesh_voxels(domain, p), cells, budget);
+  }
+}
+
+BoolTree::Ptr topology(const ResolvedDomain& domain, const Placement& p) {
+  if (domain.shape) return implicit_topology(*domain.shape, p);
+  if (domain.mesh) return mesh_topology(*domain.mesh, p);
+  return box_topology(p);
+}
+
+// --- packing into canvas bricks ---------------------------------------------------------------
+
+std::vector<const BoolLeaf*> leaves_in_box(const BoolTree& tree, const Placement& p) {
+  std::vector<const BoolLeaf*> leaves;
+  for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf)
+    for (auto voxel = leaf->cbeginValueOn(); voxel; ++voxel)
+      if (p.in_box(voxel.getCoord())) {
+        leaves.push_back(&*leaf);
+        break;
+      }
+  // Bricks in (z, y, x) order, like a dense scan: neighbouring bricks stay close in memory.
+  std::sort(leaves.begin(), leaves.end(), [](const BoolLeaf* a, const BoolLeaf* b) {
+    const auto& oa = a->origin();
+    const auto& ob = b->origin();
+    return std::make_tuple(oa.z(), oa.y(), oa.x()) < std::make_tuple(ob.z(), ob.y(), ob.x());
+  });
+  return leaves;
+}
+
+// The tensor the canvas stores: 2D canvases keep only the xy block (G(2,2) = 1).
+Mat3 canvas_tensor(const Mat3& G, int dimension) {
+  if (dimension == 3) return G;
+  Mat3 planar = Mat3::Identity();
+  planar.topLeftCorner<2, 2>() = G.topLeftCorner<2, 2>();
+  return planar;
+}
+
+// Position of a voxel inside its brick (x fastest), as Canvas::slot_of counts it.
+std::size_t local_index(const openvdb::Coord& c, const Placement& p) {
+  const int z = p.dimension == 3 ? (c.z() & (kEdge - 1)) : 0;
+  return static_cast<std::size_t>((c.x() & (kEdge - 1)) +
+                                  kEdge * ((c.y() & (kEdge - 1)) + kEdge * z));
+}
+
+// Samples and validates the metric at every active voxel in parallel. On failure the error of
+// the first failing brick (in brick order) is rethrown, so the report does not depend on timing.
+void sample_metric(Canvas& canvas, const std::vector<const BoolLeaf*>& leaves, const Placement& p,
+                   const MetricField& metric) {
+  const std::string name = "'" + metric.description() + "'";
+  std::atomic<std::size_t> first_failure{leaves.size()};
+  std::mutex failure_mutex;
+  std::string failure;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size()), [&](const auto& range) {
+    for (std::size_t brick = range.begin(); brick != range.end(); ++brick) {
+      if (brick > first_failure.load()) return;
+      try {
+        for (auto voxel = leaves[brick]->cbeginValueOn(); voxel; ++voxel) {
+          const openvdb::Coord c = voxel.getCoord();
+          if (!p.in_box(c)) continue;
+          const Vec3 world = p.world(c);
+          const Mat3 G = canvas_tensor(metric.at(world), p.dimension);
+          require_spd(G, name + " at " + format_point(world));
+          canvas.set_active(brick * canvas.brick_volume() + local_index(c, p), G);
+        }
+      } catch (const Error& error) {
+        std::lock_guard<std::mutex> lock(failure_mutex);
+        if (brick < first_failure.load()) {
+          first_failure = brick;
+          failure = error.what();
+        }
+      }
+    }
+  });
+  if (first_failure.load() < leaves.size()) throw Error(failure);
+}
+
+std::string describe(const DomainSpec& domain, const MetricField& metric, int resolution,
+                     const Canvas& canvas) {
+  std::ostringstream out;
+  out.precision(6);
+  out << domain.description() << " at resolution " << resolution << " (h = " << canvas.voxel_size
+      << ", " << canvas.dims[0] << "x" << canvas.dims[1] << "x" << canvas.dims[2] << " voxels, "
+      << canvas.active_voxel_count << " active in " << canvas.brick_count() << " bricks), metric "
+      << metric.description();
+  return out.str();
+}
+
+}  // namespace
+
+Canvas build_canvas(const DomainSpec& domain, const MetricField& metric,
+                    const CanvasOptions& options) {
+  if (options.resolution < kMinResolution || options.resolution > kMaxResolution)
+    throw Error("canvas resolution " + std::to_string(options.resolution) + " is not in [" +
+                std::to_string(kMinResolution) + ", " + std::to_string(kMaxResolution) + "]");
+  const ResolvedDomain resolved = resolve(domain);
+  if (metric.dimension() == 2 && resolved.dimension == 3)
+    throw Error("metric '" + metric.description() + "' is 2D but domain " + domain.description() +
+                " is 3D");
+  const Placement placement = place_voxels(resolved, options.resolution);
+  check_budget(resolved, placement, options.resolution, options.memory_budget);
+
+  openvdb::initialize();
+  const BoolTree::Ptr tree = topology(resolved, placement);
+  const std::vector<const BoolLeaf*> leaves = leaves_in_box(*tree, placement);
+  if (leaves.empty()) fail_empty(domain, options.resolution);
+
+  std::vector<VoxelIndex> brick_origins;
+  brick_origins.reserve(leaves.size());
+  for (const BoolLeaf* leaf : leaves)
+    brick_origins.push_back({leaf->origin().x(), leaf->origin().y(), leaf->origin().z()});
+  Canvas canvas;
+  canvas.allocate(placement.dimension, placement.h, placement.origin, placement.dims,
+                  brick_origins);
+  sample_metric(canvas, leaves, placement, metric);
+  canvas.finalize();
+  canvas.description = describe(domain, metric, options.resolution, canvas);
+  return canvas;
+}
+
+}  // namespace rvor

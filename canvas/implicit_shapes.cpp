@@ -1,1 +1,167 @@
-// Placeholder: implemented in a later commit.
+#include "implicit_shapes.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <vector>
+
+#include "rvor/error.h"
+
+namespace rvor {
+
+namespace {
+
+using Parameters = std::map<std::string, std::vector<double>>;
+
+[[noreturn]] void fail(const std::string& spec, const std::string& why) {
+  throw Error("malformed domain 'implicit:" + spec + "': " + why);
+}
+
+double parse_number(const std::string& spec, const std::string& text) {
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(value))
+    fail(spec, "'" + text + "' is not a number");
+  return value;
+}
+
+// "k=v,w,k2=v2": a token without '=' continues the previous key's value list.
+Parameters parse_parameters(const std::string& spec, const std::string& list) {
+  Parameters parameters;
+  std::string current;
+  std::istringstream tokens(list);
+  for (std::string token; std::getline(tokens, token, ',');) {
+    const auto equals = token.find('=');
+    if (equals == std::string::npos) {
+      if (current.empty()) fail(spec, "expected key=value, got '" + token + "'");
+      parameters[current].push_back(parse_number(spec, token));
+      continue;
+    }
+    current = token.substr(0, equals);
+    if (current.empty()) fail(spec, "empty parameter name");
+    if (parameters.count(current)) fail(spec, "parameter '" + current + "' given twice");
+    parameters[current].push_back(parse_number(spec, token.substr(equals + 1)));
+  }
+  return parameters;
+}
+
+// Removes and returns a parameter of `count` values, or `fallback` when absent.
+std::vector<double> take(const std::string& spec, Parameters& parameters, const std::string& key,
+                         std::size_t count, const std::vector<double>& fallback) {
+  auto found = parameters.find(key);
+  if (found == parameters.end()) return fallback;
+  std::vector<double> values = found->second;
+  parameters.erase(found);
+  if (values.size() != count)
+    fail(spec, "parameter '" + key + "' needs " + std::to_string(count) + " value(s)");
+  return values;
+}
+
+double take_radius(const std::string& spec, Parameters& parameters, const std::string& key,
+                   double fallback) {
+  const double value = take(spec, parameters, key, 1, {fallback})[0];
+  if (value < 0) fail(spec, "parameter '" + key + "' must be >= 0");
+  return value;
+}
+
+std::string format_number(double value) {
+  std::ostringstream out;
+  out.precision(10);
+  out << value;
+  return out.str();
+}
+
+}  // namespace
+
+ImplicitShape ImplicitShape::parse(const std::string& spec) {
+  const auto colon = spec.find(':');
+  const std::string name = spec.substr(0, colon);
+  Parameters parameters =
+      colon == std::string::npos ? Parameters{} : parse_parameters(spec, spec.substr(colon + 1));
+
+  ImplicitShape shape;
+  if (name == "sphere" || name == "ellipsoid" || name == "torus") {
+    const auto c = take(spec, parameters, "center", 3, {0, 0, 0});
+    shape.center_ = Vec3(c[0], c[1], c[2]);
+  } else if (name == "disk") {
+    const auto c = take(spec, parameters, "center", 2, {0, 0});
+    shape.center_ = Vec3(c[0], c[1], 0);
+  } else {
+    fail(spec, "unknown shape '" + name + "' (sphere, ellipsoid, torus, disk)");
+  }
+
+  if (name == "sphere" || name == "disk") {
+    shape.kind_ = name == "sphere" ? Kind::Sphere : Kind::Disk;
+    shape.radii_ = Vec3::Constant(take_radius(spec, parameters, "r", 1.0));
+  } else if (name == "ellipsoid") {
+    shape.kind_ = Kind::Ellipsoid;
+    shape.radii_ =
+        Vec3(take_radius(spec, parameters, "a", 1.0), take_radius(spec, parameters, "b", 0.75),
+             take_radius(spec, parameters, "c", 0.5));
+  } else {
+    shape.kind_ = Kind::Torus;
+    shape.radii_ =
+        Vec3(take_radius(spec, parameters, "R", 1.0), take_radius(spec, parameters, "r", 0.25), 0);
+  }
+  if (!parameters.empty())
+    fail(spec, "unknown parameter '" + parameters.begin()->first + "' for shape '" + name + "'");
+  return shape;
+}
+
+double ImplicitShape::signed_distance_bound(const Vec3& p) const {
+  const Vec3 q = p - center_;
+  switch (kind_) {
+    case Kind::Sphere:
+      return q.norm() - radii_.x();
+    case Kind::Disk:
+      return q.head<2>().norm() - radii_.x();
+    case Kind::Torus: {
+      // Distance to the core circle (radius R in the xy plane) minus the tube radius.
+      const double rho = q.head<2>().norm() - radii_.x();
+      return std::hypot(rho, q.z()) - radii_.y();
+    }
+    case Kind::Ellipsoid: {
+      // |q / radii| - 1 is (1 / min radius)-Lipschitz, so scaling by the smallest radius keeps
+      // it below the true distance.
+      const double smallest = radii_.minCoeff();
+      if (smallest <= 0) return std::numeric_limits<double>::infinity();  // no volume
+      return (q.cwiseQuotient(radii_).norm() - 1.0) * smallest;
+    }
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
+Box ImplicitShape::bounds() const {
+  Vec3 half = radii_;
+  if (kind_ == Kind::Sphere) half = Vec3::Constant(radii_.x());
+  if (kind_ == Kind::Disk) half = Vec3(radii_.x(), radii_.x(), 0);
+  if (kind_ == Kind::Torus) {
+    const double outer = radii_.x() + radii_.y();
+    half = Vec3(outer, outer, radii_.y());
+  }
+  return Box{center_ - half, center_ + half};
+}
+
+std::string ImplicitShape::description() const {
+  const Vec3& c = center_;
+  const std::string center3 =
+      "center=" + format_number(c.x()) + "," + format_number(c.y()) + "," + format_number(c.z());
+  switch (kind_) {
+    case Kind::Sphere:
+      return "sphere:" + center3 + ",r=" + format_number(radii_.x());
+    case Kind::Disk:
+      return "disk:center=" + format_number(c.x()) + "," + format_number(c.y()) +
+             ",r=" + format_number(radii_.x());
+    case Kind::Torus:
+      return "torus:" + center3 + ",R=" + format_number(radii_.x()) +
+             ",r=" + format_number(radii_.y());
+    case Kind::Ellipsoid:
+      return "ellipsoid:" + center3 + ",a=" + format_number(radii_.x()) +
+             ",b=" + format_number(radii_.y()) + ",c=" + format_number(radii_.z());
+  }
+  return {};
+}
+
+}  // namespace rvor

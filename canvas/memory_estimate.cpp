@@ -1,1 +1,56 @@
-// Placeholder: implemented in a later commit.
+#include "memory_estimate.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+
+#include "rvor/canvas_builder.h"
+#include "rvor/error.h"
+
+namespace rvor {
+
+std::uint64_t estimated_bytes_per_active_voxel() {
+  const std::uint64_t canvas = 1 + 6 * sizeof(float);                  // activity + metric
+  const std::uint64_t voronoi = sizeof(float) + sizeof(std::int32_t);  // distance + label
+  // Solver work arrays (a second distance/label copy, brick flags and queues) and the OpenVDB
+  // topology and sampling buffers that exist while the canvas is being built.
+  const std::uint64_t work = 2 * voronoi + 15;
+  return canvas + voronoi + work;
+}
+
+std::uint64_t default_memory_budget() {
+  const long pages = sysconf(_SC_PHYS_PAGES);
+  const long page_size = sysconf(_SC_PAGE_SIZE);
+  if (pages <= 0 || page_size <= 0) return std::uint64_t{8} << 30;  // unknown: assume 8 GiB
+  return static_cast<std::uint64_t>(0.75 * static_cast<double>(pages) * page_size);
+}
+
+double estimated_canvas_bytes(double active_voxels, double brick_table_cells) {
+  return active_voxels * static_cast<double>(estimated_bytes_per_active_voxel()) +
+         brick_table_cells * sizeof(std::int32_t);
+}
+
+std::string format_bytes(double bytes) {
+  static const char* const units[] = {"B", "kB", "MB", "GB", "TB", "PB", "EB", "ZB", "YB"};
+  int unit = 0;
+  while (bytes >= 1000.0 && unit < 8) {
+    bytes /= 1000.0;
+    ++unit;
+  }
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g %s", bytes, units[unit]);
+  return text;
+}
+
+void check_memory_budget(double active_voxels, double brick_table_cells, std::uint64_t budget) {
+  if (budget == 0) budget = default_memory_budget();
+  const double needed = estimated_canvas_bytes(active_voxels, brick_table_cells);
+  if (needed <= static_cast<double>(budget)) return;
+  char voxels[32];
+  std::snprintf(voxels, sizeof voxels, "%.2g", active_voxels);
+  throw Error("canvas of ~" + std::string(voxels) + " active voxels needs ~" +
+              format_bytes(needed) + ", over the memory budget of " +
+              format_bytes(static_cast<double>(budget)) + " (--memory-budget)");
+}
+
+}  // namespace rvor

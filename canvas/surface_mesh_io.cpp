@@ -1,1 +1,262 @@
-// Placeholder: implemented in a later commit.
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "rvor/error.h"
+#include "surface_mesh.h"
+
+namespace rvor {
+
+namespace {
+
+std::string lowercase_extension(const std::string& path) {
+  const auto dot = path.find_last_of('.');
+  std::string extension = dot == std::string::npos ? std::string() : path.substr(dot);
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension;
+}
+
+std::ifstream open_input(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error("cannot open mesh file " + path + ": " + std::strerror(errno));
+  return in;
+}
+
+// Reads a text file line by line, keeping the line number for error messages.
+class LineReader {
+ public:
+  explicit LineReader(const std::string& path) : path_(path), in_(open_input(path)) {}
+  bool next(std::string& line) {
+    if (!std::getline(in_, line)) return false;
+    ++number_;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    return true;
+  }
+  [[noreturn]] void fail(const std::string& why) const {
+    throw Error(path_ + ":" + std::to_string(number_) + ": " + why);
+  }
+
+ private:
+  std::string path_;
+  std::ifstream in_;
+  int number_ = 0;
+};
+
+// Appends the fan triangulation of a polygon, dropping triangles with a repeated vertex.
+void add_polygon(SurfaceMesh& mesh, const std::vector<int>& polygon) {
+  for (std::size_t n = 1; n + 1 < polygon.size(); ++n) {
+    const std::array<int, 3> t{polygon[0], polygon[n], polygon[n + 1]};
+    if (t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) mesh.triangles.push_back(t);
+  }
+}
+
+Vec3 parse_point(LineReader& reader, std::istringstream& fields) {
+  Vec3 p;
+  if (!(fields >> p.x() >> p.y() >> p.z()) || !p.allFinite()) reader.fail("expected x y z");
+  return p;
+}
+
+// --- OFF ------------------------------------------------------------------------------------
+// Next line with content, comments ('#') removed.
+bool next_content(LineReader& reader, std::string& line) {
+  while (reader.next(line)) {
+    line = line.substr(0, line.find('#'));
+    if (line.find_first_not_of(" \t") != std::string::npos) return true;
+  }
+  return false;
+}
+
+SurfaceMesh read_off(const std::string& path) {
+  LineReader reader(path);
+  std::string line;
+  if (!next_content(reader, line)) reader.fail("empty file, expected OFF header");
+  std::istringstream header(line);
+  std::string keyword;
+  header >> keyword;
+  if (keyword != "OFF") reader.fail("expected OFF header");
+  long vertex_count = -1, face_count = -1;
+  if (!(header >> vertex_count >> face_count)) {  // counts usually on the next line
+    if (!next_content(reader, line)) reader.fail("missing vertex and face counts");
+    std::istringstream counts(line);
+    if (!(counts >> vertex_count >> face_count)) reader.fail("expected vertex and face counts");
+  }
+  if (vertex_count < 0 || face_count < 0) reader.fail("negative counts");
+
+  SurfaceMesh mesh;
+  for (long v = 0; v < vertex_count; ++v) {
+    if (!next_content(reader, line)) reader.fail("unexpected end of file in vertices");
+    std::istringstream fields(line);
+    mesh.vertices.push_back(parse_point(reader, fields));
+  }
+  for (long f = 0; f < face_count; ++f) {
+    if (!next_content(reader, line)) reader.fail("unexpected end of file in faces");
+    std::istringstream fields(line);
+    int corners = 0;
+    if (!(fields >> corners) || corners < 3) reader.fail("expected a face with >= 3 vertices");
+    std::vector<int> polygon(corners);
+    for (int& index : polygon)
+      if (!(fields >> index) || index < 0 || index >= vertex_count)
+        reader.fail("vertex index missing or out of range");
+    add_polygon(mesh, polygon);
+  }
+  return mesh;
+}
+
+// --- OBJ ------------------------------------------------------------------------------------
+// "a", "a/b", "a//c", "a/b/c": the vertex index, 1-based or negative (relative to the end).
+int parse_obj_corner(LineReader& reader, const std::string& token, std::size_t vertex_count) {
+  const std::string first = token.substr(0, token.find('/'));
+  char* end = nullptr;
+  const long index = std::strtol(first.c_str(), &end, 10);
+  if (first.empty() || *end != '\0' || index == 0) reader.fail("bad face vertex '" + token + "'");
+  const long resolved = index > 0 ? index - 1 : static_cast<long>(vertex_count) + index;
+  if (resolved < 0 || resolved >= static_cast<long>(vertex_count))
+    reader.fail("face vertex '" + token + "' out of range");
+  return static_cast<int>(resolved);
+}
+
+SurfaceMesh read_obj(const std::string& path) {
+  LineReader reader(path);
+  SurfaceMesh mesh;
+  for (std::string line; reader.next(line);) {
+    std::istringstream fields(line.substr(0, line.find('#')));
+    std::string keyword;
+    fields >> keyword;
+    if (keyword == "v") {
+      mesh.vertices.push_back(parse_point(reader, fields));
+    } else if (keyword == "f") {
+      std::vector<int> polygon;
+      for (std::string token; fields >> token;)
+        polygon.push_back(parse_obj_corner(reader, token, mesh.vertices.size()));
+      if (polygon.size() < 3) reader.fail("face with fewer than 3 vertices");
+      add_polygon(mesh, polygon);
+    }  // normals, texture coordinates, groups, materials: not needed for a volume
+  }
+  return mesh;
+}
+
+// --- STL ------------------------------------------------------------------------------------
+// STL repeats vertex positions per facet: weld identical positions so edges can be matched.
+class VertexWelder {
+ public:
+  explicit VertexWelder(SurfaceMesh& mesh) : mesh_(mesh) {}
+  int index_of(const Vec3& p) {
+    const auto inserted = indices_.emplace(std::array<double, 3>{p.x(), p.y(), p.z()},
+                                           static_cast<int>(mesh_.vertices.size()));
+    if (inserted.second) mesh_.vertices.push_back(p);
+    return inserted.first->second;
+  }
+
+ private:
+  SurfaceMesh& mesh_;
+  std::map<std::array<double, 3>, int> indices_;
+};
+
+bool looks_binary_stl(const std::string& path) {
+  std::ifstream in = open_input(path);
+  in.seekg(0, std::ios::end);
+  const auto size = static_cast<std::uint64_t>(in.tellg());
+  if (size < 84) return false;
+  in.seekg(80);
+  std::uint32_t count = 0;
+  in.read(reinterpret_cast<char*>(&count), 4);
+  return size == 84 + 50 * static_cast<std::uint64_t>(count);  // "solid" headers occur in both
+}
+
+SurfaceMesh read_binary_stl(const std::string& path) {
+  std::ifstream in = open_input(path);
+  in.seekg(80);
+  std::uint32_t count = 0;
+  in.read(reinterpret_cast<char*>(&count), 4);
+  SurfaceMesh mesh;
+  VertexWelder welder(mesh);
+  for (std::uint32_t f = 0; f < count; ++f) {
+    float record[12];  // normal, then three vertices
+    char attribute[2];
+    in.read(reinterpret_cast<char*>(record), sizeof record);
+    in.read(attribute, sizeof attribute);
+    if (!in) throw Error(path + ": truncated binary STL at facet " + std::to_string(f));
+    std::vector<int> triangle;
+    for (int v = 1; v <= 3; ++v) {
+      const Vec3 p(record[3 * v], record[3 * v + 1], record[3 * v + 2]);
+      if (!p.allFinite()) throw Error(path + ": non-finite vertex in facet " + std::to_string(f));
+      triangle.push_back(welder.index_of(p));
+    }
+    add_polygon(mesh, triangle);
+  }
+  return mesh;
+}
+
+SurfaceMesh read_ascii_stl(const std::string& path) {
+  LineReader reader(path);
+  SurfaceMesh mesh;
+  VertexWelder welder(mesh);
+  std::vector<int> loop;
+  bool seen_solid = false;
+  for (std::string line; reader.next(line);) {
+    std::istringstream fields(line);
+    std::string keyword;
+    if (!(fields >> keyword)) continue;
+    if (keyword == "solid") seen_solid = true;
+    if (!seen_solid) reader.fail("expected 'solid' (ASCII STL) or a binary STL");
+    if (keyword == "outer") loop.clear();
+    if (keyword == "vertex") loop.push_back(welder.index_of(parse_point(reader, fields)));
+    if (keyword == "endloop") {
+      if (loop.size() < 3) reader.fail("facet with fewer than 3 vertices");
+      add_polygon(mesh, loop);
+      loop.clear();
+    }
+  }
+  if (!seen_solid) throw Error(path + ": empty STL file");
+  return mesh;
+}
+
+}  // namespace
+
+SurfaceMesh read_surface_mesh(const std::string& path) {
+  const std::string extension = lowercase_extension(path);
+  if (extension == ".off") return read_off(path);
+  if (extension == ".obj") return read_obj(path);
+  if (extension == ".stl")
+    return looks_binary_stl(path) ? read_binary_stl(path) : read_ascii_stl(path);
+  throw Error("mesh file " + path + ": unsupported format (expected .off, .obj or .stl)");
+}
+
+void require_closed(const SurfaceMesh& mesh, const std::string& path) {
+  if (mesh.triangles.empty()) throw Error("mesh file " + path + " has no triangles");
+  std::map<std::pair<int, int>, int> edge_uses;
+  for (const auto& t : mesh.triangles)
+    for (int e = 0; e < 3; ++e) {
+      const int a = t[e], b = t[(e + 1) % 3];
+      ++edge_uses[{std::min(a, b), std::max(a, b)}];
+    }
+  std::size_t bad_edges = 0;
+  const std::pair<const std::pair<int, int>, int>* example = nullptr;
+  for (const auto& entry : edge_uses)
+    if (entry.second != 2 && bad_edges++ == 0) example = &entry;
+  if (bad_edges == 0) return;
+  throw Error("mesh " + path + " is not closed: " + std::to_string(bad_edges) +
+              " edge(s) are not shared by exactly two triangles, e.g. the edge between vertices " +
+              std::to_string(example->first.first) + " and " +
+              std::to_string(example->first.second) + " (0-based) is used by " +
+              std::to_string(example->second) +
+              " triangle(s); a mesh domain must be a closed surface");
+}
+
+Box bounds_of(const SurfaceMesh& mesh) {
+  Box box{Vec3::Constant(HUGE_VAL), Vec3::Constant(-HUGE_VAL)};
+  for (const Vec3& p : mesh.vertices) {
+    box.lo = box.lo.cwiseMin(p);
+    box.hi = box.hi.cwiseMax(p);
+  }
+  return box;
+}
+
+}  // namespace rvor

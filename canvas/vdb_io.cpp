@@ -1,1 +1,104 @@
-// Placeholder: implemented in a later commit.
+#include "rvor/vdb_io.h"
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include <openvdb/io/File.h>
+
+#include "rvor/atomic_file.h"
+#include "rvor/error.h"
+#include "vdb_support.h"
+
+namespace rvor {
+
+namespace {
+
+// Unreached voxels hold +inf in VoronoiField; the grid's background is the same +inf, so what
+// is not stored reads back exactly as "unreached" (OpenVDB stores and reads IEEE inf as is).
+constexpr float kDistanceBackground = std::numeric_limits<float>::infinity();
+constexpr std::int32_t kLabelBackground = -1;
+
+template <typename GridType>
+typename GridType::Ptr make_canvas_grid(const Canvas& canvas, const std::string& name,
+                                        typename GridType::ValueType background) {
+  auto grid = GridType::create(background);
+  grid->setName(name);
+  grid->setTransform(canvas_transform(canvas.voxel_size, canvas.origin));
+  grid->insertMeta("rvor_dimension", openvdb::Int32Metadata(canvas.dimension));
+  return grid;
+}
+
+// Sets value(slot) at every active voxel of the canvas.
+template <typename GridType, typename Value>
+void fill_active(GridType& grid, const Canvas& canvas, Value value) {
+  auto accessor = grid.getAccessor();
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot)
+    if (canvas.active[slot]) accessor.setValue(to_coord(canvas.voxel_of(slot)), value(slot));
+}
+
+void write_grids_atomically(const std::string& path, const openvdb::GridPtrVec& grids) {
+  openvdb::initialize();
+  const std::string temporary = temporary_path_for(path);
+  try {
+    openvdb::io::File file(temporary);
+    file.write(grids);
+    file.close();
+  } catch (const openvdb::Exception& error) {
+    std::remove(temporary.c_str());
+    throw Error("cannot write VDB file " + path + ": " + error.what());
+  }
+  publish_temporary(temporary, path);
+}
+
+void require_same_placement(const openvdb::GridBase& grid, const Canvas& canvas,
+                            const std::string& path) {
+  if (grid.transform() != *canvas_transform(canvas.voxel_size, canvas.origin))
+    throw Error("grid '" + grid.getName() + "' in VDB file " + path +
+                " does not have the canvas's voxel size and origin");
+}
+
+}  // namespace
+
+void write_voronoi_vdb(const std::string& path, const Canvas& canvas, const VoronoiField& field) {
+  if (field.distance.size() != canvas.slot_count() || field.label.size() != canvas.slot_count())
+    throw Error("cannot write VDB file " + path + ": the Voronoi field does not match the canvas");
+  auto distance = make_canvas_grid<openvdb::FloatGrid>(canvas, "distance", kDistanceBackground);
+  auto label = make_canvas_grid<openvdb::Int32Grid>(canvas, "label", kLabelBackground);
+  fill_active(*distance, canvas, [&](std::size_t slot) { return field.distance[slot]; });
+  fill_active(*label, canvas, [&](std::size_t slot) { return field.label[slot]; });
+  write_grids_atomically(path, {distance, label});
+}
+
+VoronoiField read_voronoi_vdb(const std::string& path, const Canvas& canvas) {
+  const auto grids = read_grids(path);
+  const auto distance = find_grid<openvdb::FloatGrid>(grids, path, "distance", "float");
+  const auto label = find_grid<openvdb::Int32Grid>(grids, path, "label", "int32");
+  require_same_placement(*distance, canvas, path);
+  require_same_placement(*label, canvas, path);
+  VoronoiField field;
+  field.distance.assign(canvas.slot_count(), std::numeric_limits<float>::infinity());
+  field.label.assign(canvas.slot_count(), -1);
+  const auto distances = distance->getConstAccessor();
+  const auto labels = label->getConstAccessor();
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
+    if (!canvas.active[slot]) continue;
+    const openvdb::Coord c = to_coord(canvas.voxel_of(slot));
+    field.distance[slot] = distances.getValue(c);
+    field.label[slot] = labels.getValue(c);
+  }
+  return field;
+}
+
+void write_metric_vdb(const std::string& path, const Canvas& canvas) {
+  openvdb::GridPtrVec grids;
+  for (int component = 0; component < 6; ++component) {
+    auto grid = make_canvas_grid<openvdb::FloatGrid>(canvas, kMetricGridNames[component], 0.0f);
+    fill_active(*grid, canvas,
+                [&](std::size_t slot) { return canvas.metric[6 * slot + component]; });
+    grids.push_back(grid);
+  }
+  write_grids_atomically(path, grids);
+}
+
+}  // namespace rvor

@@ -1,1 +1,114 @@
-// Placeholder: implemented in a later commit.
+#include <array>
+
+#include <openvdb/tools/Interpolation.h>
+#include <openvdb/tools/Morphology.h>
+
+#include "rvor/error.h"
+#include "rvor/metric_field.h"
+#include "vdb_support.h"
+
+namespace rvor {
+
+namespace {
+
+using openvdb::FloatGrid;
+
+// Trilinear interpolation near the edge of the stored region would mix in the background (0,
+// not a metric). One shell of voxels around the active region, each the mean of its active
+// neighbours, makes sampling up to a voxel outside the stored centres meaningful.
+void extend_by_one_voxel(FloatGrid& grid) {
+  grid.tree().voxelizeActiveTiles();
+  openvdb::MaskTree shell(grid.tree(), false, openvdb::TopologyCopy());
+  openvdb::tools::dilateActiveValues(shell, 1, openvdb::tools::NN_FACE_EDGE_VERTEX,
+                                     openvdb::tools::IGNORE_TILES);
+  shell.topologyDifference(grid.tree());
+  const FloatGrid original(grid);  // read neighbours before writing the shell
+  const auto stored = original.getConstAccessor();
+  auto output = grid.getAccessor();
+  for (auto voxel = shell.cbeginValueOn(); voxel; ++voxel) {
+    const openvdb::Coord c = voxel.getCoord();
+    double sum = 0;
+    int count = 0;
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          float value = 0;
+          if (stored.probeValue(c.offsetBy(dx, dy, dz), value)) {
+            sum += value;
+            ++count;
+          }
+        }
+    if (count > 0) output.setValue(c, static_cast<float>(sum / count));
+  }
+}
+
+int stored_dimension(const FloatGrid& grid) {
+  if (const auto meta = grid.getMetadata<openvdb::Int32Metadata>("rvor_dimension"))
+    return meta->value() == 2 ? 2 : 3;
+  const openvdb::CoordBBox box = grid.evalActiveVoxelBoundingBox();
+  return box.min().z() == box.max().z() ? 2 : 3;  // files from elsewhere: one layer means 2D
+}
+
+class VdbMetricField : public MetricField {
+ public:
+  VdbMetricField(const std::string& path, std::array<FloatGrid::Ptr, 6> grids)
+      : path_(path), grids_(std::move(grids)) {
+    dimension_ = stored_dimension(*grids_[0]);
+    const openvdb::CoordBBox box = grids_[0]->evalActiveVoxelBoundingBox();
+    layer_z_ = box.min().z();
+    bounds_ = world_bounds(box);
+    for (const auto& grid : grids_) {
+      if (grid->transform() != grids_[0]->transform())
+        throw Error("VDB metric file " + path + ": grids m11 ... m33 have different transforms");
+      extend_by_one_voxel(*grid);
+    }
+  }
+
+  int dimension() const override { return dimension_; }
+  std::string description() const override { return "vdb:" + path_; }
+  std::optional<Box> natural_domain() const override { return bounds_; }
+
+  Mat3 at(const Vec3& p) const override {
+    openvdb::Vec3d index = grids_[0]->transform().worldToIndex(openvdb::Vec3d(p.x(), p.y(), p.z()));
+    if (dimension_ == 2) index.z() = layer_z_;  // a 2D field is one voxel layer
+    SolTensor c{};
+    for (int n = 0; n < 6; ++n)
+      c[n] = openvdb::tools::BoxSampler::sample(grids_[n]->tree(),
+                                                index);  // tree reads are thread-safe
+    if (dimension_ == 2) {
+      c[3] = c[4] = 0;
+      c[5] = 1;
+    }
+    return tensor_from_sol(c);
+  }
+
+ private:
+  Box world_bounds(const openvdb::CoordBBox& box) const {
+    const auto& transform = grids_[0]->transform();
+    const auto lo = transform.indexToWorld(box.min().asVec3d() - openvdb::Vec3d(0.5));
+    const auto hi = transform.indexToWorld(box.max().asVec3d() + openvdb::Vec3d(0.5));
+    Box bounds{Vec3(lo.x(), lo.y(), lo.z()), Vec3(hi.x(), hi.y(), hi.z())};
+    if (dimension_ == 2) bounds.lo.z() = bounds.hi.z() = 0;
+    return bounds;
+  }
+
+  std::string path_;
+  std::array<FloatGrid::Ptr, 6> grids_;
+  int dimension_ = 3;
+  int layer_z_ = 0;
+  Box bounds_;
+};
+
+}  // namespace
+
+std::unique_ptr<MetricField> load_vdb_metric(const std::string& vdb_path) {
+  const openvdb::GridPtrVec grids = read_grids(vdb_path);
+  std::array<FloatGrid::Ptr, 6> components;
+  for (int n = 0; n < 6; ++n)
+    components[n] = find_grid<FloatGrid>(grids, vdb_path, kMetricGridNames[n], "float");
+  if (components[0]->activeVoxelCount() == 0)
+    throw Error("VDB metric file " + vdb_path + ": grid 'm11' has no active voxel");
+  return std::make_unique<VdbMetricField>(vdb_path, std::move(components));
+}
+
+}  // namespace rvor

@@ -1,0 +1,19 @@
+#pragma once
+// The up-front memory check of the canvas builder (private to rvor_canvas).
+#include <cstdint>
+#include <string>
+
+namespace rvor {
+
+// Bytes a canvas of `active_voxels` voxels (plus a brick table of `brick_table_cells` entries)
+// and a propagation over it need.
+double estimated_canvas_bytes(double active_voxels, double brick_table_cells);
+
+// Throws rvor::Error "canvas of ~N active voxels needs ~X, over the memory budget of Y
+// (--memory-budget)" when the estimate exceeds `budget` (0 = default_memory_budget()).
+void check_memory_budget(double active_voxels, double brick_table_cells, std::uint64_t budget);
+
+// "1.2 GB", "120 TB": decimal units, three significant digits.
+std::string format_bytes(double bytes);
+
+}  // namespace rvor

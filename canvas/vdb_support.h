@@ -1,0 +1,56 @@
+#pragma once
+// OpenVDB helpers shared by the canvas library's .cpp files (private; includes OpenVDB, so only
+// the few translation units that need it include this).
+#include <string>
+
+#include <openvdb/io/File.h>
+#include <openvdb/openvdb.h>
+
+#include "rvor/canvas.h"
+#include "rvor/error.h"
+
+namespace rvor {
+
+// Index space of every rvor VDB grid is the canvas's voxel index space: voxel (i,j,k) has its
+// centre at origin + h (i,j,k), which is OpenVDB's cell-centred convention.
+inline openvdb::math::Transform::Ptr canvas_transform(double voxel_size, const Vec3& origin) {
+  auto transform = openvdb::math::Transform::createLinearTransform(voxel_size);
+  transform->postTranslate(openvdb::Vec3d(origin.x(), origin.y(), origin.z()));
+  return transform;
+}
+
+inline openvdb::Coord to_coord(const VoxelIndex& v) {
+  return openvdb::Coord(v.i, v.j, v.k);
+}
+
+inline const char* const kMetricGridNames[6] = {"m11", "m12", "m22", "m13", "m23", "m33"};
+
+// All grids of a VDB file; rvor::Error naming the file when it cannot be read.
+inline openvdb::GridPtrVec read_grids(const std::string& path) {
+  openvdb::initialize();
+  try {
+    openvdb::io::File file(path);
+    file.open();
+    auto grids = file.getGrids();
+    file.close();
+    return *grids;
+  } catch (const openvdb::Exception& error) {
+    throw Error("cannot read VDB file " + path + ": " + error.what());
+  }
+}
+
+// The grid called `name`; rvor::Error naming the file and the grid when missing or mistyped.
+template <typename GridType>
+typename GridType::Ptr find_grid(const openvdb::GridPtrVec& grids, const std::string& path,
+                                 const std::string& name, const std::string& type) {
+  for (const auto& grid : grids)
+    if (grid && grid->getName() == name) {
+      auto typed = openvdb::gridPtrCast<GridType>(grid);
+      if (!typed)
+        throw Error("grid '" + name + "' in VDB file " + path + " is not a " + type + " grid");
+      return typed;
+    }
+  throw Error("VDB file " + path + " has no grid '" + name + "'");
+}
+
+}  // namespace rvor

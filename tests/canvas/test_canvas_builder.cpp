@@ -1,0 +1,228 @@
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+
+#include "canvas_test_support.h"
+#include "rvor/canvas_builder.h"
+#include "rvor/error.h"
+#include "support/box_canvas.h"
+#include "support/temp_dir.h"
+
+namespace rvor {
+namespace {
+
+using test::FunctionMetric;
+
+std::string build_error(const DomainSpec& domain, const MetricField& metric,
+                        CanvasOptions options) {
+  try {
+    build_canvas(domain, metric, options);
+  } catch (const Error& error) {
+    return error.what();
+  }
+  return "";
+}
+
+Canvas build(const std::string& spec, int resolution, const MetricField& metric) {
+  CanvasOptions options;
+  options.resolution = resolution;
+  return build_canvas(parse_domain(spec), metric, options);
+}
+
+Mat3 varying_metric(const Vec3& p) {
+  Mat3 G;
+  G << 2 + p.x(), 0.3 * p.y(), 0.1, 0.3 * p.y(), 3, 0.2 * p.z(), 0.1, 0.2 * p.z(), 4;
+  return G;
+}
+
+void expect_same_canvas(const Canvas& built, const Canvas& expected) {
+  EXPECT_EQ(built.dimension, expected.dimension);
+  EXPECT_DOUBLE_EQ(built.voxel_size, expected.voxel_size);
+  EXPECT_TRUE(built.origin.isApprox(expected.origin, 1e-12)) << built.origin.transpose();
+  EXPECT_EQ(built.dims, expected.dims);
+  EXPECT_EQ(built.brick_grid_dims, expected.brick_grid_dims);
+  EXPECT_EQ(built.active_voxel_count, expected.active_voxel_count);
+  ASSERT_EQ(built.brick_count(), expected.brick_count());
+  for (std::size_t slot = 0; slot < built.slot_count(); ++slot) {
+    if (!built.active[slot]) continue;
+    const int64_t other = expected.slot_of(built.voxel_of(slot));
+    ASSERT_GE(other, 0) << "slot " << slot;
+    for (int n = 0; n < 6; ++n)
+      ASSERT_EQ(built.metric[6 * slot + n], expected.metric[6 * other + n]);
+  }
+}
+
+TEST(BuildCanvas, BoxMatchesTheDenseTestCanvas) {
+  const FunctionMetric metric(3, varying_metric);
+  const Canvas built = build("box:-1,-0.5,0,1,0.5,0.3", 40, metric);
+  const Canvas expected =
+      test::make_box_canvas(3, Vec3(-1, -0.5, 0), Vec3(1, 0.5, 0.3), 40, varying_metric);
+  expect_same_canvas(built, expected);
+  EXPECT_EQ(built.active_voxel_count, 40u * 20u * 6u);
+  EXPECT_NE(built.description.find("box:-1,-0.5,0,1,0.5,0.3"), std::string::npos);
+  EXPECT_NE(built.description.find("resolution 40"), std::string::npos);
+}
+
+TEST(BuildCanvas, RectangleIsOneLayer) {
+  const FunctionMetric metric(2, [](const Vec3& p) {
+    Mat3 G = Mat3::Identity();
+    G(0, 0) = 1 + p.x() * p.x();
+    G(2, 2) = 7;  // not stored: 2D canvases keep G(2,2) = 1
+    return G;
+  });
+  const Canvas built = build("rect:0,0,2,1", 50, metric);
+  EXPECT_EQ(built.dimension, 2);
+  EXPECT_EQ(built.dims, (std::array<int, 3>{50, 25, 1}));
+  EXPECT_EQ(built.active_voxel_count, 50u * 25u);
+  EXPECT_EQ(built.brick_volume(), 64);
+  for (const VoxelIndex& o : built.brick_origins) EXPECT_EQ(o.k, 0);
+  for (std::size_t slot = 0; slot < built.slot_count(); ++slot)
+    if (built.active[slot]) {
+      ASSERT_EQ(built.metric_at(slot)(2, 2), 1.0);
+    }
+  const Canvas expected =
+      test::make_box_canvas(2, Vec3(0, 0, 0), Vec3(2, 1, 0), 50, [&](const Vec3& p) {
+        Mat3 G = metric.at(p);
+        G(2, 2) = 1;
+        return G;
+      });
+  expect_same_canvas(built, expected);
+}
+
+double active_volume(const Canvas& canvas) {
+  return canvas.active_voxel_count * std::pow(canvas.voxel_size, canvas.dimension);
+}
+
+TEST(BuildCanvas, ImplicitShapesHaveTheirVolume) {
+  const double pi = M_PI;
+  const auto euclidean3 = test::euclidean_metric(3);
+  EXPECT_NEAR(active_volume(build("implicit:sphere:center=1,2,3,r=1", 64, euclidean3)),
+              4.0 / 3.0 * pi, 0.02 * 4.0 / 3.0 * pi);
+  EXPECT_NEAR(active_volume(build("implicit:torus:R=1,r=0.25", 80, euclidean3)),
+              2 * pi * pi * 0.25 * 0.25, 0.03 * 2 * pi * pi * 0.0625);
+  EXPECT_NEAR(active_volume(build("implicit:ellipsoid:a=1,b=0.75,c=0.5", 64, euclidean3)),
+              4.0 / 3.0 * pi * 0.375, 0.02 * 4.0 / 3.0 * pi * 0.375);
+  const Canvas disk = build("implicit:disk:center=0.5,0,r=1", 64, test::euclidean_metric(2));
+  EXPECT_EQ(disk.dimension, 2);
+  EXPECT_EQ(disk.dims[2], 1);
+  EXPECT_NEAR(active_volume(disk), pi, 0.02 * pi);
+}
+
+TEST(BuildCanvas, ImplicitVoxelsAreExactlyThoseWithCentresInside) {
+  const Canvas canvas = build("implicit:sphere:r=1", 24, test::euclidean_metric(3));
+  std::size_t inside = 0;
+  for (int k = 0; k < canvas.dims[2]; ++k)
+    for (int j = 0; j < canvas.dims[1]; ++j)
+      for (int i = 0; i < canvas.dims[0]; ++i) {
+        const bool in_sphere = canvas.world_of(VoxelIndex{i, j, k}).norm() <= 1.0;
+        inside += in_sphere;
+        ASSERT_EQ(canvas.slot_of(i, j, k) >= 0, in_sphere) << i << " " << j << " " << k;
+      }
+  EXPECT_EQ(canvas.active_voxel_count, inside);
+}
+
+TEST(BuildCanvas, ClosedMeshesInEveryFormatHaveTheirVolume) {
+  test::TempDir dir;
+  const Vec3 lo(0.1, -0.2, 0.3), hi(2.1, 0.8, 1.1);  // volume 1.6
+  test::write_box_off(dir.file("box.off"), lo, hi);
+  test::write_box_obj(dir.file("box.obj"), lo, hi);
+  test::write_box_stl_ascii(dir.file("box.stl"), lo, hi);
+  test::write_box_stl_binary(dir.file("binary.stl"), lo, hi);
+  for (const std::string name : {"box.off", "box.obj", "box.stl", "binary.stl"}) {
+    const Canvas canvas = build("mesh:" + dir.file(name), 40, test::euclidean_metric(3));
+    EXPECT_EQ(canvas.dimension, 3);
+    EXPECT_NEAR(active_volume(canvas), 1.6, 0.03 * 1.6) << name;
+  }
+}
+
+TEST(BuildCanvas, OpenMeshIsRejected) {
+  test::TempDir dir;
+  test::write_box_off(dir.file("open.off"), Vec3(0, 0, 0), Vec3(1, 1, 1), true);
+  const std::string message =
+      build_error(parse_domain("mesh:" + dir.file("open.off")), test::euclidean_metric(3), {});
+  EXPECT_NE(message.find("is not closed"), std::string::npos) << message;
+}
+
+TEST(BuildCanvas, ResolutionOutOfRangeIsRejected) {
+  const DomainSpec box = parse_domain("box:0,0,0,1,1,1");
+  for (int resolution : {0, 1, 1000000}) {
+    CanvasOptions options;
+    options.resolution = resolution;
+    const std::string message = build_error(box, test::euclidean_metric(3), options);
+    EXPECT_NE(message.find("resolution " + std::to_string(resolution)), std::string::npos)
+        << message;
+  }
+}
+
+TEST(BuildCanvas, HugeCanvasesAreRejectedInstantlyByTheMemoryEstimate) {
+  CanvasOptions options;
+  options.resolution = 65536;
+  options.memory_budget = std::uint64_t{18} << 30;
+  for (const std::string spec : {"box:0,0,0,1,1,1", "implicit:sphere:r=1"}) {
+    const auto start = std::chrono::steady_clock::now();
+    const std::string message = build_error(parse_domain(spec), test::euclidean_metric(3), options);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_LT(seconds, 1.0) << spec;
+    EXPECT_NE(message.find("active voxels needs ~"), std::string::npos) << message;
+    EXPECT_NE(message.find("over the memory budget of 19.3 GB (--memory-budget)"),
+              std::string::npos)
+        << message;
+  }
+  EXPECT_NE(build_error(parse_domain("box:0,0,0,1,1,1"), test::euclidean_metric(3), options)
+                .find("canvas of ~2.8e+14 active voxels"),
+            std::string::npos);
+}
+
+TEST(BuildCanvas, MemoryBudgetOverride) {
+  const DomainSpec box = parse_domain("box:0,0,0,1,1,1");
+  CanvasOptions options;
+  options.resolution = 32;
+  options.memory_budget = 100000;
+  EXPECT_NE(build_error(box, test::euclidean_metric(3), options).find("budget of 100 kB"),
+            std::string::npos);
+  options.memory_budget = std::uint64_t{1} << 30;
+  EXPECT_EQ(build_canvas(box, test::euclidean_metric(3), options).active_voxel_count,
+            32u * 32u * 32u);
+  EXPECT_GT(default_memory_budget(), 0u);
+  EXPECT_GT(estimated_bytes_per_active_voxel(), 24u);
+}
+
+TEST(BuildCanvas, EmptyDomainsAreRejected) {
+  EXPECT_NE(build_error(parse_domain("implicit:sphere:r=0"), test::euclidean_metric(3), {})
+                .find("no voxel inside"),
+            std::string::npos);
+  DomainSpec flat;  // zero extent, built by hand (parse_domain refuses it)
+  flat.kind = DomainSpec::Kind::Box;
+  flat.bounds = Box{Vec3(0, 0, 0), Vec3(0, 0, 0)};
+  EXPECT_NE(build_error(flat, test::euclidean_metric(3), {}).find("no voxel inside"),
+            std::string::npos);
+}
+
+TEST(BuildCanvas, NonSpdMetricIsRejectedWithItsPosition) {
+  const FunctionMetric bad(
+      3,
+      [](const Vec3& p) {
+        Mat3 G = Mat3::Identity();
+        if (p.x() > 0.5 && p.y() > 0.5 && p.z() > 0.5) G(1, 1) = -1;
+        return G;
+      },
+      "bad-test-metric");
+  CanvasOptions options;
+  options.resolution = 16;
+  const std::string message = build_error(parse_domain("box:0,0,0,1,1,1"), bad, options);
+  EXPECT_NE(message.find("'bad-test-metric' at ("), std::string::npos) << message;
+  EXPECT_NE(message.find("positive definite"), std::string::npos) << message;
+  // The first failing brick in brick order: the (8,8,8) brick, first voxel (0.53125 = 8.5 h).
+  EXPECT_NE(message.find("at (0.53125, 0.53125, 0.53125)"), std::string::npos) << message;
+}
+
+TEST(BuildCanvas, TwoDimensionalMetricOnThreeDimensionalDomainIsRejected) {
+  const std::string message =
+      build_error(parse_domain("box:0,0,0,1,1,1"), test::euclidean_metric(2), {});
+  EXPECT_NE(message.find("is 2D"), std::string::npos) << message;
+}
+
+}  // namespace
+}  // namespace rvor

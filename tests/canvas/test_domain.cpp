@@ -1,0 +1,76 @@
+#include <gtest/gtest.h>
+
+#include "rvor/domain.h"
+#include "rvor/error.h"
+
+namespace rvor {
+namespace {
+
+std::string error_of(const std::string& spec) {
+  try {
+    parse_domain(spec);
+  } catch (const Error& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST(ParseDomain, Box) {
+  const DomainSpec d = parse_domain("box:-1,0,0.5,1,2,3");
+  EXPECT_EQ(d.kind, DomainSpec::Kind::Box);
+  EXPECT_EQ(d.dimension(), 3);
+  EXPECT_EQ(d.bounds.lo, Vec3(-1, 0, 0.5));
+  EXPECT_EQ(d.bounds.hi, Vec3(1, 2, 3));
+  EXPECT_EQ(d.description(), "box:-1,0,0.5,1,2,3");
+}
+
+TEST(ParseDomain, Rectangle) {
+  const DomainSpec d = parse_domain("rect:0,0,2,1");
+  EXPECT_EQ(d.kind, DomainSpec::Kind::Rectangle);
+  EXPECT_EQ(d.dimension(), 2);
+  EXPECT_EQ(d.bounds.lo, Vec3(0, 0, 0));
+  EXPECT_EQ(d.bounds.hi, Vec3(2, 1, 0));
+  EXPECT_EQ(d.description(), "rect:0,0,2,1");
+}
+
+TEST(ParseDomain, Mesh) {
+  const DomainSpec d = parse_domain("mesh:some/dir/part.STL");
+  EXPECT_EQ(d.kind, DomainSpec::Kind::Mesh);
+  EXPECT_EQ(d.path, "some/dir/part.STL");
+  EXPECT_EQ(d.dimension(), 3);
+  EXPECT_EQ(d.description(), "mesh:some/dir/part.STL");
+}
+
+TEST(ParseDomain, ImplicitShapes) {
+  const DomainSpec sphere = parse_domain("implicit:sphere:center=1,2,3,r=0.5");
+  EXPECT_EQ(sphere.kind, DomainSpec::Kind::Implicit);
+  EXPECT_FALSE(sphere.implicit_is_2d());
+  EXPECT_EQ(sphere.dimension(), 3);
+  EXPECT_EQ(sphere.bounds.lo, Vec3(0.5, 1.5, 2.5));
+  EXPECT_EQ(sphere.description(), "implicit:sphere:center=1,2,3,r=0.5");
+
+  const DomainSpec disk = parse_domain("implicit:disk:r=2");
+  EXPECT_TRUE(disk.implicit_is_2d());
+  EXPECT_EQ(disk.dimension(), 2);
+  EXPECT_EQ(disk.bounds.hi, Vec3(2, 2, 0));
+
+  const DomainSpec torus = parse_domain("implicit:torus:R=2,r=0.5");
+  EXPECT_EQ(torus.bounds.hi, Vec3(2.5, 2.5, 0.5));
+  const DomainSpec ellipsoid = parse_domain("implicit:ellipsoid:a=3,b=2,c=1");
+  EXPECT_EQ(ellipsoid.bounds.lo, Vec3(-3, -2, -1));
+  EXPECT_EQ(parse_domain("implicit:sphere").description(), "implicit:sphere:center=0,0,0,r=1");
+}
+
+TEST(ParseDomain, MalformedSpecsNameTheSpec) {
+  for (const std::string spec :
+       {"box:0,0,0,1,1", "box:0,0,0,1,1,x", "box:0,0,0,0,1,1", "rect:0,0,1", "rect:0,1,1,0",
+        "cube:0,0,1,1", "box", "mesh:", "mesh:shape.ply", "implicit:cube", "implicit:sphere:r=-1",
+        "implicit:sphere:radius=1", "implicit:sphere:center=1,2", "implicit:sphere:r=1,r=2",
+        "implicit:disk:center=1,2,3", "implicit:sphere:5"}) {
+    const std::string message = error_of(spec);
+    EXPECT_NE(message.find(spec), std::string::npos) << spec << " -> '" << message << "'";
+  }
+}
+
+}  // namespace
+}  // namespace rvor

@@ -1,0 +1,79 @@
+#include <gtest/gtest.h>
+
+#include "canvas_test_support.h"
+#include "rvor/error.h"
+#include "support/temp_dir.h"
+#include "surface_mesh.h"
+
+namespace rvor {
+namespace {
+
+using test::TempDir;
+
+std::string error_of(const std::function<void()>& action) {
+  try {
+    action();
+  } catch (const Error& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST(SurfaceMesh, ReadsEveryFormatAsTheSameClosedBox) {
+  TempDir dir;
+  const Vec3 lo(-1, 0, 2), hi(1, 0.5, 3);
+  test::write_box_off(dir.file("box.off"), lo, hi);
+  test::write_box_obj(dir.file("box.obj"), lo, hi);
+  test::write_box_stl_ascii(dir.file("box.stl"), lo, hi);
+  test::write_box_stl_binary(dir.file("binary.STL"), lo, hi);
+  for (const std::string name : {"box.off", "box.obj", "box.stl", "binary.STL"}) {
+    const SurfaceMesh mesh = read_surface_mesh(dir.file(name));
+    EXPECT_EQ(mesh.vertices.size(), 8u) << name;  // STL corners welded
+    EXPECT_EQ(mesh.triangles.size(), 12u) << name;
+    EXPECT_NO_THROW(require_closed(mesh, name)) << name;
+    const Box box = bounds_of(mesh);
+    EXPECT_EQ(box.lo, lo) << name;
+    EXPECT_EQ(box.hi, hi) << name;
+  }
+}
+
+TEST(SurfaceMesh, ObjFaceFormsAndNegativeIndices) {
+  TempDir dir;
+  test::write_text(dir.file("t.obj"),
+                   "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+                   "f 1/1/1 2/2/2 3/3/3\nf -4//1 -1//1 -3//1\nf 1/1 3/3 4/4\nf 2 4 3 # last\n");
+  const SurfaceMesh mesh = read_surface_mesh(dir.file("t.obj"));
+  ASSERT_EQ(mesh.triangles.size(), 4u);
+  EXPECT_EQ(mesh.triangles[1], (std::array<int, 3>{0, 3, 1}));
+  EXPECT_NO_THROW(require_closed(mesh, "t.obj"));
+}
+
+TEST(SurfaceMesh, OpenMeshIsRejected) {
+  TempDir dir;
+  test::write_box_off(dir.file("open.off"), Vec3(0, 0, 0), Vec3(1, 1, 1), true);
+  const SurfaceMesh mesh = read_surface_mesh(dir.file("open.off"));
+  const std::string message = error_of([&] { require_closed(mesh, dir.file("open.off")); });
+  EXPECT_NE(message.find("open.off is not closed"), std::string::npos) << message;
+  EXPECT_NE(message.find("4 edge(s)"), std::string::npos) << message;
+}
+
+TEST(SurfaceMesh, ErrorsNameFileAndLine) {
+  TempDir dir;
+  test::write_text(dir.file("bad.obj"), "v 0 0 0\nv 1 0 0\nv 0 1\n");
+  EXPECT_NE(error_of([&] { read_surface_mesh(dir.file("bad.obj")); }).find("bad.obj:3:"),
+            std::string::npos);
+  test::write_text(dir.file("range.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n");
+  EXPECT_NE(error_of([&] { read_surface_mesh(dir.file("range.obj")); }).find("range.obj:4:"),
+            std::string::npos);
+  test::write_text(dir.file("bad.off"), "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n");
+  EXPECT_NE(error_of([&] { read_surface_mesh(dir.file("bad.off")); }).find("bad.off:6:"),
+            std::string::npos);
+  test::write_text(dir.file("bad.stl"), "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 x\n");
+  EXPECT_NE(error_of([&] { read_surface_mesh(dir.file("bad.stl")); }).find("bad.stl:4:"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { read_surface_mesh(dir.file("missing.off")); }).find("missing.off"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace rvor

@@ -1,0 +1,148 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <limits>
+
+#include "rvor/error.h"
+#include "rvor/metric_field.h"
+#include "rvor/vdb_io.h"
+#include "support/box_canvas.h"
+#include "support/temp_dir.h"
+
+namespace rvor {
+namespace {
+
+std::string error_of(const std::function<void()>& action) {
+  try {
+    action();
+  } catch (const Error& error) {
+    return error.what();
+  }
+  return "";
+}
+
+// A Voronoi field with finite values, unreached voxels (+inf, -1) and negative labels.
+VoronoiField sample_field(const Canvas& canvas) {
+  VoronoiField field;
+  field.distance.assign(canvas.slot_count(), std::numeric_limits<float>::infinity());
+  field.label.assign(canvas.slot_count(), -1);
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
+    if (!canvas.active[slot] || slot % 11 == 0) continue;
+    field.distance[slot] = static_cast<float>(canvas.world_of(slot).norm());
+    field.label[slot] = static_cast<int32_t>(slot % 7);
+  }
+  return field;
+}
+
+void expect_voronoi_round_trip(const Canvas& canvas) {
+  test::TempDir dir;
+  const VoronoiField field = sample_field(canvas);
+  write_voronoi_vdb(dir.file("voronoi.vdb"), canvas, field);
+  const VoronoiField read = read_voronoi_vdb(dir.file("voronoi.vdb"), canvas);
+  EXPECT_EQ(read.distance, field.distance);
+  EXPECT_EQ(read.label, field.label);
+  std::size_t files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir.path()))
+    files += !entry.is_directory();
+  EXPECT_EQ(files, 1u);  // no temporary left behind
+}
+
+TEST(VdbIo, VoronoiRoundTrip3D) {
+  expect_voronoi_round_trip(
+      test::make_uniform_box_canvas(3, Vec3(-1, 0, 0), Vec3(1, 0.5, 0.7), 20, Mat3::Identity()));
+}
+
+TEST(VdbIo, VoronoiRoundTrip2D) {
+  expect_voronoi_round_trip(
+      test::make_uniform_box_canvas(2, Vec3(0, 0, 0), Vec3(1, 3, 0), 30, Mat3::Identity()));
+}
+
+TEST(VdbIo, VoronoiFileHasTheCanvasPlacement) {
+  test::TempDir dir;
+  const Canvas canvas =
+      test::make_uniform_box_canvas(3, Vec3(0, 0, 0), Vec3(1, 1, 1), 8, Mat3::Identity());
+  write_voronoi_vdb(dir.file("v.vdb"), canvas, sample_field(canvas));
+  const Canvas other =
+      test::make_uniform_box_canvas(3, Vec3(0, 0, 0), Vec3(1, 1, 1), 16, Mat3::Identity());
+  EXPECT_NE(
+      error_of([&] { read_voronoi_vdb(dir.file("v.vdb"), other); }).find("voxel size and origin"),
+      std::string::npos);
+  VoronoiField wrong;
+  EXPECT_NE(error_of([&] { write_voronoi_vdb(dir.file("w.vdb"), canvas, wrong); }).find("w.vdb"),
+            std::string::npos);
+}
+
+Mat3 linear_in_x(const Vec3& p) {
+  Mat3 G;
+  G << 2 + p.x(), 0.25, 0.1, 0.25, 3 - 0.5 * p.x(), 0.2, 0.1, 0.2, 4;
+  return G;
+}
+
+TEST(VdbIo, MetricRoundTripUniform) {
+  test::TempDir dir;
+  Mat3 G;
+  G << 3, 0.5, 0.25, 0.5, 2, -0.125, 0.25, -0.125, 1.5;
+  const Canvas canvas = test::make_uniform_box_canvas(3, Vec3(0, 0, 0), Vec3(1, 2, 1), 16, G);
+  write_metric_vdb(dir.file("metric.vdb"), canvas);
+  const auto field = load_vdb_metric(dir.file("metric.vdb"));
+  EXPECT_EQ(field->dimension(), 3);
+  EXPECT_EQ(field->description(), "vdb:" + dir.file("metric.vdb"));
+  // Inside, and up to half a voxel beyond the outermost voxel centres (the domain's surface).
+  for (const Vec3& p : {Vec3(0.5, 1, 0.5), Vec3(0.13, 1.71, 0.02), Vec3(0, 0, 0), Vec3(1, 2, 1)})
+    EXPECT_TRUE(field->at(p).isApprox(G, 1e-6)) << p.transpose() << "\n" << field->at(p);
+  ASSERT_TRUE(field->natural_domain().has_value());
+  EXPECT_TRUE(field->natural_domain()->hi.isApprox(Vec3(1, 2, 1), 1e-9));
+}
+
+TEST(VdbIo, MetricRoundTripLinearInX) {
+  test::TempDir dir;
+  const Canvas canvas = test::make_box_canvas(3, Vec3(-1, 0, 0), Vec3(1, 1, 1), 32, linear_in_x);
+  write_metric_vdb(dir.file("metric.vdb"), canvas);
+  const auto field = load_vdb_metric(dir.file("metric.vdb"));
+  // Trilinear interpolation reproduces a linear field between voxel centres.
+  for (const Vec3& p : {Vec3(-0.9, 0.3, 0.4), Vec3(0.123, 0.5, 0.77), Vec3(0.95, 0.9, 0.1)})
+    EXPECT_TRUE(field->at(p).isApprox(linear_in_x(p), 1e-5)) << p.transpose();
+}
+
+TEST(VdbIo, MetricRoundTrip2D) {
+  test::TempDir dir;
+  const auto planar = [](const Vec3& p) {
+    Mat3 G = Mat3::Identity();
+    G(0, 0) = 2 + p.x();
+    G(0, 1) = G(1, 0) = 0.5;
+    G(1, 1) = 3;
+    return G;
+  };
+  const Canvas canvas = test::make_box_canvas(2, Vec3(0, 0, 0), Vec3(2, 1, 0), 32, planar);
+  write_metric_vdb(dir.file("metric2d.vdb"), canvas);
+  const auto field = load_vdb_metric(dir.file("metric2d.vdb"));
+  EXPECT_EQ(field->dimension(), 2);
+  EXPECT_TRUE(field->at(Vec3(0.7, 0.4, 0)).isApprox(planar(Vec3(0.7, 0.4, 0)), 1e-5));
+  EXPECT_TRUE(field->at(Vec3(1.3, 0.6, 5)).isApprox(planar(Vec3(1.3, 0.6, 0)), 1e-5));  // z ignored
+}
+
+TEST(VdbIo, MissingFilesAndGridsAreNamed) {
+  test::TempDir dir;
+  const std::string missing = error_of([&] { load_vdb_metric(dir.file("none.vdb")); });
+  EXPECT_NE(missing.find("none.vdb"), std::string::npos) << missing;
+
+  const Canvas canvas =
+      test::make_uniform_box_canvas(3, Vec3(0, 0, 0), Vec3(1, 1, 1), 8, Mat3::Identity());
+  write_voronoi_vdb(dir.file("voronoi.vdb"), canvas, sample_field(canvas));
+  const std::string no_metric = error_of([&] { load_vdb_metric(dir.file("voronoi.vdb")); });
+  EXPECT_NE(no_metric.find("voronoi.vdb has no grid 'm11'"), std::string::npos) << no_metric;
+
+  write_metric_vdb(dir.file("metric.vdb"), canvas);
+  const std::string no_distance =
+      error_of([&] { read_voronoi_vdb(dir.file("metric.vdb"), canvas); });
+  EXPECT_NE(no_distance.find("metric.vdb has no grid 'distance'"), std::string::npos)
+      << no_distance;
+
+  test::write_text(dir.file("garbage.vdb"), "not a vdb file");
+  EXPECT_NE(error_of([&] { load_vdb_metric(dir.file("garbage.vdb")); }).find("garbage.vdb"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace rvor
