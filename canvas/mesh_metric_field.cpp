@@ -11,6 +11,7 @@
 #include <limits>
 #include <optional>
 
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 
 #include "medit_internal.h"
@@ -33,6 +34,12 @@ constexpr double kInsideTolerance = 1e-12;
 struct Location {
   int element = -1;
   Barycentric weights{};
+};
+
+// The half-space normal . x <= offset.
+struct Plane {
+  Vec3 normal = Vec3::Zero();
+  double offset = 0;
 };
 
 // Closest point of segment [a, b] to p.
@@ -92,6 +99,21 @@ class SimplexSet {
   const std::array<int, 4>& cell(std::size_t e) const { return cells_[e]; }
   const Vec3& vertex(std::size_t e, int k) const { return vertices_[cells_[e][k]]; }
   const std::vector<Vec3>& vertices() const { return vertices_; }
+
+  // The planes of the faces (edges in 2D) of element e, with normals pointing out of it.
+  std::array<Plane, 4> outward_faces(std::size_t e) const {
+    std::array<Plane, 4> faces{};
+    for (int k = 0; k < vertex_count(); ++k) {
+      const Vec3& opposite = vertex(e, k);
+      const Vec3& a = vertex(e, (k + 1) % vertex_count());
+      const Vec3& b = vertex(e, (k + 2) % vertex_count());
+      Vec3 normal = dimension_ == 2 ? Vec3(b.y() - a.y(), a.x() - b.x(), 0)
+                                    : Vec3((b - a).cross(vertex(e, (k + 3) % 4) - a));
+      if (normal.dot(opposite - a) > 0) normal = -normal;
+      faces[k] = {normal, normal.dot(a)};
+    }
+    return faces;
+  }
 
   Barycentric barycentric(std::size_t e, const Vec3& p) const {
     const Vec3 local = frames_[e].inverse * (p - frames_[e].origin);
@@ -214,15 +236,25 @@ class BucketGrid {
     double volume = 1;
     for (int a = 0; a < d; ++a) volume *= extent[a];
     const double target = std::max<double>(1.0, static_cast<double>(simplices.size()));
-    const double side = std::pow(volume / target, 1.0 / d);
+    double side = std::pow(volume / target, 1.0 / d);
+    // A flat box rounds its thin axes up to one bucket, multiplying the others: widen the
+    // buckets until their number is back near the target.
+    while (set_counts(extent, side, d) > 2 * target + 8) side *= 1.25;
+    lo_ = lo;
+    if (d == 2) lo_[2] = -0.5;  // z is ignored in 2D: one layer of buckets around z = 0
+  }
+
+  // Returns the number of buckets.
+  double set_counts(const Vec3& extent, double side, int d) {
     constexpr int kMaxPerAxis = 1 << 10;
+    double buckets = 1;
     for (int a = 0; a < 3; ++a) {
       const double wanted = a < d ? std::ceil(extent[a] / side) : 1.0;
       counts_[a] = static_cast<int>(std::clamp(wanted, 1.0, static_cast<double>(kMaxPerAxis)));
       size_[a] = a < d ? extent[a] / counts_[a] : 1.0;
+      buckets *= counts_[a];
     }
-    lo_ = lo;
-    if (d == 2) lo_[2] = -0.5;  // z is ignored in 2D: one layer of buckets around z = 0
+    return buckets;
   }
 
   void fill_buckets(const SimplexSet& simplices) {
@@ -244,11 +276,29 @@ class BucketGrid {
       for (int k = 1; k < simplices.vertex_count(); ++k)
         lo = lo.cwiseMin(simplices.vertex(e, k)), hi = hi.cwiseMax(simplices.vertex(e, k));
       const Index3 first = bucket_of(lo), last = bucket_of(hi);
+      const auto faces = simplices.outward_faces(e);
       for (int i = first[0]; i <= last[0]; ++i)
         for (int j = first[1]; j <= last[1]; ++j)
           for (int k = first[2]; k <= last[2]; ++k)
-            visit(linear(Index3{i, j, k}), static_cast<int>(e));
+            if (may_intersect(faces, simplices.vertex_count(), Index3{i, j, k}))
+              visit(linear(Index3{i, j, k}), static_cast<int>(e));
     }
+  }
+
+  // False when the bucket lies entirely outside one face of the element. Most buckets that
+  // only overlap an element's bounding box go (a Kuhn tetrahedron fills 1/6 of its box), so
+  // queries test fewer candidates. It never drops a bucket the element meets.
+  bool may_intersect(const std::array<Plane, 4>& faces, int face_count,
+                     const Index3& bucket) const {
+    const Vec3 half = 0.5 * size_;
+    const Vec3 center = lo_ + Vec3(bucket[0], bucket[1], bucket[2]).cwiseProduct(size_) + half;
+    for (int f = 0; f < face_count; ++f) {
+      const Plane& face = faces[f];
+      const double nearest_corner = face.normal.dot(center) - face.normal.cwiseAbs().dot(half);
+      const double slack = 1e-9 * face.normal.norm() * size_.norm();
+      if (nearest_corner > face.offset + slack) return false;
+    }
+    return true;
   }
 
   Index3 block_lo(const Index3& center, int ring) const {
