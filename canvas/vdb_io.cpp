@@ -3,6 +3,11 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <memory>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include <openvdb/io/File.h>
 
@@ -29,12 +34,26 @@ typename GridType::Ptr make_canvas_grid(const Canvas& canvas, const std::string&
   return grid;
 }
 
-// Sets value(slot) at every active voxel of the canvas.
+// Sets value(slot) at every active voxel of the canvas. Canvas bricks are OpenVDB leaves (same
+// origins), so leaves are filled in parallel and handed to the tree whole.
 template <typename GridType, typename Value>
 void fill_active(GridType& grid, const Canvas& canvas, Value value) {
-  auto accessor = grid.getAccessor();
-  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot)
-    if (canvas.active[slot]) accessor.setValue(to_coord(canvas.voxel_of(slot)), value(slot));
+  using Leaf = typename GridType::TreeType::LeafNodeType;
+  std::vector<std::unique_ptr<Leaf>> leaves(canvas.brick_count());
+  const auto background = grid.background();
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size()), [&](const auto& range) {
+    for (std::size_t brick = range.begin(); brick != range.end(); ++brick) {
+      auto leaf = std::make_unique<Leaf>(to_coord(canvas.brick_origins[brick]), background, false);
+      for (int local = 0; local < canvas.brick_volume(); ++local) {
+        const std::size_t slot = brick * canvas.brick_volume() + local;
+        if (canvas.active[slot])
+          leaf->setValueOn(Leaf::coordToOffset(to_coord(canvas.voxel_of(slot))), value(slot));
+      }
+      leaves[brick] = std::move(leaf);
+    }
+  });
+  for (auto& leaf : leaves)
+    if (!leaf->isEmpty()) grid.tree().addLeaf(leaf.release());
 }
 
 void write_grids_atomically(const std::string& path, const openvdb::GridPtrVec& grids) {

@@ -1,4 +1,6 @@
 #include <array>
+#include <utility>
+#include <vector>
 
 #include <openvdb/tools/Interpolation.h>
 #include <openvdb/tools/Morphology.h>
@@ -12,6 +14,7 @@ namespace rvor {
 namespace {
 
 using openvdb::FloatGrid;
+using UnsafeAccessor = openvdb::tree::ValueAccessor<const openvdb::FloatTree, false>;
 
 // Trilinear interpolation near the edge of the stored region would mix in the background (0,
 // not a metric). One shell of voxels around the active region, each the mean of its active
@@ -22,9 +25,9 @@ void extend_by_one_voxel(FloatGrid& grid) {
   openvdb::tools::dilateActiveValues(shell, 1, openvdb::tools::NN_FACE_EDGE_VERTEX,
                                      openvdb::tools::IGNORE_TILES);
   shell.topologyDifference(grid.tree());
-  const FloatGrid original(grid);  // read neighbours before writing the shell
-  const auto stored = original.getConstAccessor();
-  auto output = grid.getAccessor();
+  // Shell values are computed first and written after, so that they average stored values only.
+  const auto stored = grid.getConstAccessor();
+  std::vector<std::pair<openvdb::Coord, float>> extension;
   for (auto voxel = shell.cbeginValueOn(); voxel; ++voxel) {
     const openvdb::Coord c = voxel.getCoord();
     double sum = 0;
@@ -38,8 +41,10 @@ void extend_by_one_voxel(FloatGrid& grid) {
             ++count;
           }
         }
-    if (count > 0) output.setValue(c, static_cast<float>(sum / count));
+    if (count > 0) extension.emplace_back(c, static_cast<float>(sum / count));
   }
+  auto output = grid.getAccessor();
+  for (const auto& [c, value] : extension) output.setValue(c, value);
 }
 
 int stored_dimension(const FloatGrid& grid) {
@@ -72,9 +77,12 @@ class VdbMetricField : public MetricField {
     openvdb::Vec3d index = grids_[0]->transform().worldToIndex(openvdb::Vec3d(p.x(), p.y(), p.z()));
     if (dimension_ == 2) index.z() = layer_z_;  // a 2D field is one voxel layer
     SolTensor c{};
-    for (int n = 0; n < 6; ++n)
-      c[n] = openvdb::tools::BoxSampler::sample(grids_[n]->tree(),
-                                                index);  // tree reads are thread-safe
+    for (int n = 0; n < 6; ++n) {
+      // A private, unregistered accessor per call: thread-safe, and its cache serves the eight
+      // corner look-ups of the interpolation.
+      UnsafeAccessor accessor(grids_[n]->tree());
+      c[n] = openvdb::tools::BoxSampler::sample(accessor, index);
+    }
     if (dimension_ == 2) {
       c[3] = c[4] = 0;
       c[5] = 1;
