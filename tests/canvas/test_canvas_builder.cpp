@@ -189,6 +189,23 @@ TEST(BuildCanvas, MemoryBudgetOverride) {
   EXPECT_GT(estimated_bytes_per_active_voxel(), 24u);
 }
 
+TEST(BuildCanvas, SparseShapesAreEstimatedBelowTheirIndexBox) {
+  CanvasOptions options;
+  options.resolution = 128;
+  // The 128^3 index box needs ~134 MB; the bricks touching the sphere need far less.
+  options.memory_budget = 110000000;
+  EXPECT_GT(build_canvas(parse_domain("implicit:sphere:r=1"), test::euclidean_metric(3), options)
+                .active_voxel_count,
+            1000000u);
+  test::TempDir dir;
+  test::write_box_off(dir.file("box.off"), Vec3(0, 0, 0), Vec3(1, 1, 1));
+  options.memory_budget = 1000000;  // the coarse mesh estimate is over it
+  const std::string message =
+      build_error(parse_domain("mesh:" + dir.file("box.off")), test::euclidean_metric(3), options);
+  // Coarse (64^3) level set grown by one voxel: 66^3 / 64^3 of the true 128^3.
+  EXPECT_NE(message.find("canvas of ~2.3e+06 active voxels"), std::string::npos) << message;
+}
+
 TEST(BuildCanvas, EmptyDomainsAreRejected) {
   EXPECT_NE(build_error(parse_domain("implicit:sphere:r=0"), test::euclidean_metric(3), {})
                 .find("no voxel inside"),

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <limits>
 
+#include "rvor/canvas_builder.h"
 #include "rvor/error.h"
 #include "rvor/metric_field.h"
 #include "rvor/vdb_io.h"
@@ -103,6 +104,20 @@ TEST(VdbIo, MetricRoundTripLinearInX) {
   // Trilinear interpolation reproduces a linear field between voxel centres.
   for (const Vec3& p : {Vec3(-0.9, 0.3, 0.4), Vec3(0.123, 0.5, 0.77), Vec3(0.95, 0.9, 0.1)})
     EXPECT_TRUE(field->at(p).isApprox(linear_in_x(p), 1e-5)) << p.transpose();
+}
+
+TEST(VdbIo, CanvasBuiltOnAVdbMetricReproducesIt) {
+  test::TempDir dir;
+  const Canvas canvas = test::make_box_canvas(3, Vec3(-1, 0, 0), Vec3(1, 1, 1), 24, linear_in_x);
+  write_metric_vdb(dir.file("metric.vdb"), canvas);
+  const auto field = load_vdb_metric(dir.file("metric.vdb"));
+  CanvasOptions options;
+  options.resolution = 24;
+  const Canvas rebuilt = build_canvas(parse_domain("box:-1,0,0,1,1,1"), *field, options);
+  ASSERT_EQ(rebuilt.metric.size(), canvas.metric.size());
+  for (std::size_t n = 0; n < canvas.metric.size(); ++n)
+    ASSERT_NEAR(rebuilt.metric[n], canvas.metric[n], 1e-5) << n;
+  EXPECT_NE(rebuilt.description.find("vdb:"), std::string::npos);
 }
 
 TEST(VdbIo, MetricRoundTrip2D) {
