@@ -94,7 +94,7 @@ TEST_F(CliOutputs, VtuOpensInVtk) {
       "g.GetCellData().GetArray('label').GetRange()[1])\n";
   write_text(dir.file("read.py"), script);
   const CommandResult result =
-      run_command("python3 " + dir.file("read.py") + " " + out() + "/canvas.vtu");
+      run_command(debian_python() + " " + dir.file("read.py") + " " + out() + "/canvas.vtu");
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_EQ(result.out, "4096 4225 0.0\n");  // 64x64 pixels share 65x65 corners
 }

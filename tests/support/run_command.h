@@ -12,5 +12,8 @@ struct CommandResult {
 CommandResult run_command(const std::string& command_line);
 // Path of the built rvor tool.
 std::string rvor_binary();
+// Debian's interpreter, where python3-vtk9 and python3-meshio are installed (the `python3` on PATH
+// may be another installation without them).
+std::string debian_python();
 
 }  // namespace rvor::test
