@@ -25,4 +25,6 @@ std::string rvor_binary() {
   return std::string(RVOR_BINARY_DIR) + "/bin/rvor";
 }
 
+std::string debian_python() { return "/usr/bin/python3"; }
+
 }  // namespace rvor::test
