@@ -75,65 +75,57 @@ ReferenceSolver::ReferenceSolver(const Canvas& canvas)
     : dimension_(canvas.dimension),
       h_(canvas.voxel_size),
       origin_(canvas.origin),
-      slot_count_(canvas.slot_count()) {
-  if (slot_count_ >= static_cast<std::size_t>(std::numeric_limits<int32_t>::max()))
+      slot_count_(canvas.slot_count()),
+      brick_shift_(canvas.dimension == 3 ? 9 : 6),
+      brick_origins_(canvas.brick_origins),
+      dims_(canvas.dims),
+      brick_grid_dims_(canvas.brick_grid_dims),
+      brick_table_(canvas.brick_table) {
+  // Slots are int32 and reverse-graph entries (12 per slot) uint32.
+  if (slot_count_ >= std::numeric_limits<uint32_t>::max() / 12)
     throw Error("reference solver: canvas has too many slots for 32-bit voxel ids");
-  voxel_of_slot_.assign(slot_count_, -1);
-  for (std::size_t slot = 0; slot < slot_count_; ++slot) {
-    if (!canvas.active[slot]) continue;
-    voxel_of_slot_[slot] = static_cast<int32_t>(slot_of_voxel_.size());
-    slot_of_voxel_.push_back(static_cast<int32_t>(slot));
-    index_of_voxel_.push_back(canvas.voxel_of(slot));
-  }
+  if (canvas.brick_volume() != (1 << brick_shift_))
+    throw Error("reference solver: unexpected canvas brick size");
   compute_stencils(canvas);
-  compute_neighbours(canvas);
   compute_reverse_graph();
 }
 
 void ReferenceSolver::compute_stencils(const Canvas& canvas) {
-  stencil_of_voxel_.resize(slot_of_voxel_.size());
+  state_.assign(slot_count_, {kInfinity, -1, -1});
   stencils_.clear();
   const float* previous_metric = nullptr;
-  for (std::size_t v = 0; v < slot_of_voxel_.size(); ++v) {
-    const float* metric = &canvas.metric[6 * static_cast<std::size_t>(slot_of_voxel_[v])];
+  for (std::size_t slot = 0; slot < slot_count_; ++slot) {
+    if (!canvas.active[slot]) continue;
+    const float* metric = &canvas.metric[6 * slot];
     // Uniform regions repeat the same tensor: share the previous stencil instead of recomputing.
     if (!previous_metric || std::memcmp(metric, previous_metric, 6 * sizeof(float)) != 0)
-      stencils_.push_back(to_voxel_stencil(
-          selling_decomposition(dual_metric(canvas, slot_of_voxel_[v]), dimension_)));
-    stencil_of_voxel_[v] = static_cast<int32_t>(stencils_.size() - 1);
+      stencils_.push_back(
+          to_voxel_stencil(selling_decomposition(dual_metric(canvas, slot), dimension_)));
+    state_[slot].stencil = static_cast<int32_t>(stencils_.size() - 1);
     previous_metric = metric;
   }
 }
 
-void ReferenceSolver::compute_neighbours(const Canvas& canvas) {
-  neighbour_.assign(12 * slot_of_voxel_.size(), -1);
-  for (std::size_t v = 0; v < slot_of_voxel_.size(); ++v) {
-    const VoxelIndex& x = index_of_voxel_[v];
-    const VoxelStencil& stencil = stencils_[stencil_of_voxel_[v]];
-    for (int t = 0; t < stencil.size; ++t) {
-      const int8_t* e = stencil.offset[t];
-      for (int side = 0; side < 2; ++side) {
-        const int sign = side == 0 ? 1 : -1;
-        const int64_t slot =
-            canvas.slot_of(x.i + sign * e[0], x.j + sign * e[1], x.k + sign * e[2]);
-        if (slot >= 0) neighbour_[12 * v + 2 * t + side] = voxel_of_slot_[slot];
-      }
-    }
-  }
-}
-
 void ReferenceSolver::compute_reverse_graph() {
-  const std::size_t n = slot_of_voxel_.size();
-  reverse_begin_.assign(n + 1, 0);
-  for (int32_t y : neighbour_)
-    if (y >= 0) ++reverse_begin_[y + 1];
-  for (std::size_t v = 0; v < n; ++v) reverse_begin_[v + 1] += reverse_begin_[v];
-  reverse_.resize(reverse_begin_[n]);
-  std::vector<int64_t> fill(reverse_begin_.begin(), reverse_begin_.end() - 1);
-  for (std::size_t entry = 0; entry < neighbour_.size(); ++entry) {
-    const int32_t y = neighbour_[entry];
-    if (y >= 0) reverse_[fill[y]++] = static_cast<int32_t>(entry / 12);
-  }
+  // Calls `visit(y, entry)` for every stencil neighbour y of every active voxel.
+  auto for_each_stencil_entry = [this](auto&& visit) {
+    for (std::size_t slot = 0; slot < slot_count_; ++slot) {
+      if (state_[slot].stencil < 0) continue;
+      const VoxelIndex x = index_of(static_cast<int32_t>(slot));
+      const VoxelStencil& stencil = stencil_of(static_cast<int32_t>(slot));
+      for (int t = 0; t < stencil.size; ++t)
+        for (int side = 0; side < 2; ++side) {
+          const int32_t y = neighbour_slot(x, stencil.offset[t], side == 0 ? 1 : -1);
+          if (y >= 0) visit(y, static_cast<uint32_t>(12 * slot + 2 * t + side));
+        }
+    }
+  };
+  reverse_begin_.assign(slot_count_ + 1, 0);
+  for_each_stencil_entry([this](int32_t y, uint32_t) { ++reverse_begin_[y + 1]; });
+  for (std::size_t v = 0; v < slot_count_; ++v) reverse_begin_[v + 1] += reverse_begin_[v];
+  reverse_.resize(reverse_begin_[slot_count_]);
+  std::vector<uint32_t> fill(reverse_begin_.begin(), reverse_begin_.end() - 1);
+  for_each_stencil_entry([this, &fill](int32_t y, uint32_t entry) { reverse_[fill[y]++] = entry; });
 }
 
 PropagationStats ReferenceSolver::solve(const Canvas& canvas, const std::vector<Vec3>& seeds,
@@ -176,17 +168,20 @@ void ReferenceSolver::load_seeds(const Canvas& canvas, const std::vector<Vec3>& 
   }
 }
 
+// Inactive slots keep (+inf, -1) whatever the field says: they take no part in the solve.
 void ReferenceSolver::load_field(const ExactField& field) {
-  const std::size_t n = slot_of_voxel_.size();
-  state_.resize(n);
-  for (std::size_t v = 0; v < n; ++v)
-    state_[v] = {field.distance[slot_of_voxel_[v]], field.label[slot_of_voxel_[v]]};
+  for (std::size_t slot = 0; slot < slot_count_; ++slot) {
+    VoxelState& state = state_[slot];
+    const bool active = state.stencil >= 0;
+    state.value = active ? field.distance[slot] : kInfinity;
+    state.label = active ? field.label[slot] : -1;
+  }
 }
 
 void ReferenceSolver::store_field(ExactField& field) const {
-  for (std::size_t v = 0; v < slot_of_voxel_.size(); ++v) {
-    field.distance[slot_of_voxel_[v]] = state_[v].value;
-    field.label[slot_of_voxel_[v]] = state_[v].label;
+  for (std::size_t slot = 0; slot < slot_count_; ++slot) {
+    field.distance[slot] = state_[slot].value;
+    field.label[slot] = state_[slot].label;
   }
 }
 
@@ -201,7 +196,7 @@ void ReferenceSolver::initialise_seed_blocks(const Canvas& canvas, std::size_t f
         for (int di = -kInitRadius; di <= kInitRadius; ++di) {
           const int64_t slot = canvas.slot_of(c.i + di, c.j + dj, c.k + dk);
           if (slot < 0) continue;
-          const int32_t voxel = voxel_of_slot_[slot];
+          const int32_t voxel = static_cast<int32_t>(slot);
           const Vec3 p = position_of(voxel) - seeds_[s].position;
           const double u0 = std::sqrt(std::max(0.0, p.dot(seeds_[s].G * p)));
           if (offer(voxel, u0, static_cast<int32_t>(s))) {
@@ -212,6 +207,35 @@ void ReferenceSolver::initialise_seed_blocks(const Canvas& canvas, std::size_t f
   }
 }
 
+// Small helpers of the inner loop, defined first so that they are inlined.
+inline ReferenceSolver::SourceFrame ReferenceSolver::source_frame(int32_t voxel,
+                                                                  int32_t label) const {
+  const Seed& seed = seeds_[label];
+  const Vec3 p = position_of(voxel) - seed.position;
+  SourceFrame frame{&seed.G, seed.G * p, 0, 0, 0};
+  frame.u0_squared = std::max(0.0, p.dot(frame.Gp));
+  frame.u0 = std::sqrt(frame.u0_squared);
+  frame.inverse_u0 = frame.u0 > 0 ? 1 / frame.u0 : 0;
+  return frame;
+}
+
+inline Vec3 ReferenceSolver::stencil_step(int32_t voxel, int term) const {
+  const int8_t* e = stencil_of(voxel).offset[term];
+  return h_ * Vec3(e[0], e[1], e[2]);
+}
+
+// Source factorization of a neighbour value v at y = x + sign * step:
+// v + u0(x) - u0(y) + <grad u0(x), y - x> (unchanged at the seed itself, where u0(x) = 0).
+inline double ReferenceSolver::corrected_value(const SourceFrame& frame, const Vec3& step,
+                                               double sign, double value) const {
+  if (!(frame.u0 > 0)) return value;
+  const double step_dot_Gp = step.dot(frame.Gp);        // h e^T G_s p
+  const double step_norm2 = step.dot(*frame.G * step);  // h^2 e^T G_s e
+  const double u0_y =
+      std::sqrt(std::max(0.0, frame.u0_squared + 2 * sign * step_dot_Gp + step_norm2));
+  return value + frame.u0 - u0_y + sign * step_dot_Gp * frame.inverse_u0;
+}
+
 // Label-correcting Dijkstra: pop the smallest value; every voxel that has the popped voxel y in
 // its stencil is re-solved for y's label (only y changed, so only that label's candidate can have
 // decreased: the candidates of other labels count y as +inf or did not involve it).
@@ -220,19 +244,35 @@ void ReferenceSolver::run_queue(PropagationStats& stats) {
     std::pop_heap(queue_.begin(), queue_.end(), std::greater<QueueEntry>());
     const QueueEntry entry = queue_.back();
     queue_.pop_back();
-    if (entry.value != state_[entry.voxel].value) continue;  // stale: the voxel decreased since
+    const VoxelState popped = state_[entry.voxel];
+    if (entry.value != popped.value) continue;  // stale: the voxel decreased since
     ++stats.iterations;
-    const int32_t label = state_[entry.voxel].label;
-    for (int64_t r = reverse_begin_[entry.voxel]; r < reverse_begin_[entry.voxel + 1]; ++r) {
-      const int32_t x = reverse_[r];
-      const double t = local_solve(x, label);
+    for (uint32_t r = reverse_begin_[entry.voxel]; r < reverse_begin_[entry.voxel + 1]; ++r) {
+      const int32_t x = static_cast<int32_t>(reverse_[r] / 12);
+      if (!can_improve(x, static_cast<int32_t>(reverse_[r] % 12), popped.label, popped.value))
+        continue;
+      const double t = local_solve(x, popped.label);
       ++stats.voxel_updates;
-      if (offer(x, t, label)) {
+      if (offer(x, t, popped.label)) {
         queue_.push_back({t, x});
         std::push_heap(queue_.begin(), queue_.end(), std::greater<QueueEntry>());
       }
     }
   }
+}
+
+// Exact pruning: whether re-solving x for `label` after its neighbour y (stencil entry `entry`
+// of x, value `neighbour_value`) decreased can lower u(x). If y's corrected value exceeds u(x),
+// y's term is inactive at any root below u(x), so such a root only depends on x's other
+// neighbours of that label, and every change of those has already been followed by a re-solve
+// of x (each change is popped), which gave a value >= u(x). This halves the local solves.
+bool ReferenceSolver::can_improve(int32_t x, int32_t entry, int32_t label,
+                                  double neighbour_value) const {
+  const double current = state_[x].value;
+  if (current == kInfinity) return true;
+  const double sign = entry % 2 == 0 ? 1.0 : -1.0;
+  const Vec3 step = stencil_step(x, entry / 2);
+  return corrected_value(source_frame(x, label), step, sign, neighbour_value) <= current;
 }
 
 // Values only decrease: a candidate wins when clearly smaller, or when not larger and carrying a
@@ -242,41 +282,26 @@ bool ReferenceSolver::offer(int32_t voxel, double value, int32_t label) {
   const bool smaller = value < state.value * (1 - kRelativeDecrease);
   const bool tie_won = value <= state.value && label < state.label;
   if (!smaller && !tie_won) return false;
-  state = {value, label};
+  state.value = value;
+  state.label = label;
   return true;
 }
 
 // The candidate value of `voxel` for `label` (docs/scheme.md, "Local update"), +inf if no
 // stencil neighbour carries that label.
 double ReferenceSolver::local_solve(int32_t voxel, int32_t label) const {
-  const Seed& seed = seeds_[label];
-  const Vec3 p = position_of(voxel) - seed.position;
-  const Vec3 Gp = seed.G * p;
-  const double u0_squared = std::max(0.0, p.dot(Gp));
-  const double u0 = std::sqrt(u0_squared);
-  const bool factorize = u0 > 0;
-
-  const VoxelStencil& stencil = stencils_[stencil_of_voxel_[voxel]];
-  const int32_t* neighbours = &neighbour_[12 * static_cast<std::size_t>(voxel)];
+  const SourceFrame frame = source_frame(voxel, label);
+  const VoxelStencil& stencil = stencil_of(voxel);
+  const VoxelIndex x = index_of(voxel);
   double w[6], rho[6];
   int n = 0;
   for (int t = 0; t < stencil.size; ++t) {
-    const Vec3 step = h_ * Vec3(stencil.offset[t][0], stencil.offset[t][1], stencil.offset[t][2]);
-    const double step_dot_Gp = step.dot(Gp);            // h e^T G_s p
-    const double step_norm2 = step.dot(seed.G * step);  // h^2 e^T G_s e
+    const Vec3 step = stencil_step(voxel, t);
     double best = kInfinity;
     for (int side = 0; side < 2; ++side) {
-      const int32_t y = neighbours[2 * t + side];
+      const int32_t y = neighbour_slot(x, stencil.offset[t], side == 0 ? 1 : -1);
       if (y < 0 || state_[y].label != label) continue;
-      double v = state_[y].value;
-      if (factorize) {
-        // v + u0(x) - u0(y) + <grad u0(x), y - x>, y = x + sign h e.
-        const double sign = side == 0 ? 1.0 : -1.0;
-        const double u0_y =
-            std::sqrt(std::max(0.0, u0_squared + 2 * sign * step_dot_Gp + step_norm2));
-        v += u0 - u0_y + sign * step_dot_Gp / u0;
-      }
-      best = std::min(best, v);
+      best = std::min(best, corrected_value(frame, step, side == 0 ? 1.0 : -1.0, state_[y].value));
     }
     if (best == kInfinity) continue;
     // Insertion into the sorted (w, rho) arrays: at most 6 terms.

@@ -2,6 +2,7 @@
 // The sequential CPU reference of docs/scheme.md in double precision (private to rvor_solver; the
 // solver tests use it directly to compare fields at full precision). The public entry point is
 // make_reference_propagator() in rvor/propagation.h, which wraps this class.
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -47,7 +48,7 @@ class ReferenceSolver {
   };
 
   void compute_stencils(const Canvas& canvas);
-  void compute_neighbours(const Canvas& canvas);
+  const VoxelStencil& stencil_of(int32_t slot) const { return stencils_[state_[slot].stencil]; }
   void compute_reverse_graph();
 
   void load_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds);
@@ -56,34 +57,71 @@ class ReferenceSolver {
   void initialise_seed_blocks(const Canvas& canvas, std::size_t first_seed);
   void run_queue(PropagationStats& stats);
 
+  // The factored source of one label seen from one voxel x: p = x - s, G_s p and u0(x).
+  struct SourceFrame {
+    const Mat3* G;
+    Vec3 Gp;
+    double u0_squared;
+    double u0;
+    double inverse_u0;  // 0 at the seed itself (no correction there)
+  };
+  SourceFrame source_frame(int32_t voxel, int32_t label) const;
+  // h e_t of the voxel's stencil term t, in world units.
+  Vec3 stencil_step(int32_t voxel, int term) const;
+  double corrected_value(const SourceFrame& frame, const Vec3& step, double sign,
+                         double value) const;
+  bool can_improve(int32_t x, int32_t entry, int32_t label, double neighbour_value) const;
+
   bool offer(int32_t voxel, double value, int32_t label);
   double local_solve(int32_t voxel, int32_t label) const;
-  Vec3 position_of(int32_t voxel) const {
-    const VoxelIndex& x = index_of_voxel_[voxel];
+  // Voxel index and world position of a slot, and the slot of a stencil neighbour, by arithmetic
+  // on the brick layout: no per-voxel memory access (the run time is dominated by cache misses).
+  VoxelIndex index_of(int32_t slot) const {
+    const VoxelIndex& o = brick_origins_[static_cast<uint32_t>(slot) >> brick_shift_];
+    const int local = static_cast<int>(static_cast<uint32_t>(slot) & ((1u << brick_shift_) - 1));
+    return {o.i + (local & 7), o.j + ((local >> 3) & 7), o.k + (local >> 6)};
+  }
+  Vec3 position_of(int32_t slot) const {
+    const VoxelIndex x = index_of(slot);
     return origin_ + h_ * Vec3(x.i, x.j, x.k);
   }
+  // Slot of x + sign * e; -1 outside the canvas or inactive (like Canvas::slot_of).
+  int32_t neighbour_slot(const VoxelIndex& x, const int8_t* e, int sign) const {
+    const int i = x.i + sign * e[0], j = x.j + sign * e[1], k = x.k + sign * e[2];
+    if (i < 0 || j < 0 || k < 0 || i >= dims_[0] || j >= dims_[1] || k >= dims_[2]) return -1;
+    const int brick_k = dimension_ == 3 ? k >> 3 : 0;
+    const int32_t brick =
+        brick_table_[(i >> 3) + brick_grid_dims_[0] * ((j >> 3) + brick_grid_dims_[1] * brick_k)];
+    if (brick < 0) return -1;
+    const int local = (i & 7) + 8 * ((j & 7) + 8 * (dimension_ == 3 ? k & 7 : 0));
+    const int32_t slot = (brick << brick_shift_) + local;
+    return state_[slot].stencil >= 0 ? slot : -1;
+  }
 
-  // Canvas geometry.
+  // Canvas geometry. Voxels are identified by their canvas slot (int32).
   int dimension_ = 3;
   double h_ = 0;
   Vec3 origin_ = Vec3::Zero();
   std::size_t slot_count_ = 0;
+  int brick_shift_ = 9;  // log2 of the brick volume (8^3 or 8^2 slots)
+  std::vector<VoxelIndex> brick_origins_;
+  std::array<int, 3> dims_{};
+  std::array<int, 3> brick_grid_dims_{};
+  std::vector<int32_t> brick_table_;
 
-  // Active voxels are numbered 0..n-1 ("voxel ids"); everything below is indexed by them.
-  std::vector<int32_t> voxel_of_slot_;  // -1 for inactive slots
-  std::vector<int32_t> slot_of_voxel_;
-  std::vector<VoxelIndex> index_of_voxel_;
-  std::vector<VoxelStencil> stencils_;     // distinct stencils (uniform regions share one)
-  std::vector<int32_t> stencil_of_voxel_;  // index into stencils_
-  std::vector<int32_t> neighbour_;  // 12 per voxel: x + e_t at 2t, x - e_t at 2t + 1; -1 missing
-  std::vector<int64_t> reverse_begin_;  // CSR: voxels having x in their stencil
-  std::vector<int32_t> reverse_;
+  std::vector<VoxelStencil> stencils_;  // distinct stencils (uniform regions share one)
+  // Reverse stencil graph as CSR: for voxel y, the entries 12 x + 2 t + side (side 0: y = x + e_t,
+  // side 1: y = x - e_t) of the voxels x that have y in their stencil.
+  std::vector<uint32_t> reverse_begin_;
+  std::vector<uint32_t> reverse_;
 
-  // State of the current solve. Value and label side by side: the local solve reads both for up
-  // to 12 scattered neighbours, and the run time is dominated by those memory accesses.
+  // Per slot: the state of the current solve, and the slot's stencil (index into stencils_, -1
+  // when inactive). Side by side because the run time is dominated by scattered memory reads of
+  // neighbours: one cache line gives all that a visit of a voxel needs.
   struct VoxelState {
     double value;
     int32_t label;
+    int32_t stencil;
   };
   std::vector<Seed> seeds_;
   std::vector<VoxelState> state_;
