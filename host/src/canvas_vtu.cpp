@@ -3,10 +3,11 @@
 #include <cstdint>
 #include <string>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
-#include "rvor/atomic_file.h"
 #include "rvor/canvas_output.h"
+#include "vtu_appended_writer.h"
 
 namespace rvor {
 
@@ -68,43 +69,12 @@ VtuArrays collect_cells(const Canvas& canvas, const VoronoiField& field) {
   return arrays;
 }
 
-class AppendedWriter {
- public:
-  template <typename T>
-  std::string declare(const std::string& type, const std::string& name, int components,
-                      const std::vector<T>& data) {
-    std::string xml = "<DataArray type=\"" + type + "\"";
-    if (!name.empty()) xml += " Name=\"" + name + "\"";
-    xml += " NumberOfComponents=\"" + std::to_string(components) +
-           "\" format=\"appended\" offset=\"" + std::to_string(offset_) + "\"/>\n";
-    blocks_.push_back({reinterpret_cast<const char*>(data.data()), data.size() * sizeof(T)});
-    offset_ += sizeof(uint64_t) + data.size() * sizeof(T);
-    return xml;
-  }
-  void write(std::ostream& out) const {
-    for (const auto& [bytes, size] : blocks_) {
-      const uint64_t header = size;
-      out.write(reinterpret_cast<const char*>(&header), sizeof header);
-      out.write(bytes, static_cast<std::streamsize>(size));
-    }
-  }
-
- private:
-  uint64_t offset_ = 0;
-  std::vector<std::pair<const char*, std::size_t>> blocks_;
-};
-
 }  // namespace
 
 void write_canvas_vtu(const std::string& path, const Canvas& canvas, const VoronoiField& field) {
   const VtuArrays arrays = collect_cells(canvas, field);
-  AppendedWriter appended;
-  std::string xml =
-      "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
-      "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<UnstructuredGrid>\n<Piece "
-      "NumberOfPoints=\"" +
-      std::to_string(arrays.points.size() / 3) + "\" NumberOfCells=\"" +
-      std::to_string(arrays.types.size()) + "\">\n<Points>\n";
+  vtu::AppendedWriter appended;
+  std::string xml = vtu::grid_header(arrays.points.size() / 3, arrays.types.size());
   xml += appended.declare("Float32", "", 3, arrays.points);
   xml += "</Points>\n<Cells>\n";
   xml += appended.declare("Int64", "connectivity", 1, arrays.connectivity);
@@ -113,15 +83,8 @@ void write_canvas_vtu(const std::string& path, const Canvas& canvas, const Voron
   xml += "</Cells>\n<CellData Scalars=\"label\">\n";
   xml += appended.declare("Int32", "label", 1, arrays.labels);
   xml += appended.declare("Float32", "distance", 1, arrays.distances);
-  xml += "</CellData>\n</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"raw\">\n_";
-  write_file_atomically(
-      path,
-      [&](std::ostream& out) {
-        out << xml;
-        appended.write(out);
-        out << "\n</AppendedData>\n</VTKFile>\n";
-      },
-      /*binary=*/true);
+  xml += "</CellData>\n";
+  vtu::publish(path, std::move(xml), appended);
 }
 
 }  // namespace rvor

@@ -1,0 +1,114 @@
+#pragma once
+// The straight Riemannian Delaunay dual: the seeds joined by straight simplices, one per simplex
+// of the nerve (nerve.h), checked with exact predicates and measured in the metric.
+//
+// Top simplices are tetrahedra in 3D and triangles in 2D. The checks (counted in DualChecks, the
+// offending elements listed so they can be written out and refined):
+//  - inverted: the element's orientation disagrees with the majority of its connected component,
+//    once elements are oriented consistently across shared facets (flat elements count too);
+//  - intersecting: two top simplices whose intersection is more than their common face (exact
+//    tests on the pairs whose bounding boxes overlap);
+//  - non_manifold: facets of more than two top simplices, and boundary facets that do not close
+//    into a manifold (3D: a boundary edge not in exactly two boundary triangles; 2D: a boundary
+//    vertex not in exactly two boundary edges);
+//  - is_triangulation: there are top simplices, none inverted, none intersecting, no
+//    non-manifold facet, and the complex of the top simplices is a topological ball (Euler
+//    characteristic 1, its boundary a sphere of Euler characteristic 2 in 3D). It then is an
+//    embedded triangulation of its own polytope; near the domain boundary this polytope can be
+//    smaller than the domain, because a Delaunay simplex is witnessed only where its Voronoi
+//    vertex lies in the domain (the lower simplices witnessed there stay listed as "dangling").
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "rvor/canvas.h"
+#include "rvor/nerve.h"
+
+namespace rvor {
+
+struct DualChecks {
+  std::size_t inverted = 0;      // top simplices
+  std::size_t intersecting = 0;  // top simplices in at least one intersecting pair
+  std::size_t intersecting_pairs = 0;
+  std::size_t non_manifold = 0;          // facets (and boundary edges/vertices) as defined above
+  std::size_t degenerate_witnesses = 0;  // from the nerve
+  std::size_t dangling = 0;  // lower simplices of the nerve that are no face of a top simplex
+  std::size_t unused_vertices = 0;        // seeds in no top simplex
+  int euler_characteristic = 0;           // of the complex of the top simplices and their faces
+  int boundary_euler_characteristic = 0;  // of its boundary (3D: triangles; 2D: edges)
+  bool is_triangulation = false;
+
+  // Indices into the top simplices, ascending.
+  std::vector<std::size_t> inverted_elements, intersecting_elements;
+  std::vector<std::array<std::size_t, 2>> intersecting_element_pairs;  // first kMaxListed pairs
+  // Non-manifold facets as sorted seed tuples (2D: the edge in entries 0,1; entry 2 is -1).
+  std::vector<std::array<int32_t, 3>> non_manifold_facets;
+  static constexpr std::size_t kMaxListed = 100000;
+};
+
+// Per top simplex, in the metric. Lengths of an edge: in the metric of either endpoint's seed
+// voxel, averaged. Shape quality (1 for a regular simplex of the metric, 0 for a flat one):
+// triangles 4 sqrt(3) A / sum l^2, tetrahedra 216 sqrt(3) V^2 / (sum face areas)^3, evaluated in
+// each vertex's metric, the minimum kept. Angles (triangle angles in 2D, dihedral angles in 3D,
+// degrees) in the mean of the vertices' metrics.
+struct ElementQuality {
+  double quality = 0.0;
+  double min_edge_length = 0.0, max_edge_length = 0.0;
+  double min_angle = 0.0, max_angle = 0.0;
+};
+
+struct QualitySummary {
+  std::size_t elements = 0;
+  double min_quality = 0.0, mean_quality = 0.0;
+  std::array<std::size_t, 10> quality_histogram{};  // bins of width 0.1 on [0, 1]
+  double min_angle = 0.0, max_angle = 0.0;          // degrees, over all elements
+  double min_edge_length = 0.0, mean_edge_length = 0.0, max_edge_length = 0.0;  // all dual edges
+};
+
+// Bits of StraightDual::flags.
+enum DualFlag : uint8_t {
+  kDualInverted = 1,
+  kDualIntersecting = 2,
+  kDualNonManifold = 4,  // has a non-manifold facet
+};
+
+struct StraightDual {
+  int dimension = 3;
+  std::vector<Vec3> vertices;        // the seeds (vertex i = seed i)
+  std::vector<Mat3> vertex_metrics;  // the metric at each seed's voxel
+  std::vector<std::array<int32_t, 2>> edges;
+  std::vector<std::array<int32_t, 3>> triangles;
+  std::vector<std::array<int32_t, 4>> tetrahedra;  // empty in 2D
+  std::vector<ElementQuality> quality;             // per top simplex
+  std::vector<uint8_t> flags;                      // per top simplex, DualFlag bits
+  DualChecks checks;
+  QualitySummary quality_summary;
+  double seconds = 0.0;
+
+  std::size_t top_count() const { return dimension == 3 ? tetrahedra.size() : triangles.size(); }
+  // Vertices of top simplex t (3 entries in 2D, the 4th is -1).
+  std::array<int32_t, 4> top_simplex(std::size_t t) const;
+};
+
+// Builds and checks the straight dual of the nerve. `seeds` are the propagation's seeds (label
+// i = seeds[i]); each must lie in an active voxel. Throws rvor::Error on a nerve/seed mismatch.
+StraightDual build_straight_dual(const Canvas& canvas, const Nerve& nerve,
+                                 const std::vector<Vec3>& seeds);
+
+// The `dual` object of report.json as JSON text: vertices, edges, triangles, tetrahedra,
+// inverted, intersecting, intersecting_pairs, non_manifold, degenerate_witnesses, dangling,
+// unused_vertices, euler_characteristic, is_triangulation, seconds, and `quality` (min, mean,
+// histogram, angles, edge lengths).
+std::string dual_report_json(const StraightDual& dual);
+
+// VTK .vtu of the top simplices (tetrahedra / triangles). Cell data: quality, min_angle,
+// max_angle, min_edge_length, max_edge_length, inverted, intersecting, non_manifold, flags;
+// point data: label. With only_flagged, just the offending elements. Atomic.
+void write_dual_vtu(const std::string& path, const StraightDual& dual, bool only_flagged = false);
+
+// Medit .mesh: triangles in 2D; tetrahedra and their boundary triangles in 3D. Reference tags:
+// 1 for valid elements, 2 for flagged ones. Atomic.
+void write_dual_medit(const std::string& path, const StraightDual& dual);
+
+}  // namespace rvor

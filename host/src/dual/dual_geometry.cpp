@@ -1,0 +1,168 @@
+// Exact geometric predicates on the straight dual (the only CGAL translation unit of the dual):
+// orientations, and intersecting pairs of top simplices found by box intersection and decided
+// by exact tests that ignore the contact along a shared face.
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/box_intersection_d.h>
+#include <CGAL/intersections.h>
+
+#include <algorithm>
+
+#include "dual/dual_internal.h"
+
+namespace rvor::dual {
+
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using P2 = Kernel::Point_2;
+using P3 = Kernel::Point_3;
+using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::size_t>;
+
+P2 p2(const Vec3& v) {
+  return P2(v.x(), v.y());
+}
+P3 p3(const Vec3& v) {
+  return P3(v.x(), v.y(), v.z());
+}
+
+int sign_of(CGAL::Orientation o) {
+  return o == CGAL::POSITIVE ? 1 : (o == CGAL::NEGATIVE ? -1 : 0);
+}
+
+// The vertices of simplices a and b split into shared ones and the rest of each.
+struct Split {
+  std::vector<int32_t> shared, only_a, only_b;
+};
+
+Split split(const std::array<int32_t, 4>& a, const std::array<int32_t, 4>& b, int n) {
+  Split s;
+  for (int i = 0; i < n; ++i) {
+    const bool in_b = std::find(b.begin(), b.begin() + n, a[i]) != b.begin() + n;
+    (in_b ? s.shared : s.only_a).push_back(a[i]);
+  }
+  for (int i = 0; i < n; ++i)
+    if (std::find(a.begin(), a.begin() + n, b[i]) == a.begin() + n) s.only_b.push_back(b[i]);
+  return s;
+}
+
+class PairTest {
+ public:
+  explicit PairTest(const StraightDual& dual) : dual_(dual) {}
+
+  bool intersect(std::size_t i, std::size_t j) const {
+    const auto a = dual_.top_simplex(i), b = dual_.top_simplex(j);
+    const Split s = split(a, b, dual_.dimension + 1);
+    return dual_.dimension == 3 ? intersect_3(a, b, s) : intersect_2(a, b, s);
+  }
+
+ private:
+  const Vec3& x(int32_t v) const { return dual_.vertices[v]; }
+  Kernel::Triangle_2 triangle_2(const std::array<int32_t, 4>& t) const {
+    return {p2(x(t[0])), p2(x(t[1])), p2(x(t[2]))};
+  }
+  Kernel::Tetrahedron_3 tetrahedron(const std::array<int32_t, 4>& t) const {
+    return {p3(x(t[0])), p3(x(t[1])), p3(x(t[2])), p3(x(t[3]))};
+  }
+
+  bool intersect_2(const std::array<int32_t, 4>& a, const std::array<int32_t, 4>& b,
+                   const Split& s) const {
+    switch (s.shared.size()) {
+      case 0:
+        return CGAL::do_intersect(triangle_2(a), triangle_2(b));
+      case 1: {  // overlapping near the shared vertex <=> an opposite edge meets the other triangle
+        const Kernel::Segment_2 ea(p2(x(s.only_a[0])), p2(x(s.only_a[1])));
+        const Kernel::Segment_2 eb(p2(x(s.only_b[0])), p2(x(s.only_b[1])));
+        return CGAL::do_intersect(ea, triangle_2(b)) || CGAL::do_intersect(eb, triangle_2(a));
+      }
+      case 2:  // a shared edge: the opposite vertices must lie on opposite sides
+        return CGAL::orientation(p2(x(s.shared[0])), p2(x(s.shared[1])), p2(x(s.only_a[0]))) ==
+               CGAL::orientation(p2(x(s.shared[0])), p2(x(s.shared[1])), p2(x(s.only_b[0])));
+      default:
+        return true;  // the same triangle twice
+    }
+  }
+
+  bool intersect_3(const std::array<int32_t, 4>& a, const std::array<int32_t, 4>& b,
+                   const Split& s) const {
+    switch (s.shared.size()) {
+      case 0:
+        return CGAL::do_intersect(tetrahedron(a), tetrahedron(b));
+      case 1: {  // the cones at the shared vertex overlap <=> an opposite face meets the other tet
+        const Kernel::Triangle_3 fa(p3(x(s.only_a[0])), p3(x(s.only_a[1])), p3(x(s.only_a[2])));
+        const Kernel::Triangle_3 fb(p3(x(s.only_b[0])), p3(x(s.only_b[1])), p3(x(s.only_b[2])));
+        return CGAL::do_intersect(fa, tetrahedron(b)) || CGAL::do_intersect(fb, tetrahedron(a));
+      }
+      case 2:
+        return wedges_overlap(s);
+      case 3: {  // a shared facet: the opposite vertices must lie on opposite sides
+        const P3 u = p3(x(s.shared[0])), v = p3(x(s.shared[1])), w = p3(x(s.shared[2]));
+        return CGAL::orientation(u, v, w, p3(x(s.only_a[0]))) ==
+               CGAL::orientation(u, v, w, p3(x(s.only_b[0])));
+      }
+      default:
+        return true;
+    }
+  }
+
+  // Two tetrahedra sharing the edge uv overlap iff their dihedral wedges about uv do: each wedge
+  // is convex, so otherwise a plane through uv separates them.
+  bool wedges_overlap(const Split& s) const {
+    const P3 u = p3(x(s.shared[0])), v = p3(x(s.shared[1]));
+    const P3 a1 = p3(x(s.only_a[0])), a2 = p3(x(s.only_a[1]));
+    const P3 b1 = p3(x(s.only_b[0])), b2 = p3(x(s.only_b[1]));
+    auto turn = [&](const P3& p, const P3& q) { return sign_of(CGAL::orientation(u, v, p, q)); };
+    auto inside = [&](const P3& r, const P3& p, const P3& q) {
+      const int w = turn(p, q);
+      return w != 0 && turn(p, r) == w && turn(r, q) == w;
+    };
+    auto same_ray = [&](const P3& p, const P3& q) {
+      return turn(p, q) == 0 && CGAL::coplanar_orientation(u, v, p, q) == CGAL::POSITIVE;
+    };
+    if (inside(b1, a1, a2) || inside(b2, a1, a2) || inside(a1, b1, b2) || inside(a2, b1, b2))
+      return true;
+    return (same_ray(a1, b1) && same_ray(a2, b2)) || (same_ray(a1, b2) && same_ray(a2, b1));
+  }
+
+  const StraightDual& dual_;
+};
+
+std::vector<Box> element_boxes(const StraightDual& dual, const std::vector<int>& orientation) {
+  std::vector<Box> boxes;
+  for (std::size_t t = 0; t < dual.top_count(); ++t) {
+    if (orientation[t] == 0) continue;
+    const auto s = dual.top_simplex(t);
+    CGAL::Bbox_3 box;
+    for (int v = 0; v <= dual.dimension; ++v) box += p3(dual.vertices[s[v]]).bbox();
+    boxes.emplace_back(box, t);
+  }
+  return boxes;
+}
+
+}  // namespace
+
+std::vector<int> orientation_signs(const StraightDual& dual) {
+  std::vector<int> signs(dual.top_count());
+  for (std::size_t t = 0; t < dual.top_count(); ++t) {
+    const auto s = dual.top_simplex(t);
+    const auto& x = dual.vertices;
+    signs[t] = dual.dimension == 3
+                   ? sign_of(CGAL::orientation(p3(x[s[0]]), p3(x[s[1]]), p3(x[s[2]]), p3(x[s[3]])))
+                   : sign_of(CGAL::orientation(p2(x[s[0]]), p2(x[s[1]]), p2(x[s[2]])));
+  }
+  return signs;
+}
+
+std::vector<std::array<std::size_t, 2>> intersecting_pairs(const StraightDual& dual,
+                                                           const std::vector<int>& orientation) {
+  std::vector<Box> boxes = element_boxes(dual, orientation);
+  const PairTest test(dual);
+  std::vector<std::array<std::size_t, 2>> pairs;
+  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {
+    if (test.intersect(a.info(), b.info()))
+      pairs.push_back({std::min(a.info(), b.info()), std::max(a.info(), b.info())});
+  });
+  std::sort(pairs.begin(), pairs.end());
+  return pairs;
+}
+
+}  // namespace rvor::dual

@@ -1,0 +1,39 @@
+#pragma once
+// The steps of build_straight_dual, one translation unit each: combinatorial topology, exact
+// geometric predicates (the only CGAL code), quality in the metric.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "rvor/dual.h"
+
+namespace rvor::dual {
+
+struct Topology {
+  // +1/-1 per top simplex: its orientation relative to its sorted vertex order, chosen so that
+  // neighbours across manifold facets are consistently oriented.
+  std::vector<int8_t> parity;
+  std::vector<int32_t> component;  // connected component (across manifold facets) per top simplex
+  std::vector<std::array<int32_t, 3>> non_manifold_facets;
+  std::vector<uint8_t> on_non_manifold_facet;  // per top simplex
+  std::size_t non_manifold_boundary = 0;       // boundary edges (3D) / vertices (2D) not closing up
+  int euler_characteristic = 0;
+  int boundary_euler_characteristic = 0;
+  std::size_t dangling = 0;
+  std::size_t unused_vertices = 0;
+};
+
+Topology analyse_topology(const StraightDual& dual);
+
+// Exact orientation (-1, 0, +1) of each top simplex taken in its sorted vertex order.
+std::vector<int> orientation_signs(const StraightDual& dual);
+
+// Pairs (i < j) of top simplices whose intersection is more than their common face; flat
+// simplices (orientation 0) are left out (they are reported as inverted).
+std::vector<std::array<std::size_t, 2>> intersecting_pairs(const StraightDual& dual,
+                                                           const std::vector<int>& orientation);
+
+// Fills dual.quality and dual.quality_summary.
+void measure_quality(StraightDual& dual);
+
+}  // namespace rvor::dual

@@ -1,0 +1,123 @@
+// Assembles the straight dual from the nerve and runs its checks (topology, exact geometry,
+// quality), then condenses them into DualChecks and per-element flags.
+#include <algorithm>
+#include <chrono>
+#include <map>
+
+#include "dual/dual_internal.h"
+#include "rvor/error.h"
+
+namespace rvor {
+
+namespace {
+
+template <std::size_t N>
+std::vector<std::array<int32_t, N>> seed_tuples(const std::vector<NerveSimplex>& simplices) {
+  std::vector<std::array<int32_t, N>> out;
+  out.reserve(simplices.size());
+  for (const NerveSimplex& s : simplices) {
+    std::array<int32_t, N> t{};
+    std::copy(s.seeds.begin(), s.seeds.begin() + N, t.begin());
+    out.push_back(t);
+  }
+  return out;
+}
+
+std::vector<Mat3> seed_metrics(const Canvas& canvas, const std::vector<Vec3>& seeds) {
+  std::vector<Mat3> metrics;
+  for (std::size_t i = 0; i < seeds.size(); ++i) {
+    const int64_t slot = canvas.slot_of(canvas.voxel_containing(seeds[i]));
+    if (slot < 0)
+      throw Error("straight dual: seed " + std::to_string(i) + " is not in an active voxel");
+    metrics.push_back(canvas.metric_at(static_cast<std::size_t>(slot)));
+  }
+  return metrics;
+}
+
+// Inverted: orientation (consistent across manifold facets) against its component's majority.
+void mark_inverted(const dual::Topology& topo, const std::vector<int>& orientation,
+                   StraightDual& dual) {
+  std::map<int32_t, long> balance;  // per component: positive minus negative elements
+  for (std::size_t t = 0; t < orientation.size(); ++t)
+    balance[topo.component[t]] += orientation[t] * topo.parity[t];
+  for (std::size_t t = 0; t < orientation.size(); ++t) {
+    const int majority = balance[topo.component[t]] >= 0 ? 1 : -1;
+    if (orientation[t] * topo.parity[t] != majority) {
+      dual.checks.inverted_elements.push_back(t);
+      dual.flags[t] |= kDualInverted;
+    }
+  }
+  dual.checks.inverted = dual.checks.inverted_elements.size();
+}
+
+void mark_intersecting(const std::vector<std::array<std::size_t, 2>>& pairs, StraightDual& dual) {
+  for (const auto& p : pairs) {
+    dual.flags[p[0]] |= kDualIntersecting;
+    dual.flags[p[1]] |= kDualIntersecting;
+  }
+  for (std::size_t t = 0; t < dual.flags.size(); ++t)
+    if (dual.flags[t] & kDualIntersecting) dual.checks.intersecting_elements.push_back(t);
+  dual.checks.intersecting = dual.checks.intersecting_elements.size();
+  dual.checks.intersecting_pairs = pairs.size();
+  dual.checks.intersecting_element_pairs.assign(
+      pairs.begin(), pairs.begin() + std::min(pairs.size(), DualChecks::kMaxListed));
+}
+
+void apply_topology(const dual::Topology& topo, StraightDual& dual) {
+  DualChecks& c = dual.checks;
+  for (std::size_t t = 0; t < dual.flags.size(); ++t)
+    if (topo.on_non_manifold_facet[t]) dual.flags[t] |= kDualNonManifold;
+  c.non_manifold = topo.non_manifold_facets.size() + topo.non_manifold_boundary;
+  c.non_manifold_facets.assign(
+      topo.non_manifold_facets.begin(),
+      topo.non_manifold_facets.begin() +
+          std::min(topo.non_manifold_facets.size(), DualChecks::kMaxListed));
+  c.euler_characteristic = topo.euler_characteristic;
+  c.boundary_euler_characteristic = topo.boundary_euler_characteristic;
+  c.dangling = topo.dangling;
+  c.unused_vertices = topo.unused_vertices;
+}
+
+bool is_ball_triangulation(const StraightDual& dual) {
+  const DualChecks& c = dual.checks;
+  const int sphere = dual.dimension == 3 ? 2 : 0;  // boundary: a 2-sphere, or a circle in 2D
+  return dual.top_count() > 0 && c.inverted == 0 && c.intersecting == 0 && c.non_manifold == 0 &&
+         c.euler_characteristic == 1 && c.boundary_euler_characteristic == sphere;
+}
+
+}  // namespace
+
+std::array<int32_t, 4> StraightDual::top_simplex(std::size_t t) const {
+  if (dimension == 3) return tetrahedra[t];
+  return {triangles[t][0], triangles[t][1], triangles[t][2], -1};
+}
+
+StraightDual build_straight_dual(const Canvas& canvas, const Nerve& nerve,
+                                 const std::vector<Vec3>& seeds) {
+  const auto start = std::chrono::steady_clock::now();
+  if (nerve.seed_count != seeds.size() || nerve.dimension != canvas.dimension)
+    throw Error("straight dual: the nerve was extracted for " + std::to_string(nerve.seed_count) +
+                " seeds in " + std::to_string(nerve.dimension) + "D, not " +
+                std::to_string(seeds.size()) + " in " + std::to_string(canvas.dimension) + "D");
+  StraightDual dual;
+  dual.dimension = canvas.dimension;
+  dual.vertices = seeds;
+  dual.vertex_metrics = seed_metrics(canvas, seeds);
+  dual.edges = seed_tuples<2>(nerve.edges);
+  dual.triangles = seed_tuples<3>(nerve.triangles);
+  dual.tetrahedra = seed_tuples<4>(nerve.tetrahedra);
+  dual.flags.assign(dual.top_count(), 0);
+  dual.checks.degenerate_witnesses = nerve.degenerate_witness_count;
+
+  const dual::Topology topo = dual::analyse_topology(dual);
+  const std::vector<int> orientation = dual::orientation_signs(dual);
+  mark_inverted(topo, orientation, dual);
+  mark_intersecting(dual::intersecting_pairs(dual, orientation), dual);
+  apply_topology(topo, dual);
+  dual.checks.is_triangulation = is_ball_triangulation(dual);
+  dual::measure_quality(dual);
+  dual.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return dual;
+}
+
+}  // namespace rvor
