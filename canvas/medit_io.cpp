@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string_view>
 
@@ -36,6 +37,38 @@ std::string lowercase(std::string_view text) {
   std::string result(text);
   for (char& c : result) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return result;
+}
+
+// Keywords of the sections a value can run into when a section is shorter than its count says
+// (anything else that is not a number is reported as such).
+bool is_section_keyword(std::string_view text) {
+  if (!starts_like_keyword(text)) return false;
+  static constexpr std::string_view keywords[] = {"meshversionformatted",
+                                                  "dimension",
+                                                  "vertices",
+                                                  "edges",
+                                                  "triangles",
+                                                  "tetrahedra",
+                                                  "quadrilaterals",
+                                                  "pyramids",
+                                                  "prisms",
+                                                  "hexahedra",
+                                                  "corners",
+                                                  "requiredvertices",
+                                                  "ridges",
+                                                  "requirededges",
+                                                  "requiredtriangles",
+                                                  "requiredquadrilaterals",
+                                                  "requiredtetrahedra",
+                                                  "normals",
+                                                  "tangents",
+                                                  "normalatvertices",
+                                                  "tangentatvertices",
+                                                  "normalattrianglevertices",
+                                                  "solatvertices",
+                                                  "end"};
+  const std::string lower = lowercase(text);
+  return std::find(std::begin(keywords), std::end(keywords), lower) != std::end(keywords);
 }
 
 std::string read_whole_file(const std::string& path) {
@@ -105,7 +138,7 @@ class MeditTokens {
   Token next_value(Describe describe) {
     if (at_end()) fail(last_line_, "truncated file: it ends where " + describe() + " was expected");
     const Token token = next();
-    if (starts_like_keyword(token.text) && !looks_like_special_real(token.text))
+    if (is_section_keyword(token.text))
       fail(token.line, "truncated section: found '" + std::string(token.text) + "' where " +
                            describe() + " was expected");
     return token;
@@ -141,12 +174,6 @@ class MeditTokens {
   }
 
  private:
-  // nan and inf parse as reals: let them through so that the caller reports "not finite".
-  static bool looks_like_special_real(std::string_view text) {
-    const std::string lower = lowercase(text);
-    return lower == "nan" || lower == "inf" || lower == "infinity";
-  }
-
   [[noreturn]] void not_a_number(const Token& token, const std::string& what) const {
     fail(token.line, "'" + std::string(token.text) + "' is not a number (" + what + ")");
   }

@@ -36,6 +36,10 @@ struct Location {
   Barycentric weights{};
 };
 
+double distance_to_box(const Vec3& p, const Vec3& lo, const Vec3& hi) {
+  return (lo - p).cwiseMax(p - hi).cwiseMax(0.0).norm();
+}
+
 // The half-space normal . x <= offset.
 struct Plane {
   Vec3 normal = Vec3::Zero();
@@ -213,15 +217,25 @@ class BucketGrid {
       }
   }
 
-  // A lower bound on the distance from p to any bucket outside the block of `ring` around
-  // `center`; +infinity when that block covers the whole grid.
+  // The distance from p to the nearest bucket outside the block of `ring` around `center`;
+  // +infinity when that block covers the whole grid. The buckets left lie beyond one of the
+  // block's faces that is not on the grid's boundary: the slab of the grid beyond that face.
   double distance_beyond_ring(const Vec3& p, const Index3& center, int ring) const {
     const Index3 lo = block_lo(center, ring), hi = block_hi(center, ring);
+    const Vec3 grid_lo = lo_,
+               grid_hi = lo_ + Vec3(counts_[0], counts_[1], counts_[2]).cwiseProduct(size_);
     double bound = std::numeric_limits<double>::infinity();
     for (int a = 0; a < 3; ++a) {
-      if (lo[a] > 0) bound = std::min(bound, std::max(0.0, p[a] - (lo_[a] + lo[a] * size_[a])));
-      if (hi[a] < counts_[a] - 1)
-        bound = std::min(bound, std::max(0.0, lo_[a] + (hi[a] + 1) * size_[a] - p[a]));
+      if (lo[a] > 0) {
+        Vec3 slab_hi = grid_hi;
+        slab_hi[a] = lo_[a] + lo[a] * size_[a];
+        bound = std::min(bound, distance_to_box(p, grid_lo, slab_hi));
+      }
+      if (hi[a] < counts_[a] - 1) {
+        Vec3 slab_lo = grid_lo;
+        slab_lo[a] = lo_[a] + (hi[a] + 1) * size_[a];
+        bound = std::min(bound, distance_to_box(p, slab_lo, grid_hi));
+      }
     }
     return bound;
   }
