@@ -1,0 +1,224 @@
+// Validity checks of the straight dual on hand-made nerves (exact answers known) and on a bad
+// configuration from the propagator; report JSON; files read back by meshio and VTK.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "dual/dual_fixtures.h"
+#include "rvor/dual.h"
+#include "rvor/metric_field.h"
+#include "rvor/seeds.h"
+#include "support/box_canvas.h"
+#include "support/run_command.h"
+#include "support/temp_dir.h"
+
+namespace rvor {
+namespace {
+
+NerveSimplex simplex(std::vector<int32_t> seeds) {
+  NerveSimplex s;
+  std::sort(seeds.begin(), seeds.end());
+  std::copy(seeds.begin(), seeds.end(), s.seeds.begin());
+  s.vertex_count = static_cast<int>(seeds.size());
+  return s;
+}
+
+// A nerve of the given top simplices (and their edges) for seeds in the unit square/cube.
+Nerve hand_made_nerve(int dimension, std::size_t seeds,
+                      const std::vector<std::vector<int32_t>>& top) {
+  Nerve nerve;
+  nerve.dimension = dimension;
+  nerve.seed_count = seeds;
+  std::set<std::vector<int32_t>> edges;
+  for (auto t : top) {
+    std::sort(t.begin(), t.end());
+    (dimension == 3 ? nerve.tetrahedra : nerve.triangles).push_back(simplex(t));
+    for (std::size_t i = 0; i < t.size(); ++i)
+      for (std::size_t j = i + 1; j < t.size(); ++j) edges.insert({t[i], t[j]});
+  }
+  for (const auto& e : edges) nerve.edges.push_back(simplex(e));
+  auto by_seeds = [](const NerveSimplex& a, const NerveSimplex& b) { return a.seeds < b.seeds; };
+  std::sort(nerve.triangles.begin(), nerve.triangles.end(), by_seeds);
+  std::sort(nerve.tetrahedra.begin(), nerve.tetrahedra.end(), by_seeds);
+  return nerve;
+}
+
+Canvas unit_canvas(int dimension) {
+  return test::make_uniform_box_canvas(dimension, Vec3(0, 0, 0), Vec3(1, 1, 1), 16,
+                                       Mat3::Identity());
+}
+
+TEST(DualChecks, SquareSplitInTwoIsATriangulationOfADisk) {
+  const std::vector<Vec3> seeds{{0.1, 0.1, 0}, {0.9, 0.1, 0}, {0.9, 0.9, 0}, {0.1, 0.9, 0}};
+  const StraightDual dual =
+      build_straight_dual(unit_canvas(2), hand_made_nerve(2, 4, {{0, 1, 2}, {0, 2, 3}}), seeds);
+  EXPECT_EQ(dual.checks.inverted, 0u);
+  EXPECT_EQ(dual.checks.intersecting, 0u);
+  EXPECT_EQ(dual.checks.non_manifold, 0u);
+  EXPECT_EQ(dual.checks.euler_characteristic, 1);
+  EXPECT_TRUE(dual.checks.is_triangulation);
+  EXPECT_NEAR(dual.quality[0].quality, 4 * std::sqrt(3.0) * 0.32 / (0.64 * 4), 1e-9);
+  EXPECT_NEAR(dual.quality[0].min_angle, 45.0, 1e-9);
+  EXPECT_NEAR(dual.quality[0].max_angle, 90.0, 1e-9);
+}
+
+TEST(DualChecks, BothDiagonalsOfASquareOverlap) {
+  const std::vector<Vec3> seeds{{0.1, 0.1, 0}, {0.9, 0.1, 0}, {0.9, 0.9, 0}, {0.1, 0.9, 0}};
+  const StraightDual dual = build_straight_dual(
+      unit_canvas(2), hand_made_nerve(2, 4, {{0, 1, 2}, {0, 2, 3}, {0, 1, 3}, {1, 2, 3}}), seeds);
+  EXPECT_EQ(dual.checks.intersecting, 4u);
+  EXPECT_EQ(dual.checks.euler_characteristic, 2);  // the two pairs close up into a sphere
+  EXPECT_FALSE(dual.checks.is_triangulation);
+  for (uint8_t f : dual.flags) EXPECT_TRUE(f & kDualIntersecting);
+}
+
+TEST(DualChecks, AFoldedTriangleIsInverted) {
+  // Triangles 0-1-2 and 0-1-3 share edge 0-1 with 2 and 3 on the same side: a fold. Two more
+  // triangles properly around vertex 2 make the fold the minority.
+  const std::vector<Vec3> seeds{{0.2, 0.2, 0}, {0.8, 0.2, 0}, {0.5, 0.8, 0},
+                                {0.5, 0.5, 0}, {0.9, 0.9, 0}, {0.1, 0.9, 0}};
+  const StraightDual dual = build_straight_dual(
+      unit_canvas(2), hand_made_nerve(2, 6, {{0, 1, 2}, {0, 1, 3}, {1, 2, 4}, {0, 2, 5}}), seeds);
+  EXPECT_EQ(dual.checks.inverted, 1u);
+  ASSERT_EQ(dual.checks.inverted_elements.size(), 1u);
+  EXPECT_EQ(dual.triangles[dual.checks.inverted_elements[0]], (std::array<int32_t, 3>{0, 1, 3}));
+  EXPECT_GE(dual.checks.intersecting, 2u);  // the fold overlaps triangle 0-1-2
+  EXPECT_FALSE(dual.checks.is_triangulation);
+}
+
+TEST(DualChecks, TetrahedraSharingAFacetOnTheSameSideIntersect3D) {
+  const std::vector<Vec3> seeds{{0.1, 0.1, 0.1}, {0.9, 0.1, 0.1}, {0.1, 0.9, 0.1},
+                                {0.3, 0.3, 0.9}, {0.2, 0.2, 0.5}, {0.3, 0.3, -0.0}};
+  auto good = hand_made_nerve(3, 4, {{0, 1, 2, 3}});
+  const std::vector<Vec3> four(seeds.begin(), seeds.begin() + 4);
+  const StraightDual one = build_straight_dual(unit_canvas(3), good, four);
+  EXPECT_TRUE(one.checks.is_triangulation);
+  EXPECT_EQ(one.checks.boundary_euler_characteristic, 2);
+  EXPECT_NEAR(one.quality_summary.mean_quality, one.quality[0].quality, 1e-12);
+
+  std::vector<Vec3> five(seeds.begin(), seeds.begin() + 5);
+  const StraightDual folded = build_straight_dual(
+      unit_canvas(3), hand_made_nerve(3, 5, {{0, 1, 2, 3}, {0, 1, 2, 4}}), five);
+  EXPECT_EQ(folded.checks.intersecting, 2u);
+  EXPECT_EQ(folded.checks.inverted, 1u);
+  EXPECT_FALSE(folded.checks.is_triangulation);
+}
+
+TEST(DualChecks, RegularTetrahedronHasQualityOne) {
+  const double s = 0.3;
+  const Vec3 c(0.5, 0.5, 0.5);
+  const std::vector<Vec3> seeds{c + s * Vec3(1, 1, 1), c + s * Vec3(1, -1, -1),
+                                c + s * Vec3(-1, 1, -1), c + s * Vec3(-1, -1, 1)};
+  const StraightDual dual =
+      build_straight_dual(unit_canvas(3), hand_made_nerve(3, 4, {{0, 1, 2, 3}}), seeds);
+  EXPECT_NEAR(dual.quality[0].quality, 1.0, 1e-9);
+  EXPECT_NEAR(dual.quality[0].min_angle, std::acos(1.0 / 3.0) * 180 / M_PI, 1e-9);
+  EXPECT_EQ(dual.quality_summary.quality_histogram[9], 1u);
+}
+
+// Seeds too close for the canvas: 60 seeds on 24 x 24 voxels, cells of a few voxels each, so
+// the labels are too coarse to resolve the Voronoi diagram.
+StraightDual bad_configuration() {
+  const Canvas canvas =
+      test::make_uniform_box_canvas(2, Vec3(0, 0, 0), Vec3(1, 1, 0), 24, Mat3::Identity());
+  const std::vector<Vec3> seeds = random_seeds(canvas, 60, 7);
+  const VoronoiField field = test::solve_reference(canvas, seeds);
+  return build_straight_dual(canvas, extract_nerve(canvas, field, seeds.size()), seeds);
+}
+
+TEST(DualChecks, SeedsTooCloseForTheCanvasAreNotATriangulation) {
+  const StraightDual dual = bad_configuration();
+  const DualChecks& c = dual.checks;
+  std::printf(
+      "bad configuration: %zu triangles, inverted %zu, intersecting %zu (%zu pairs), "
+      "non-manifold %zu, degenerate witnesses %zu, euler %d\n",
+      dual.triangles.size(), c.inverted, c.intersecting, c.intersecting_pairs, c.non_manifold,
+      c.degenerate_witnesses, c.euler_characteristic);
+  EXPECT_FALSE(c.is_triangulation);
+  EXPECT_GT(c.inverted + c.intersecting + c.non_manifold, 0u);
+  EXPECT_EQ(c.inverted_elements.size(), c.inverted);
+  EXPECT_EQ(c.intersecting_elements.size(), c.intersecting);
+  std::size_t flagged = 0;
+  for (uint8_t f : dual.flags) flagged += f != 0;
+  EXPECT_GE(flagged, std::max(c.inverted, c.intersecting));
+
+  // The offending elements are written out, and the report counts them.
+  test::TempDir dir;
+  write_dual_vtu(dir.file("bad.vtu"), dual, /*only_flagged=*/true);
+  const auto read = test::run_command(
+      test::debian_python() +
+      " -c \"import vtk; r = vtk.vtkXMLUnstructuredGridReader(); r.SetFileName('" +
+      dir.file("bad.vtu") + "'); r.Update(); print(r.GetOutput().GetNumberOfCells())\"");
+  ASSERT_EQ(read.exit_code, 0) << read.err;
+  EXPECT_EQ(std::stoul(read.out), flagged);
+  const auto report = nlohmann::json::parse(dual_report_json(dual));
+  EXPECT_EQ(report["is_triangulation"], false);
+  EXPECT_EQ(report["inverted"], c.inverted);
+  EXPECT_EQ(report["intersecting"], c.intersecting);
+}
+
+TEST(DualFiles, MeshAndVtuReadBackWithCountsInMeshioAndVtk) {
+  const Mat3 F = test::random_uniform_sqrt_metric(3, Vec3(1, 2, 3), 5);
+  const Vec3 lo(0, 0, 0), hi(1, 1, 1);
+  const Canvas canvas = test::make_uniform_box_canvas(3, lo, hi, 48, F * F);
+  const std::vector<Vec3> seeds = test::poisson_disk_seeds(
+      3, lo, hi, canvas.voxel_size, F, test::poisson_radius(3, lo, hi, F, 60), 60, 5);
+  const Nerve nerve =
+      extract_nerve(canvas, test::exact_uniform_field(canvas, seeds, F), seeds.size());
+  const StraightDual dual = build_straight_dual(canvas, nerve, seeds);
+  ASSERT_GT(dual.tetrahedra.size(), 0u);
+
+  test::TempDir dir;
+  write_dual_medit(dir.file("dual.mesh"), dual);
+  write_dual_vtu(dir.file("dual.vtu"), dual);
+  const auto meshio = test::run_command(
+      test::debian_python() + " -c \"import meshio; m = meshio.read('" + dir.file("dual.mesh") +
+      "'); print(len(m.points), sum(len(c.data) for c in m.cells if c.type == 'tetra'), "
+      "sum(len(c.data) for c in m.cells if c.type == 'triangle'))\"");
+  ASSERT_EQ(meshio.exit_code, 0) << meshio.err;
+  std::istringstream counts(meshio.out);
+  std::size_t points = 0, tets = 0, triangles = 0;
+  counts >> points >> tets >> triangles;
+  EXPECT_EQ(points, seeds.size());
+  EXPECT_EQ(tets, dual.tetrahedra.size());
+  EXPECT_GT(triangles, 0u);  // the boundary of the tetrahedra
+
+  const auto vtk = test::run_command(
+      test::debian_python() +
+      " -c \"import vtk; r = vtk.vtkXMLUnstructuredGridReader(); r.SetFileName('" +
+      dir.file("dual.vtu") +
+      "'); r.Update(); g = r.GetOutput(); "
+      "print(g.GetNumberOfPoints(), g.GetNumberOfCells(), g.GetCellType(0), "
+      "g.GetCellData().GetArray('quality').GetRange()[1], "
+      "g.GetPointData().GetArray('label').GetRange()[1])\"");
+  ASSERT_EQ(vtk.exit_code, 0) << vtk.err;
+  std::istringstream fields(vtk.out);
+  std::size_t vtk_points = 0, cells = 0;
+  int type = 0;
+  double max_quality = 0, max_label = 0;
+  fields >> vtk_points >> cells >> type >> max_quality >> max_label;
+  EXPECT_EQ(vtk_points, seeds.size());
+  EXPECT_EQ(cells, dual.tetrahedra.size());
+  EXPECT_EQ(type, 10);  // VTK_TETRA
+  EXPECT_LE(max_quality, 1.0);
+  EXPECT_GT(max_quality, 0.3);
+  EXPECT_EQ(max_label, double(seeds.size() - 1));
+
+  write_xyz(dir.file("seeds.xyz"), seeds, 3);
+  EXPECT_EQ(read_xyz(dir.file("seeds.xyz")).size(), seeds.size());
+  const auto report = nlohmann::json::parse(dual_report_json(dual));
+  for (const char* key :
+       {"vertices", "edges", "triangles", "tetrahedra", "inverted", "intersecting", "non_manifold",
+        "degenerate_witnesses", "is_triangulation", "quality"})
+    EXPECT_TRUE(report.contains(key)) << key;
+  EXPECT_EQ(report["tetrahedra"], dual.tetrahedra.size());
+  EXPECT_EQ(report["quality"]["histogram"].size(), 10u);
+}
+
+}  // namespace
+}  // namespace rvor
