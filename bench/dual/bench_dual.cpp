@@ -1,0 +1,69 @@
+// Nerve extraction + straight dual for N random seeds on an R^3 box canvas (uniform anisotropic
+// metric), next to the propagation that produces the labels. The propagation runs once per
+// configuration (device from RVOR_BENCH_DEVICE, default "auto", i.e. OpenCL where available);
+// its time is reported as the counter propagation_s and the ratio as dual_over_propagation.
+// The design's target: 10,000 seeds at 256^3 in <= 10% of the propagation time:
+//   bench_dual --benchmark_filter='NerveAndDual/256/10000'
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <map>
+
+#include "rvor/dual.h"
+#include "rvor/propagation.h"
+#include "rvor/seeds.h"
+#include "support/box_canvas.h"
+
+namespace {
+
+struct Labeled {
+  rvor::Canvas canvas;
+  std::vector<rvor::Vec3> seeds;
+  rvor::VoronoiField field;
+  double propagation_seconds = 0.0;
+};
+
+const Labeled& labeled(int resolution, int seeds) {
+  static std::map<std::pair<int, int>, Labeled> cache;
+  auto [it, inserted] = cache.try_emplace({resolution, seeds});
+  Labeled& l = it->second;
+  if (!inserted) return l;
+  rvor::Mat3 G;
+  G << 4.0, 1.0, 0.0, 1.0, 2.0, 0.5, 0.0, 0.5, 1.0;
+  l.canvas = rvor::test::make_uniform_box_canvas(3, rvor::Vec3(0, 0, 0), rvor::Vec3(1, 1, 1),
+                                                 resolution, G);
+  l.seeds = rvor::random_seeds(l.canvas, static_cast<std::size_t>(seeds), 1);
+  const char* device = std::getenv("RVOR_BENCH_DEVICE");
+  const auto start = std::chrono::steady_clock::now();
+  rvor::make_propagator(device ? device : "auto")->solve(l.canvas, l.seeds, l.field);
+  l.propagation_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return l;
+}
+
+void NerveAndDual(benchmark::State& state) {
+  const Labeled& l = labeled(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  double nerve_seconds = 0.0, dual_seconds = 0.0;
+  for (auto _ : state) {
+    const rvor::Nerve nerve = rvor::extract_nerve(l.canvas, l.field, l.seeds.size());
+    const rvor::StraightDual dual = rvor::build_straight_dual(l.canvas, nerve, l.seeds);
+    benchmark::DoNotOptimize(dual.checks.is_triangulation);
+    nerve_seconds += nerve.seconds;
+    dual_seconds += dual.seconds;
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["propagation_s"] = l.propagation_seconds;
+  state.counters["nerve_s"] = nerve_seconds / n;
+  state.counters["dual_s"] = dual_seconds / n;
+  state.counters["dual_over_propagation"] =
+      (nerve_seconds + dual_seconds) / n / l.propagation_seconds;
+}
+
+BENCHMARK(NerveAndDual)
+    ->Args({64, 500})
+    ->Args({256, 10000})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
+
+}  // namespace
