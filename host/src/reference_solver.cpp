@@ -1,6 +1,6 @@
 // The sequential CPU reference solver of docs/scheme.md: double precision, label-correcting
-// Dijkstra on the reverse stencil graph. It is the ground truth the OpenCL kernels are checked
-// against, so it favours clarity; the inner loop (local_solve) is allocation-free.
+// worklist in value order on the reverse stencil graph. It is the ground truth the OpenCL kernels
+// are checked against, so it favours clarity; the inner loop (local_solve) is allocation-free.
 #include "reference_solver.h"
 
 #include <algorithm>
@@ -24,9 +24,11 @@ namespace {
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // Half-width r of the (2r+1)^d block initialised exactly around each seed's voxel.
 constexpr int kInitRadius = 2;
-// A candidate replaces a value only when smaller by this relative amount (or equal-ish with a
-// smaller label): strict decrease with a margin guarantees termination despite rounding.
-constexpr double kRelativeDecrease = 1e-12;
+// A recomputed value counts as a change only beyond this relative amount (or with another label):
+// rounding noise cannot then keep two voxels re-evaluating each other forever.
+constexpr double kRelativeChange = 1e-12;
+// Guard against a scheme that does not settle: more recomputations than this per voxel is a bug.
+constexpr uint64_t kMaxPopsPerVoxel = 1000;
 
 // D = G^-1 in double from the float metric; in 2D only the 2x2 block is meaningful.
 Mat3 dual_metric(const Canvas& canvas, std::size_t slot) {
@@ -185,26 +187,42 @@ void ReferenceSolver::store_field(ExactField& field) const {
   }
 }
 
-// Exact values u0_s(x) = |F_s (x - s)| in the (2r+1)^d block around each new seed's voxel.
+// Exact values u0_s(x) = |F_s (x - s)| in the (2r+1)^d block around each seed's voxel. Block voxels
+// are frozen (boundary data, never recomputed) and hold the smallest exact value of the seeds whose
+// block contains them. Seeds before `first_seed` only re-mark their blocks as frozen (their values
+// are in the field already); new seeds assign values and queue the voxels they changed.
 void ReferenceSolver::initialise_seed_blocks(const Canvas& canvas, std::size_t first_seed) {
   queue_.clear();
+  frozen_.assign(slot_count_, 0);
+  for (std::size_t s = 0; s < first_seed; ++s) mark_seed_block(canvas, s, false);
+  for (std::size_t s = first_seed; s < seeds_.size(); ++s) mark_seed_block(canvas, s, true);
+}
+
+void ReferenceSolver::mark_seed_block(const Canvas& canvas, std::size_t s, bool assign_values) {
   const int rz = dimension_ == 3 ? kInitRadius : 0;
-  for (std::size_t s = first_seed; s < seeds_.size(); ++s) {
-    const VoxelIndex c = canvas.voxel_containing(seeds_[s].position);
-    for (int dk = -rz; dk <= rz; ++dk)
-      for (int dj = -kInitRadius; dj <= kInitRadius; ++dj)
-        for (int di = -kInitRadius; di <= kInitRadius; ++di) {
-          const int64_t slot = canvas.slot_of(c.i + di, c.j + dj, c.k + dk);
-          if (slot < 0) continue;
-          const int32_t voxel = static_cast<int32_t>(slot);
-          const Vec3 p = position_of(voxel) - seeds_[s].position;
-          const double u0 = std::sqrt(std::max(0.0, p.dot(seeds_[s].G * p)));
-          if (offer(voxel, u0, static_cast<int32_t>(s))) {
-            queue_.push_back({u0, voxel});
-            std::push_heap(queue_.begin(), queue_.end(), std::greater<QueueEntry>());
-          }
-        }
-  }
+  const VoxelIndex c = canvas.voxel_containing(seeds_[s].position);
+  for (int dk = -rz; dk <= rz; ++dk)
+    for (int dj = -kInitRadius; dj <= kInitRadius; ++dj)
+      for (int di = -kInitRadius; di <= kInitRadius; ++di) {
+        const int64_t slot = canvas.slot_of(c.i + di, c.j + dj, c.k + dk);
+        if (slot < 0) continue;
+        const int32_t voxel = static_cast<int32_t>(slot);
+        const bool was_frozen = frozen_[voxel];
+        frozen_[voxel] = 1;
+        if (!assign_values) continue;
+        const Vec3 p = position_of(voxel) - seeds_[s].position;
+        const double u0 = std::sqrt(std::max(0.0, p.dot(seeds_[s].G * p)));
+        VoxelState& state = state_[voxel];
+        // A voxel that was not boundary data takes the exact value even if its old value was
+        // smaller: solving with all seeds at once would have frozen it to that value too.
+        const bool wins = !was_frozen || u0 < state.value ||
+                          (u0 == state.value && static_cast<int32_t>(s) < state.label);
+        if (!wins) continue;
+        state.value = u0;
+        state.label = static_cast<int32_t>(s);
+        queue_.push_back({u0, voxel});
+        std::push_heap(queue_.begin(), queue_.end(), std::greater<QueueEntry>());
+      }
 }
 
 // Small helpers of the inner loop, defined first so that they are inlined.
@@ -236,54 +254,61 @@ inline double ReferenceSolver::corrected_value(const SourceFrame& frame, const V
   return value + frame.u0 - u0_y + sign * step_dot_Gp * frame.inverse_u0;
 }
 
-// Label-correcting Dijkstra: pop the smallest value; every voxel that has the popped voxel y in
-// its stencil is re-solved for y's label (only y changed, so only that label's candidate can have
-// decreased: the candidates of other labels count y as +inf or did not involve it).
+// Worklist in value order (Dijkstra-like): pop the smallest changed voxel y and recompute every
+// voxel that has y in its stencil. Recomputing (rather than only accepting decreases) makes the
+// result the fixed point u = T(u) of the scheme whatever the order of updates: when y changes
+// label, the voxels that used y's old label lose that support, as they would never have had it in
+// a solve from scratch. The kernels iterate the same operator in parallel and reach the same field.
 void ReferenceSolver::run_queue(PropagationStats& stats) {
+  const uint64_t max_pops = kMaxPopsPerVoxel * static_cast<uint64_t>(slot_count_ + 1);
   while (!queue_.empty()) {
     std::pop_heap(queue_.begin(), queue_.end(), std::greater<QueueEntry>());
     const QueueEntry entry = queue_.back();
     queue_.pop_back();
-    const VoxelState popped = state_[entry.voxel];
-    if (entry.value != popped.value) continue;  // stale: the voxel decreased since
-    ++stats.iterations;
+    if (entry.value != state_[entry.voxel].value) continue;  // stale: the voxel changed since
+    if (++stats.iterations > max_pops)
+      throw Error("reference solver did not converge (a voxel was recomputed over " +
+                  std::to_string(kMaxPopsPerVoxel) + " times on average)");
     for (uint32_t r = reverse_begin_[entry.voxel]; r < reverse_begin_[entry.voxel + 1]; ++r) {
       const int32_t x = static_cast<int32_t>(reverse_[r] / 12);
-      if (!can_improve(x, static_cast<int32_t>(reverse_[r] % 12), popped.label, popped.value))
-        continue;
-      const double t = local_solve(x, popped.label);
+      if (frozen_[x]) continue;
       ++stats.voxel_updates;
-      if (offer(x, t, popped.label)) {
-        queue_.push_back({t, x});
+      if (recompute(x)) {
+        queue_.push_back({state_[x].value, x});
         std::push_heap(queue_.begin(), queue_.end(), std::greater<QueueEntry>());
       }
     }
   }
 }
 
-// Exact pruning: whether re-solving x for `label` after its neighbour y (stencil entry `entry`
-// of x, value `neighbour_value`) decreased can lower u(x). If y's corrected value exceeds u(x),
-// y's term is inactive at any root below u(x), so such a root only depends on x's other
-// neighbours of that label, and every change of those has already been followed by a re-solve
-// of x (each change is popped), which gave a value >= u(x). This halves the local solves.
-bool ReferenceSolver::can_improve(int32_t x, int32_t entry, int32_t label,
-                                  double neighbour_value) const {
-  const double current = state_[x].value;
-  if (current == kInfinity) return true;
-  const double sign = entry % 2 == 0 ? 1.0 : -1.0;
-  const Vec3 step = stencil_step(x, entry / 2);
-  return corrected_value(source_frame(x, label), step, sign, neighbour_value) <= current;
-}
-
-// Values only decrease: a candidate wins when clearly smaller, or when not larger and carrying a
-// smaller label (the tie rule of the scheme).
-bool ReferenceSolver::offer(int32_t voxel, double value, int32_t label) {
+bool ReferenceSolver::recompute(int32_t voxel) {
+  // Candidate labels: the distinct labels of the stencil neighbours (at most 12).
+  int32_t labels[12];
+  int label_count = 0;
+  const VoxelStencil& stencil = stencil_of(voxel);
+  const VoxelIndex x = index_of(voxel);
+  for (int t = 0; t < stencil.size; ++t)
+    for (int side = 0; side < 2; ++side) {
+      const int32_t y = neighbour_slot(x, stencil.offset[t], side == 0 ? 1 : -1);
+      if (y < 0 || state_[y].label < 0) continue;
+      const int32_t label = state_[y].label;
+      if (std::find(labels, labels + label_count, label) == labels + label_count)
+        labels[label_count++] = label;
+    }
+  double best = kInfinity;
+  int32_t best_label = -1;
+  for (int n = 0; n < label_count; ++n) {
+    const double t = local_solve(voxel, labels[n]);
+    if (t < best || (t == best && labels[n] < best_label)) best = t, best_label = labels[n];
+  }
   VoxelState& state = state_[voxel];
-  const bool smaller = value < state.value * (1 - kRelativeDecrease);
-  const bool tie_won = value <= state.value && label < state.label;
-  if (!smaller && !tie_won) return false;
-  state.value = value;
-  state.label = label;
+  if (best_label < 0) best = kInfinity;
+  const bool same_label = best_label == state.label;
+  const bool same_value = best == state.value || std::abs(best - state.value) <=
+                                                     kRelativeChange * std::min(best, state.value);
+  if (same_label && same_value) return false;
+  state.value = best;
+  state.label = best_label;
   return true;
 }
 

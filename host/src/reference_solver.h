@@ -70,9 +70,10 @@ class ReferenceSolver {
   Vec3 stencil_step(int32_t voxel, int term) const;
   double corrected_value(const SourceFrame& frame, const Vec3& step, double sign,
                          double value) const;
-  bool can_improve(int32_t x, int32_t entry, int32_t label, double neighbour_value) const;
-
-  bool offer(int32_t voxel, double value, int32_t label);
+  // Recomputes x from its neighbours: the smallest candidate over the labels of its stencil
+  // neighbours (ties: smaller label). Returns whether (value, label) changed.
+  bool recompute(int32_t x);
+  void mark_seed_block(const Canvas& canvas, std::size_t seed, bool assign_values);
   double local_solve(int32_t voxel, int32_t label) const;
   // Voxel index and world position of a slot, and the slot of a stencil neighbour, by arithmetic
   // on the brick layout: no per-voxel memory access (the run time is dominated by cache misses).
@@ -125,6 +126,8 @@ class ReferenceSolver {
   };
   std::vector<Seed> seeds_;
   std::vector<VoxelState> state_;
+  // 1 for voxels of a seed's initialisation block: their exact values are boundary data.
+  std::vector<uint8_t> frozen_;
   std::vector<QueueEntry> queue_;  // binary min-heap (std::push_heap with greater)
 };
 

@@ -2,8 +2,8 @@
 // Multi-source Riemannian eikonal propagation: for every active canvas voxel, the geodesic
 // distance to its nearest seed and that seed's label. The discrete scheme (Selling stencils,
 // per-label updates, exact initialisation, additive source factorization) is specified in
-// docs/scheme.md; every Propagator implements exactly that scheme and converges to its unique
-// solution, so implementations agree up to floating-point rounding.
+// docs/scheme.md; every Propagator iterates the same update operator to its fixed point, so
+// implementations agree up to floating-point rounding, whatever their schedule.
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -34,8 +34,8 @@ class Propagator {
   // Solves from scratch: seed i gets label i. Validates the seeds first (validate_seeds).
   virtual PropagationStats solve(const Canvas& canvas, const std::vector<Vec3>& seeds,
                                  VoronoiField& field) = 0;
-  // Adds seeds[first_new..] to a field solved for seeds[0..first_new): values only decrease, and
-  // only what the new seeds change is recomputed. The result equals solve() with all seeds.
+  // Adds seeds[first_new..] to a field solved for seeds[0..first_new): only what the new seeds
+  // change is recomputed, and the result equals solve() with all seeds (docs/scheme.md).
   virtual PropagationStats insert(const Canvas& canvas, const std::vector<Vec3>& seeds,
                                   std::size_t first_new, VoronoiField& field) = 0;
 };
