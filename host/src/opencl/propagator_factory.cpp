@@ -1,11 +1,20 @@
+#include <cstdlib>
+
+#include "rvor/devices.h"
 #include "rvor/error.h"
+#include "rvor/opencl_propagator.h"
 #include "rvor/propagation.h"
 
 namespace rvor {
 
 std::unique_ptr<Propagator> make_propagator(const std::string& device) {
   if (device == "cpu") return make_reference_propagator();
-  throw Error("unknown device '" + device + "': use --device cpu");
+  return make_opencl_propagator(device);
+}
+
+std::string default_device_name() {
+  const char* value = std::getenv("RVOR_DEVICE");
+  return value && *value ? value : "auto";
 }
 
 }  // namespace rvor

@@ -1,0 +1,33 @@
+#pragma once
+// Compute devices rvor can run propagations on: the CPU reference and every OpenCL device.
+// Device names (the --device option, the RVOR_DEVICE environment variable):
+//   "cpu"       the sequential CPU reference solver
+//   "auto"      the first OpenCL GPU, else the first OpenCL CPU device
+//   "opencl"    the first OpenCL device; "opencl:N" the N-th in list_opencl_devices() order
+//   "pocl"      the first device of the Portable Computing Language platform
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace rvor {
+
+struct OpenCLDeviceInfo {
+  int index = 0;         // N of "opencl:N"
+  std::string platform;  // platform name, e.g. "Portable Computing Language"
+  std::string name;      // device name
+  std::string version;   // CL_DEVICE_VERSION
+  std::string driver;    // CL_DRIVER_VERSION
+  bool is_gpu = false;
+  bool is_cpu = false;
+  unsigned compute_units = 0;
+  std::uint64_t global_memory_bytes = 0;
+  std::string missing_requirement;  // empty when rvor's kernels can run on it
+};
+
+// Every device of every OpenCL platform (empty when there is no OpenCL runtime or platform).
+std::vector<OpenCLDeviceInfo> list_opencl_devices();
+
+// The device name for library users: $RVOR_DEVICE when set and non-empty, else "auto".
+std::string default_device_name();
+
+}  // namespace rvor

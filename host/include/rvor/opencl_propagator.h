@@ -1,0 +1,32 @@
+#pragma once
+// The OpenCL propagation engine (docs/scheme.md as kernels, block Fast Iterative Method on bricks).
+#include <memory>
+#include <string>
+
+#include "rvor/propagation.h"
+
+namespace rvor {
+
+enum class RelaxationVariant {
+  automatic,     // brick_sweep on CPU devices, voxel_jacobi on GPUs
+  brick_sweep,   // a work-item sweeps a whole brick Gauss-Seidel (CPU-friendly)
+  voxel_jacobi,  // a work-group per brick, a work-item per voxel, Jacobi in local memory (GPU)
+};
+
+struct OpenCLOptions {
+  RelaxationVariant variant = RelaxationVariant::automatic;
+  int max_sweeps = 64;        // brick_sweep: sweeps per brick and round at most
+  int jacobi_iterations = 8;  // voxel_jacobi: inner iterations per round
+};
+
+// device: "auto", "opencl", "opencl:N" or "pocl" (see devices.h). Throws rvor::Error when the
+// device does not exist or lacks what the kernels need (the message suggests --device cpu).
+std::unique_ptr<Propagator> make_opencl_propagator(const std::string& device,
+                                                   const OpenCLOptions& options = {});
+
+// Builds an OpenCL C program on the device (through the program cache). Throws rvor::Error with
+// the build log when it does not compile. Exposed for tests and tools.
+void build_opencl_program(const std::string& device, const std::string& source,
+                          const std::string& build_options = "");
+
+}  // namespace rvor

@@ -1,0 +1,150 @@
+#include "device_canvas.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <thread>
+
+#include <Eigen/LU>
+
+#include "rvor/error.h"
+#include "rvor/selling.h"
+
+namespace rvor::opencl {
+
+namespace {
+
+// Packs the stencil of one slot; `previous` caches the last metric so uniform regions reuse it.
+struct StencilPacker {
+  StencilPacker(const Canvas& c, PackedStencils& o) : canvas(c), out(o) {}
+  const Canvas& canvas;
+  PackedStencils& out;
+  std::array<int, 3> reach{};
+  std::array<float, 6> last_metric{};
+  SellingStencil last_stencil;
+  bool has_last = false;
+
+  void pack(std::size_t slot) {
+    if (!canvas.active[slot]) return;
+    std::array<float, 6> m;
+    std::memcpy(m.data(), &canvas.metric[6 * slot], sizeof m);
+    if (!has_last || m != last_metric) {
+      last_stencil = selling_decomposition(canvas.metric_at(slot).inverse(), canvas.dimension);
+      last_metric = m;
+      has_last = true;
+    }
+    const double h2 = canvas.voxel_size * canvas.voxel_size;
+    for (int i = 0; i < last_stencil.size; ++i) {
+      out.weights[kStencilTerms * slot + i] = static_cast<float>(last_stencil.weight[i] / h2);
+      for (int a = 0; a < 3; ++a) {
+        const int e = last_stencil.offset[i][a];
+        if (std::abs(e) > 127)
+          throw Error("the metric at voxel slot " + std::to_string(slot) +
+                      " is too anisotropic for the OpenCL engine: a Selling stencil offset of " +
+                      std::to_string(e) +
+                      " voxels exceeds 127 (refine the canvas or use --device cpu)");
+        out.offsets[3 * (kStencilTerms * slot + i) + a] = static_cast<std::int8_t>(e);
+        reach[a] = std::max(reach[a], std::abs(e));
+      }
+    }
+  }
+};
+
+}  // namespace
+
+PackedStencils pack_stencils(const Canvas& canvas) {
+  PackedStencils out;
+  const std::size_t slots = canvas.slot_count();
+  out.weights.assign(kStencilTerms * slots, 0.0f);
+  out.offsets.assign(3 * kStencilTerms * slots, 0);
+  const unsigned threads = std::max(1u, std::min(8u, std::thread::hardware_concurrency()));
+  std::vector<StencilPacker> packers(threads, StencilPacker(canvas, out));
+  std::vector<std::exception_ptr> errors(threads);
+  std::vector<std::thread> workers;
+  for (unsigned t = 0; t < threads; ++t)
+    workers.emplace_back([&, t] {
+      try {
+        const std::size_t begin = slots * t / threads, end = slots * (t + 1) / threads;
+        for (std::size_t slot = begin; slot < end; ++slot) packers[t].pack(slot);
+      } catch (...) {
+        errors[t] = std::current_exception();
+      }
+    });
+  for (std::thread& w : workers) w.join();
+  for (const std::exception_ptr& e : errors)
+    if (e) std::rethrow_exception(e);
+  for (const StencilPacker& p : packers)
+    for (int a = 0; a < 3; ++a) out.reach[a] = std::max(out.reach[a], p.reach[a]);
+  return out;
+}
+
+std::uint64_t canvas_fingerprint(const Canvas& canvas) {
+  std::uint64_t hash = 1469598103934665603ull;
+  auto mix = [&hash](std::uint64_t value) { hash = (hash ^ value) * 1099511628211ull; };
+  mix(canvas.slot_count());
+  mix(canvas.active_voxel_count);
+  std::uint64_t bits;
+  std::memcpy(&bits, &canvas.voxel_size, sizeof bits);
+  mix(bits);
+  for (int a = 0; a < 3; ++a) mix(static_cast<std::uint64_t>(canvas.dims[a]));
+  const std::size_t step = std::max<std::size_t>(1, canvas.metric.size() / 4096);
+  for (std::size_t n = 0; n < canvas.metric.size(); n += step) {
+    std::uint32_t word;
+    std::memcpy(&word, &canvas.metric[n], sizeof word);
+    mix(word);
+  }
+  return hash;
+}
+
+namespace {
+
+template <typename T>
+cl::Buffer make_buffer(const cl::Context& context, const std::vector<T>& data,
+                       std::uint64_t& bytes) {
+  bytes += data.size() * sizeof(T);
+  return cl::Buffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, data.size() * sizeof(T),
+                    const_cast<T*>(data.data()));
+}
+
+cl::Buffer make_scratch(const cl::Context& context, std::size_t size, std::uint64_t& bytes) {
+  bytes += size;
+  return cl::Buffer(context, CL_MEM_READ_WRITE, std::max<std::size_t>(size, 8));
+}
+
+}  // namespace
+
+DeviceCanvas upload_canvas(const cl::Context& context, const cl::CommandQueue& queue,
+                           const Canvas& canvas) {
+  (void)queue;
+  DeviceCanvas d;
+  d.slots = canvas.slot_count();
+  d.bricks = canvas.brick_count();
+  if (d.bricks == 0) throw Error("the canvas has no active voxels");
+  const PackedStencils stencils = pack_stencils(canvas);
+  const int edges[3] = {Canvas::kBrickEdge, Canvas::kBrickEdge, canvas.brick_edge_z()};
+  for (int a = 0; a < 3; ++a) {
+    d.dims.s[a] = canvas.dims[a];
+    d.grid.s[a] = canvas.brick_grid_dims[a];
+    d.brick_reach.s[a] =
+        canvas.dimension == 2 && a == 2 ? 0 : (stencils.reach[a] + edges[a] - 1) / edges[a];
+  }
+  std::vector<cl_int4> origins(d.bricks);
+  for (std::size_t b = 0; b < d.bricks; ++b) {
+    const VoxelIndex& o = canvas.brick_origins[b];
+    origins[b] = {{o.i, o.j, o.k, 0}};
+  }
+  d.weights = make_buffer(context, stencils.weights, d.bytes);
+  d.offsets = make_buffer(context, stencils.offsets, d.bytes);
+  d.table = make_buffer(context, canvas.brick_table, d.bytes);
+  d.origins = make_buffer(context, origins, d.bytes);
+  d.state = make_scratch(context, d.slots * sizeof(cl_ulong), d.bytes);
+  d.scratch = make_scratch(context, d.slots * sizeof(cl_ulong), d.bytes);
+  d.flags = make_scratch(context, d.bricks, d.bytes);
+  d.next = make_scratch(context, d.bricks, d.bytes);
+  d.list = make_scratch(context, d.bricks * sizeof(cl_int), d.bytes);
+  d.list_count = make_scratch(context, sizeof(cl_int), d.bytes);
+  d.update_counter = make_scratch(context, sizeof(cl_ulong), d.bytes);
+  return d;
+}
+
+}  // namespace rvor::opencl

@@ -1,0 +1,41 @@
+#pragma once
+// The canvas packed for an OpenCL device (internal). Per slot: the state word (distance bits,
+// label), a scratch copy for the brick being relaxed, the Selling stencil precomputed on the host
+// (6 float weights rho_i / h^2, 6x3 int8 offsets). Per brick: origin, flags, activation, list.
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include "opencl_runtime.h"
+#include "rvor/canvas.h"
+
+namespace rvor::opencl {
+
+constexpr int kStencilTerms = 6;
+
+// The Selling stencils of every slot, in the device layout (inactive slots: all-zero weights).
+struct PackedStencils {
+  std::vector<float> weights;        // kStencilTerms per slot
+  std::vector<std::int8_t> offsets;  // 3 * kStencilTerms per slot
+  std::array<int, 3> reach{};        // largest |offset| per axis, in voxels
+};
+
+// Throws rvor::Error when an offset does not fit in int8 (anisotropy too large for the canvas).
+PackedStencils pack_stencils(const Canvas& canvas);
+
+struct DeviceCanvas {
+  std::size_t slots = 0, bricks = 0;
+  cl_int4 dims{}, grid{}, brick_reach{};  // brick_reach: bricks within stencil reach per axis
+  cl::Buffer state, scratch, weights, offsets, table, origins;
+  cl::Buffer flags, next, list, list_count, update_counter, seeds;
+  std::size_t seed_capacity = 0;
+  std::uint64_t bytes = 0;  // device memory allocated for this canvas
+};
+
+DeviceCanvas upload_canvas(const cl::Context& context, const cl::CommandQueue& queue,
+                           const Canvas& canvas);
+
+// A cheap identity of a canvas's contents, to reuse an uploaded canvas across calls.
+std::uint64_t canvas_fingerprint(const Canvas& canvas);
+
+}  // namespace rvor::opencl

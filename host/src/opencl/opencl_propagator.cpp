@@ -1,0 +1,303 @@
+// The OpenCL propagation engine: uploads the canvas once, then runs block Fast Iterative Method
+// rounds on the device until no brick is active (see kernels/propagation.cl).
+#include "rvor/opencl_propagator.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <memory>
+
+#include "device_canvas.h"
+#include "opencl_runtime.h"
+#include "rvor/embedded_kernels.h"
+#include "rvor/error.h"
+
+namespace rvor {
+
+namespace {
+
+constexpr std::size_t kSeedRecord = 16;  // floats, see kernels/eikonal_scheme.clh
+constexpr std::size_t kBookkeepingGroup = 64;
+constexpr cl_ulong kInfiniteState = 0x7F8000007FFFFFFFull;  // +inf, no label, not frozen
+constexpr std::uint32_t kLabelNone = 0x7FFFFFFFu;
+// A scheme that does not settle is a bug; stop with an error rather than loop forever.
+constexpr std::uint64_t kMaxRounds = 100000;
+
+std::size_t round_up(std::size_t n, std::size_t multiple) {
+  return (n + multiple - 1) / multiple * multiple;
+}
+
+std::string propagation_source() {
+  return embedded_kernel_source("eikonal_scheme.clh") + "\n" +
+         embedded_kernel_source("propagation.cl");
+}
+
+cl_ulong pack_state(float distance, int32_t label) {
+  std::uint32_t bits;
+  std::memcpy(&bits, &distance, sizeof bits);
+  return (static_cast<cl_ulong>(bits) << 32) |
+         (label < 0 ? kLabelNone : static_cast<std::uint32_t>(label));
+}
+
+// Seed records: index coordinates, containing voxel, h^2 G_s. Throws for seeds outside the canvas.
+std::vector<float> seed_records(const Canvas& canvas, const std::vector<Vec3>& seeds) {
+  if (seeds.empty()) throw Error("no seeds to propagate from");
+  std::vector<float> records(kSeedRecord * seeds.size(), 0.0f);
+  const double h2 = canvas.voxel_size * canvas.voxel_size;
+  for (std::size_t s = 0; s < seeds.size(); ++s) {
+    const Vec3& p = seeds[s];
+    const VoxelIndex v = canvas.voxel_containing(p);
+    const int64_t slot = p.allFinite() ? canvas.slot_of(v) : -1;
+    if (slot < 0)
+      throw Error("seed " + std::to_string(s) + " at (" + std::to_string(p.x()) + ", " +
+                  std::to_string(p.y()) + ", " + std::to_string(p.z()) + ") is outside the domain");
+    const Vec3 c = canvas.index_coordinates(p);
+    float* r = &records[kSeedRecord * s];
+    r[0] = static_cast<float>(c.x());
+    r[1] = static_cast<float>(c.y());
+    r[2] = canvas.dimension == 3 ? static_cast<float>(c.z()) : 0.0f;
+    r[4] = static_cast<float>(v.i);
+    r[5] = static_cast<float>(v.j);
+    r[6] = static_cast<float>(v.k);
+    for (int n = 0; n < 6; ++n)
+      r[8 + n] = static_cast<float>(h2 * canvas.metric[6 * static_cast<std::size_t>(slot) + n]);
+  }
+  return records;
+}
+
+class OpenCLPropagator final : public Propagator {
+ public:
+  OpenCLPropagator(opencl::Device device, const OpenCLOptions& options)
+      : device_(std::move(device)), options_(options) {
+    context_ = opencl::context_for(device_);
+    queue_ = cl::CommandQueue(context_, device_.device);
+    variant_ = choose_variant();
+  }
+
+  std::string device_description() const override {
+    return "OpenCL: " + device_.info.name + " (" + device_.info.platform + ", " +
+           (variant_ == RelaxationVariant::brick_sweep ? "brick sweep" : "voxel Jacobi") + ")";
+  }
+
+  PropagationStats solve(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                         VoronoiField& field) override {
+    return guarded("solving", [&] {
+      const auto start = std::chrono::steady_clock::now();
+      prepare(canvas, seeds);
+      queue_.enqueueFillBuffer(canvas_->state, kInfiniteState, 0,
+                               canvas_->slots * sizeof(cl_ulong));
+      return finish(canvas, 0, seeds.size(), field, start);
+    });
+  }
+
+  PropagationStats insert(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                          std::size_t first_new, VoronoiField& field) override {
+    return guarded("inserting seeds", [&] {
+      const auto start = std::chrono::steady_clock::now();
+      if (field.distance.size() != canvas.slot_count() || field.label.size() != canvas.slot_count())
+        throw Error("insert(): the field does not match the canvas (solve first)");
+      if (first_new > seeds.size()) throw Error("insert(): first_new is past the last seed");
+      prepare(canvas, seeds);
+      upload_field(field);
+      return finish(canvas, first_new, seeds.size(), field, start);
+    });
+  }
+
+  std::uint64_t device_bytes() const { return canvas_ ? canvas_->bytes : 0; }
+
+ private:
+  template <typename F>
+  PropagationStats guarded(const std::string& doing, F&& body) {
+    try {
+      return body();
+    } catch (const cl::Error& e) {
+      opencl::throw_opencl_error(e, doing + " on " + device_.info.name);
+    }
+  }
+
+  RelaxationVariant choose_variant() const {
+    if (options_.variant != RelaxationVariant::automatic) return options_.variant;
+    return device_.info.is_gpu ? RelaxationVariant::voxel_jacobi : RelaxationVariant::brick_sweep;
+  }
+
+  void prepare(const Canvas& canvas, const std::vector<Vec3>& seeds) {
+    const std::vector<float> records = seed_records(canvas, seeds);
+    const std::uint64_t fingerprint = opencl::canvas_fingerprint(canvas);
+    if (!canvas_ || canvas_identity_ != &canvas || fingerprint_ != fingerprint) {
+      canvas_.reset();
+      canvas_ =
+          std::make_unique<opencl::DeviceCanvas>(opencl::upload_canvas(context_, queue_, canvas));
+      canvas_identity_ = &canvas;
+      fingerprint_ = fingerprint;
+      queue_.enqueueFillBuffer(canvas_->flags, cl_uchar{0}, 0, canvas_->bricks);
+      build_kernels(canvas.dimension);
+    }
+    if (canvas_->seed_capacity < seeds.size()) {
+      canvas_->seed_capacity = std::max<std::size_t>(seeds.size(), 2 * canvas_->seed_capacity);
+      canvas_->seeds = cl::Buffer(context_, CL_MEM_READ_ONLY,
+                                  canvas_->seed_capacity * kSeedRecord * sizeof(float));
+    }
+    queue_.enqueueWriteBuffer(canvas_->seeds, CL_TRUE, 0, records.size() * sizeof(float),
+                              records.data());
+  }
+
+  void build_kernels(int dimension) {
+    const std::string options = "-DDIM=" + std::to_string(dimension);
+    const cl::Program program =
+        opencl::build_program(context_, device_.device, propagation_source(), options);
+    brick_volume_ = dimension == 3 ? 512 : 64;
+    if (variant_ == RelaxationVariant::voxel_jacobi &&
+        device_.device.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>() < brick_volume_)
+      variant_ = RelaxationVariant::brick_sweep;  // the device cannot hold a brick per work-group
+    freeze_ = cl::Kernel(program, "freeze_seed_blocks");
+    init_ = cl::Kernel(program, "initialise_seeds");
+    relax_ = cl::Kernel(program, variant_ == RelaxationVariant::brick_sweep ? "relax_brick_sweep"
+                                                                            : "relax_voxel_jacobi");
+    commit_ = cl::Kernel(program, "commit_bricks");
+    activate_ = cl::Kernel(program, "activate_bricks");
+    compact_ = cl::Kernel(program, "compact_active");
+  }
+
+  void upload_field(const VoronoiField& field) {
+    std::vector<cl_ulong> state(field.distance.size());
+    for (std::size_t n = 0; n < state.size(); ++n)
+      state[n] =
+          field.label[n] < 0 ? kInfiniteState : pack_state(field.distance[n], field.label[n]);
+    queue_.enqueueWriteBuffer(canvas_->state, CL_TRUE, 0, state.size() * sizeof(cl_ulong),
+                              state.data());
+  }
+
+  PropagationStats finish(const Canvas& canvas, std::size_t first_seed, std::size_t seed_count,
+                          VoronoiField& field, std::chrono::steady_clock::time_point start) {
+    queue_.enqueueFillBuffer(canvas_->update_counter, cl_ulong{0}, 0, sizeof(cl_ulong));
+    if (first_seed > 0) prepare_seed_blocks(0, first_seed, true);
+    prepare_seed_blocks(first_seed, seed_count, false);
+    initialise_seeds(first_seed, seed_count);
+    PropagationStats stats;
+    for (int count = next_active_list(); count > 0; count = next_active_list()) {
+      relax(count);
+      if (++stats.iterations > kMaxRounds)
+        throw Error("the OpenCL propagation did not converge in " + std::to_string(kMaxRounds) +
+                    " rounds");
+    }
+    queue_.enqueueReadBuffer(canvas_->update_counter, CL_TRUE, 0, sizeof(cl_ulong),
+                             &stats.voxel_updates);
+    download_field(canvas, field);
+    stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return stats;
+  }
+
+  std::size_t seed_block_items(std::size_t first_seed, std::size_t seed_count) const {
+    return (seed_count - first_seed) * (brick_volume_ == 512 ? 125 : 25);
+  }
+
+  // Seeds [first_seed, seed_count): `existing` re-marks solved seeds' blocks frozen; otherwise
+  // new seeds' block voxels are reset so they take their exact values.
+  void prepare_seed_blocks(std::size_t first_seed, std::size_t seed_count, bool existing) {
+    const std::size_t items = seed_block_items(first_seed, seed_count);
+    if (items == 0) return;
+    const DeviceCanvasRef d = *canvas_;
+    set_args(freeze_, static_cast<cl_int>(first_seed), static_cast<cl_int>(seed_count - first_seed),
+             static_cast<cl_int>(existing ? 1 : 0), d.seeds, d.state, d.weights, d.table, d.dims,
+             d.grid);
+    queue_.enqueueNDRangeKernel(freeze_, cl::NullRange,
+                                cl::NDRange(round_up(items, kBookkeepingGroup)),
+                                cl::NDRange(kBookkeepingGroup));
+  }
+
+  void initialise_seeds(std::size_t first_seed, std::size_t seed_count) {
+    const std::size_t items = seed_block_items(first_seed, seed_count);
+    if (items == 0) return;
+    const DeviceCanvasRef d = *canvas_;
+    set_args(init_, static_cast<cl_int>(first_seed), static_cast<cl_int>(seed_count - first_seed),
+             d.seeds, d.state, d.weights, d.table, d.dims, d.grid, d.flags);
+    queue_.enqueueNDRangeKernel(init_, cl::NullRange,
+                                cl::NDRange(round_up(items, kBookkeepingGroup)),
+                                cl::NDRange(kBookkeepingGroup));
+  }
+
+  // Flags -> next list; returns its length.
+  int next_active_list() {
+    const DeviceCanvasRef d = *canvas_;
+    const cl_int bricks = static_cast<cl_int>(d.bricks);
+    const cl::NDRange global(round_up(d.bricks, kBookkeepingGroup)), local(kBookkeepingGroup);
+    set_args(activate_, bricks, d.origins, d.table, d.grid, d.brick_reach, d.flags, d.next);
+    queue_.enqueueNDRangeKernel(activate_, cl::NullRange, global, local);
+    queue_.enqueueFillBuffer(d.list_count, cl_int{0}, 0, sizeof(cl_int));
+    set_args(compact_, bricks, d.next, d.flags, d.list, d.list_count);
+    queue_.enqueueNDRangeKernel(compact_, cl::NullRange, global, local);
+    cl_int count = 0;
+    queue_.enqueueReadBuffer(d.list_count, CL_TRUE, 0, sizeof(cl_int), &count);
+    return count;
+  }
+
+  void relax(int count) {
+    const DeviceCanvasRef d = *canvas_;
+    const bool sweep = variant_ == RelaxationVariant::brick_sweep;
+    set_args(relax_, d.list, static_cast<cl_int>(count), d.state, d.scratch, d.weights, d.offsets,
+             d.table, d.origins, d.dims, d.grid, d.seeds, d.flags, d.update_counter,
+             static_cast<cl_int>(sweep ? options_.max_sweeps : options_.jacobi_iterations));
+    const std::size_t voxels = static_cast<std::size_t>(count) * brick_volume_;
+    if (sweep)
+      queue_.enqueueNDRangeKernel(relax_, cl::NullRange, cl::NDRange(count), cl::NDRange(1));
+    else
+      queue_.enqueueNDRangeKernel(relax_, cl::NullRange, cl::NDRange(voxels),
+                                  cl::NDRange(brick_volume_));
+    set_args(commit_, d.list, static_cast<cl_int>(count), d.scratch, d.state, d.flags);
+    queue_.enqueueNDRangeKernel(commit_, cl::NullRange, cl::NDRange(voxels),
+                                cl::NDRange(kBookkeepingGroup));
+  }
+
+  void download_field(const Canvas& canvas, VoronoiField& field) {
+    std::vector<cl_ulong> state(canvas_->slots);
+    queue_.enqueueReadBuffer(canvas_->state, CL_TRUE, 0, state.size() * sizeof(cl_ulong),
+                             state.data());
+    field.distance.resize(canvas.slot_count());
+    field.label.resize(canvas.slot_count());
+    for (std::size_t n = 0; n < state.size(); ++n) {
+      const std::uint32_t bits = static_cast<std::uint32_t>(state[n] >> 32);
+      std::memcpy(&field.distance[n], &bits, sizeof bits);
+      const std::uint32_t label = static_cast<std::uint32_t>(state[n]) & kLabelNone;
+      field.label[n] = label == kLabelNone ? -1 : static_cast<int32_t>(label);
+    }
+  }
+
+  using DeviceCanvasRef = const opencl::DeviceCanvas&;
+
+  template <typename... Args>
+  static void set_args(cl::Kernel& kernel, const Args&... args) {
+    cl_uint index = 0;
+    (kernel.setArg(index++, args), ...);
+  }
+
+  opencl::Device device_;
+  OpenCLOptions options_;
+  RelaxationVariant variant_ = RelaxationVariant::brick_sweep;
+  cl::Context context_;
+  cl::CommandQueue queue_;
+  std::unique_ptr<opencl::DeviceCanvas> canvas_;
+  const Canvas* canvas_identity_ = nullptr;
+  std::uint64_t fingerprint_ = 0;
+  std::size_t brick_volume_ = 512;
+  cl::Kernel freeze_, init_, relax_, commit_, activate_, compact_;
+};
+
+}  // namespace
+
+std::unique_ptr<Propagator> make_opencl_propagator(const std::string& device,
+                                                   const OpenCLOptions& options) {
+  opencl::Device selected = opencl::select_device(device);
+  try {
+    return std::make_unique<OpenCLPropagator>(std::move(selected), options);
+  } catch (const cl::Error& e) {
+    opencl::throw_opencl_error(e, "setting up " + device);
+  }
+}
+
+void build_opencl_program(const std::string& device, const std::string& source,
+                          const std::string& build_options) {
+  const opencl::Device selected = opencl::select_device(device);
+  opencl::build_program(opencl::context_for(selected), selected.device, source, build_options);
+}
+
+}  // namespace rvor

@@ -1,0 +1,215 @@
+#include "opencl_runtime.h"
+
+#include <cstdlib>
+#include <functional>
+#include <map>
+#include <mutex>
+#include <tuple>
+
+#include "rvor/error.h"
+
+namespace rvor::opencl {
+
+namespace {
+
+constexpr const char* kFallbackHint = " (use --device cpu for the CPU reference solver)";
+
+bool has_extension(const cl::Device& device, const std::string& extension) {
+  const std::string extensions = device.getInfo<CL_DEVICE_EXTENSIONS>();
+  return (" " + extensions + " ").find(" " + extension + " ") != std::string::npos;
+}
+
+// What the kernels need: 64-bit atomics (packed (distance, label) words, update counters).
+std::string missing_requirement(const cl::Device& device) {
+  for (const char* extension : {"cl_khr_int64_base_atomics", "cl_khr_int64_extended_atomics"})
+    if (!has_extension(device, extension)) return std::string("no ") + extension;
+  return {};
+}
+
+OpenCLDeviceInfo describe(const cl::Platform& platform, const cl::Device& device, int index) {
+  OpenCLDeviceInfo info;
+  info.index = index;
+  info.platform = platform.getInfo<CL_PLATFORM_NAME>();
+  info.name = device.getInfo<CL_DEVICE_NAME>();
+  info.version = device.getInfo<CL_DEVICE_VERSION>();
+  info.driver = device.getInfo<CL_DRIVER_VERSION>();
+  const cl_device_type type = device.getInfo<CL_DEVICE_TYPE>();
+  info.is_gpu = (type & CL_DEVICE_TYPE_GPU) != 0;
+  info.is_cpu = (type & CL_DEVICE_TYPE_CPU) != 0;
+  info.compute_units = device.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
+  info.global_memory_bytes = device.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
+  info.missing_requirement = missing_requirement(device);
+  return info;
+}
+
+std::vector<cl::Platform> platforms_or_none() {
+  std::vector<cl::Platform> platforms;
+  try {
+    cl::Platform::get(&platforms);
+  } catch (const cl::Error& e) {
+    // The ICD loader reports "no platform" as an error; that is an empty list to us.
+    if (e.err() == CL_PLATFORM_NOT_FOUND_KHR) return {};
+    throw_opencl_error(e, "listing OpenCL platforms");
+  }
+  return platforms;
+}
+
+std::string list_for_message(const std::vector<Device>& devices) {
+  std::string text;
+  for (const Device& d : devices)
+    text += "\n  opencl:" + std::to_string(d.info.index) + "  " + d.info.name + " (" +
+            d.info.platform + ")";
+  return text.empty() ? " none" : text;
+}
+
+const Device* find_device(const std::vector<Device>& devices, const std::string& name) {
+  auto first = [&](const std::function<bool(const Device&)>& predicate) -> const Device* {
+    for (const Device& d : devices)
+      if (predicate(d)) return &d;
+    return nullptr;
+  };
+  if (name == "auto") {
+    if (const Device* gpu = first([](const Device& d) { return d.info.is_gpu; })) return gpu;
+    return first([](const Device& d) { return d.info.is_cpu; });
+  }
+  if (name == "opencl") return first([](const Device&) { return true; });
+  if (name == "pocl")
+    return first([](const Device& d) { return d.info.platform == "Portable Computing Language"; });
+  if (name.rfind("opencl:", 0) == 0) {
+    const std::string number = name.substr(7);
+    char* end = nullptr;
+    const long index = std::strtol(number.c_str(), &end, 10);
+    if (number.empty() || *end != '\0' || index < 0)
+      throw Error("bad device name '" + name + "': expected opencl:N with N a device number");
+    return first([index](const Device& d) { return d.info.index == index; });
+  }
+  throw Error("unknown device '" + name + "': use auto, cpu, opencl, opencl:N or pocl");
+}
+
+}  // namespace
+
+std::vector<Device> enumerate_devices() {
+  std::vector<Device> devices;
+  try {
+    for (const cl::Platform& platform : platforms_or_none()) {
+      std::vector<cl::Device> platform_devices;
+      try {
+        platform.getDevices(CL_DEVICE_TYPE_ALL, &platform_devices);
+      } catch (const cl::Error& e) {
+        if (e.err() == CL_DEVICE_NOT_FOUND) continue;
+        throw;
+      }
+      for (const cl::Device& device : platform_devices)
+        devices.push_back(
+            {platform, device, describe(platform, device, static_cast<int>(devices.size()))});
+    }
+  } catch (const cl::Error& e) {
+    throw_opencl_error(e, "listing OpenCL devices");
+  }
+  return devices;
+}
+
+Device select_device(const std::string& name) {
+  const std::vector<Device> devices = enumerate_devices();
+  const Device* device = find_device(devices, name);
+  if (!device)
+    throw Error("no OpenCL device matches '" + name + "'" + kFallbackHint +
+                "; OpenCL devices found:" + list_for_message(devices));
+  if (!device->info.missing_requirement.empty())
+    throw Error("OpenCL device '" + device->info.name +
+                "' cannot run rvor's kernels: " + device->info.missing_requirement + kFallbackHint);
+  return *device;
+}
+
+cl::Context context_for(const Device& device) {
+  static std::mutex mutex;
+  static std::map<cl_device_id, cl::Context> contexts;
+  const std::lock_guard<std::mutex> lock(mutex);
+  auto found = contexts.find(device.device());
+  if (found != contexts.end()) return found->second;
+  try {
+    cl::Context context(device.device);
+    contexts.emplace(device.device(), context);
+    return context;
+  } catch (const cl::Error& e) {
+    throw_opencl_error(e, "creating a context on " + device.info.name);
+  }
+}
+
+cl::Program build_program(const cl::Context& context, const cl::Device& device,
+                          const std::string& source, const std::string& options) {
+  using Key = std::tuple<cl_context, cl_device_id, std::size_t, std::string, std::string>;
+  static std::mutex mutex;
+  static std::map<Key, cl::Program> cache;
+  const std::lock_guard<std::mutex> lock(mutex);
+  // The full source is part of the key (hash collisions would be silent wrong kernels).
+  const Key key{context(), device(), std::hash<std::string>{}(source), source, options};
+  auto found = cache.find(key);
+  if (found != cache.end()) return found->second;
+  cl::Program program;
+  try {
+    program = cl::Program(context, source);
+  } catch (const cl::Error& e) {
+    throw_opencl_error(e, "creating a program");
+  }
+  try {
+    program.build({device}, options.c_str());
+  } catch (const cl::Error& e) {
+    std::string log;
+    try {
+      log = program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device);
+    } catch (const cl::Error&) {
+      log = "(no build log)";
+    }
+    throw Error("OpenCL program build failed (" + status_name(e.err()) + ", options '" + options +
+                "'); build log:\n" + log);
+  }
+  cache.emplace(key, program);
+  return program;
+}
+
+std::string status_name(cl_int status) {
+  static const std::map<cl_int, const char*> names = {
+      {CL_DEVICE_NOT_FOUND, "CL_DEVICE_NOT_FOUND"},
+      {CL_DEVICE_NOT_AVAILABLE, "CL_DEVICE_NOT_AVAILABLE"},
+      {CL_COMPILER_NOT_AVAILABLE, "CL_COMPILER_NOT_AVAILABLE"},
+      {CL_MEM_OBJECT_ALLOCATION_FAILURE, "CL_MEM_OBJECT_ALLOCATION_FAILURE"},
+      {CL_OUT_OF_RESOURCES, "CL_OUT_OF_RESOURCES"},
+      {CL_OUT_OF_HOST_MEMORY, "CL_OUT_OF_HOST_MEMORY"},
+      {CL_BUILD_PROGRAM_FAILURE, "CL_BUILD_PROGRAM_FAILURE"},
+      {CL_INVALID_VALUE, "CL_INVALID_VALUE"},
+      {CL_INVALID_DEVICE, "CL_INVALID_DEVICE"},
+      {CL_INVALID_CONTEXT, "CL_INVALID_CONTEXT"},
+      {CL_INVALID_BUFFER_SIZE, "CL_INVALID_BUFFER_SIZE"},
+      {CL_INVALID_PROGRAM_EXECUTABLE, "CL_INVALID_PROGRAM_EXECUTABLE"},
+      {CL_INVALID_KERNEL_NAME, "CL_INVALID_KERNEL_NAME"},
+      {CL_INVALID_KERNEL_ARGS, "CL_INVALID_KERNEL_ARGS"},
+      {CL_INVALID_ARG_INDEX, "CL_INVALID_ARG_INDEX"},
+      {CL_INVALID_ARG_SIZE, "CL_INVALID_ARG_SIZE"},
+      {CL_INVALID_WORK_GROUP_SIZE, "CL_INVALID_WORK_GROUP_SIZE"},
+      {CL_INVALID_WORK_ITEM_SIZE, "CL_INVALID_WORK_ITEM_SIZE"},
+      {CL_INVALID_GLOBAL_WORK_SIZE, "CL_INVALID_GLOBAL_WORK_SIZE"},
+      {CL_INVALID_MEM_OBJECT, "CL_INVALID_MEM_OBJECT"},
+      {CL_INVALID_COMMAND_QUEUE, "CL_INVALID_COMMAND_QUEUE"},
+      {CL_PLATFORM_NOT_FOUND_KHR, "CL_PLATFORM_NOT_FOUND_KHR"},
+  };
+  auto found = names.find(status);
+  return found != names.end() ? found->second : "OpenCL status " + std::to_string(status);
+}
+
+void throw_opencl_error(const cl::Error& error, const std::string& doing) {
+  throw Error(std::string("OpenCL call ") + error.what() + " failed: " + status_name(error.err()) +
+              " (" + std::to_string(error.err()) + ") while " + doing);
+}
+
+}  // namespace rvor::opencl
+
+namespace rvor {
+
+std::vector<OpenCLDeviceInfo> list_opencl_devices() {
+  std::vector<OpenCLDeviceInfo> infos;
+  for (const opencl::Device& device : opencl::enumerate_devices()) infos.push_back(device.info);
+  return infos;
+}
+
+}  // namespace rvor

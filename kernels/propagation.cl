@@ -1,0 +1,276 @@
+// Block Fast Iterative Method on packed 8^3 bricks (8x8x1 in 2D) for the scheme of
+// docs/scheme.md. One round: relax every listed brick into `scratch` reading other bricks from
+// the `state` snapshot (so results do not depend on scheduling), commit, flag the bricks within
+// stencil reach of a changed brick, compact the flags into the next list. The host loops until
+// the list is empty. Build options: -DDIM=2|3; eikonal_scheme.clh is prepended by the host.
+
+#define EDGE 8
+#if DIM == 3
+#define EDGE_Z 8
+#else
+#define EDGE_Z 1
+#endif
+#define BRICK_VOLUME (EDGE * EDGE * EDGE_Z)
+
+#define FLAG_CHANGED 1u     /* a value changed: bricks within reach must be relaxed */
+#define FLAG_UNCONVERGED 2u /* the brick itself is not locally converged yet */
+
+inline int local_index(int3 v) { return (v.x & 7) + EDGE * ((v.y & 7) + EDGE * (DIM == 3 ? (v.z & 7) : 0)); }
+
+inline int3 local_coordinates(int l) {
+  return (int3)(l % EDGE, (l / EDGE) % EDGE, l / (EDGE * EDGE));
+}
+
+inline int brick_at(int3 b, int4 grid, __global const int* table) {
+  if (b.x < 0 || b.y < 0 || b.z < 0 || b.x >= grid.x || b.y >= grid.y || b.z >= grid.z) return -1;
+  return table[b.x + grid.x * (b.y + grid.y * b.z)];
+}
+
+inline int3 brick_of_voxel(int3 v) { return (int3)(v.x >> 3, v.y >> 3, DIM == 3 ? v.z >> 3 : 0); }
+
+// Slot of voxel v, or -1 outside the index box or in an empty brick (inactive slots hold INF_STATE).
+inline long slot_at(int3 v, int4 dims, int4 grid, __global const int* table) {
+  if (v.x < 0 || v.y < 0 || v.z < 0 || v.x >= dims.x || v.y >= dims.y || v.z >= dims.z) return -1;
+  const int brick = brick_at(brick_of_voxel(v), grid, table);
+  return brick < 0 ? -1 : (long)brick * BRICK_VOLUME + local_index(v);
+}
+
+inline bool inside_brick(int3 v, int3 origin) {
+  const int3 d = v - origin;
+  return d.x >= 0 && d.y >= 0 && d.z >= 0 && d.x < EDGE && d.y < EDGE && d.z < EDGE_Z;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Seed initialisation: work-item = (seed, voxel of the (2r+1)^d block around the seed's voxel).
+
+#define INIT_RADIUS 2
+#define INIT_SIDE (2 * INIT_RADIUS + 1)
+#if DIM == 3
+#define INIT_BLOCK (INIT_SIDE * INIT_SIDE * INIT_SIDE)
+#else
+#define INIT_BLOCK (INIT_SIDE * INIT_SIDE)
+#endif
+
+// Slot of the block voxel `item` of seed first_seed + item / INIT_BLOCK, or -1 (inactive, outside).
+inline long seed_block_slot(int item, int first_seed, __global const float* seeds,
+                            __global const float* weights, __global const int* table, int4 dims,
+                            int4 grid, int3* voxel) {
+  const int label = first_seed + item / INIT_BLOCK;
+  const int cell = item % INIT_BLOCK;
+  __global const float* seed = seeds + (size_t)label * SEED_RECORD;
+  const int3 centre = convert_int3((float3)(seed[4], seed[5], seed[6]));
+  const int3 d = (int3)(cell % INIT_SIDE, (cell / INIT_SIDE) % INIT_SIDE, cell / (INIT_SIDE * INIT_SIDE)) -
+                 (int3)(INIT_RADIUS, INIT_RADIUS, DIM == 3 ? INIT_RADIUS : 0);
+  *voxel = centre + d;
+  const long slot = slot_at(*voxel, dims, grid, table);
+  return slot < 0 || weights[slot * STENCIL_TERMS] <= 0.0f ? -1 : slot;
+}
+
+// Marks the blocks of seeds [first_seed, first_seed + seed_count) frozen before their values are
+// assigned: `existing` seeds (insertion) keep their values; new seeds' block voxels that were not
+// boundary data are reset to +inf, so they take the exact value even if larger (docs/scheme.md).
+__kernel void freeze_seed_blocks(int first_seed, int seed_count, int existing,
+                                 __global const float* seeds, __global ulong* state,
+                                 __global const float* weights, __global const int* table,
+                                 int4 dims, int4 grid) {
+  const int item = get_global_id(0);
+  if (item >= seed_count * INIT_BLOCK) return;
+  int3 v;
+  const long slot = seed_block_slot(item, first_seed, seeds, weights, table, dims, grid, &v);
+  if (slot < 0) return;
+  const ulong s = state[slot];
+  if (existing) state[slot] = s | FROZEN_BIT;
+  else if (!state_frozen(s)) state[slot] = INF_STATE | FROZEN_BIT;
+}
+
+// Exact values u0_s(x) = |F_s (x - s)| on the new seeds' blocks: the smallest (value, label).
+__kernel void initialise_seeds(int first_seed, int seed_count, __global const float* seeds,
+                               __global ulong* state, __global const float* weights,
+                               __global const int* table, int4 dims, int4 grid,
+                               __global uchar* flags) {
+  const int item = get_global_id(0);
+  if (item >= seed_count * INIT_BLOCK) return;
+  int3 v;
+  const long slot = seed_block_slot(item, first_seed, seeds, weights, table, dims, grid, &v);
+  if (slot < 0) return;
+  const int label = first_seed + item / INIT_BLOCK;
+  __global const float* seed = seeds + (size_t)label * SEED_RECORD;
+  const float3 q = convert_float3(v) - (float3)(seed[0], seed[1], seed[2]);
+  const float u0 = sqrt(max(0.0f, dot(q, seed_metric_apply(seed + 8, q))));
+  const ulong candidate = make_state(u0, label) | FROZEN_BIT;
+  const ulong previous = atom_min(&state[slot], candidate);
+  if (candidate < previous) flags[slot / BRICK_VOLUME] = FLAG_CHANGED | FLAG_UNCONVERGED;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Neighbour gathering: values inside the brick being relaxed come from its working copy.
+
+#define GATHER_NEIGHBOURS(nb, v, offset, terms, READ_OWN)                  \
+  for (int i_ = 0; i_ < terms; ++i_) {                                     \
+    for (int s_ = 0; s_ < 2; ++s_) {                                       \
+      const int3 y_ = s_ == 0 ? v + offset[i_] : v - offset[i_];           \
+      ulong value_ = INF_STATE;                                            \
+      if (inside_brick(y_, origin)) {                                      \
+        value_ = READ_OWN(local_index(y_));                                \
+      } else {                                                             \
+        const long slot_ = slot_at(y_, dims, grid, table);                 \
+        if (slot_ >= 0) value_ = state[slot_];                             \
+      }                                                                    \
+      nb[2 * i_ + s_] = value_;                                            \
+    }                                                                      \
+  }
+
+// ---------------------------------------------------------------------------------------------
+// CPU-friendly variant: one work-item sweeps its brick Gauss-Seidel, alternating the sweep
+// direction, until a sweep changes nothing significant (or max_sweeps).
+
+#define READ_WORK(l) work[l]
+
+__kernel void relax_brick_sweep(__global const int* list, int count, __global const ulong* state,
+                                __global ulong* scratch, __global const float* weights,
+                                __global const char* offsets, __global const int* table,
+                                __global const int4* brick_origins, int4 dims, int4 grid,
+                                __global const float* seeds, __global uchar* flags,
+                                __global ulong* update_counter, int max_sweeps) {
+  const int position = get_global_id(0);
+  if (position >= count) return;
+  const int brick = list[position];
+  __global ulong* work = scratch + (size_t)position * BRICK_VOLUME;
+  for (int l = 0; l < BRICK_VOLUME; ++l) work[l] = state[(size_t)brick * BRICK_VOLUME + l];
+  const int3 origin = brick_origins[brick].xyz;
+  uint brick_flags = FLAG_UNCONVERGED;
+  ulong updates = 0;
+  for (int sweep = 0; sweep < max_sweeps; ++sweep) {
+    const int direction = sweep % (DIM == 3 ? 8 : 4);
+    bool sweep_changed = false;
+    for (int n = 0; n < BRICK_VOLUME; ++n) {
+      int3 c = local_coordinates(n);
+      if (direction & 1) c.x = EDGE - 1 - c.x;
+      if (direction & 2) c.y = EDGE - 1 - c.y;
+      if (direction & 4) c.z = EDGE_Z - 1 - c.z;
+      const int l = c.x + EDGE * (c.y + EDGE * c.z);
+      const size_t slot = (size_t)brick * BRICK_VOLUME + l;
+      float weight[STENCIL_TERMS];
+      int3 offset[STENCIL_TERMS];
+      const int terms = load_stencil(weights, offsets, slot, weight, offset);
+      const ulong current = work[l];
+      if (terms == 0 || state_frozen(current)) continue;
+      const int3 v = origin + c;
+      ulong nb[2 * STENCIL_TERMS];
+      GATHER_NEIGHBOURS(nb, v, offset, terms, READ_WORK)
+      const ulong best = best_candidate(nb, weight, offset, terms, convert_float3(v), seeds);
+      ++updates;
+      if (best != current) {  // T(x) replaces the state, larger or not
+        work[l] = best;
+        sweep_changed = sweep_changed || significant_change(current, best);
+      }
+    }
+    if (sweep_changed) brick_flags |= FLAG_CHANGED;
+    else {
+      brick_flags &= ~FLAG_UNCONVERGED;
+      break;
+    }
+  }
+  flags[brick] = (uchar)brick_flags;
+  atom_add(update_counter, updates);
+}
+
+// ---------------------------------------------------------------------------------------------
+// GPU-friendly variant: a work-group per brick, a work-item per voxel, Jacobi iterations in
+// local memory. The iteration count is the same for every work-item (barriers inside the loop).
+
+#define READ_TILE(l) tile[l]
+
+__kernel __attribute__((reqd_work_group_size(BRICK_VOLUME, 1, 1))) void relax_voxel_jacobi(
+    __global const int* list, int count, __global const ulong* state, __global ulong* scratch,
+    __global const float* weights, __global const char* offsets, __global const int* table,
+    __global const int4* brick_origins, int4 dims, int4 grid, __global const float* seeds,
+    __global uchar* flags, __global ulong* update_counter, int iterations) {
+  __local ulong tile[BRICK_VOLUME];
+  __local int changed_now, changed_ever, active_voxels;
+  const int position = get_group_id(0);
+  const int l = get_local_id(0);
+  const int brick = list[position];
+  const size_t slot = (size_t)brick * BRICK_VOLUME + l;
+  const int3 origin = brick_origins[brick].xyz;
+  const int3 v = origin + local_coordinates(l);
+  float weight[STENCIL_TERMS];
+  int3 offset[STENCIL_TERMS];
+  int terms = load_stencil(weights, offsets, slot, weight, offset);
+  tile[l] = state[slot];
+  if (state_frozen(tile[l])) terms = 0;  // boundary data: never recomputed
+  if (l == 0) {
+    changed_now = 0;
+    changed_ever = 0;
+    active_voxels = 0;
+  }
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (terms > 0) atomic_inc(&active_voxels);
+  int changed_last = 0;
+  for (int it = 0; it < iterations; ++it) {
+    ulong best = INF_STATE;
+    if (terms > 0) {
+      ulong nb[2 * STENCIL_TERMS];
+      GATHER_NEIGHBOURS(nb, v, offset, terms, READ_TILE)
+      best = best_candidate(nb, weight, offset, terms, convert_float3(v), seeds);
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (terms > 0 && best != tile[l]) {
+      if (significant_change(tile[l], best)) changed_now = 1;
+      tile[l] = best;
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (l == 0) {  // only work-item 0 reads and resets the flag, before anyone can set it again
+      changed_last = changed_now;
+      changed_ever |= changed_now;
+      changed_now = 0;
+    }
+  }
+  scratch[(size_t)position * BRICK_VOLUME + l] = tile[l];
+  if (l == 0) {
+    flags[brick] = (uchar)((changed_ever ? FLAG_CHANGED : 0u) | (changed_last ? FLAG_UNCONVERGED : 0u));
+    atom_add(update_counter, (ulong)active_voxels * (ulong)iterations);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Round bookkeeping.
+
+// Copies relaxed bricks back into the state (a work-item per voxel of the listed bricks).
+__kernel void commit_bricks(__global const int* list, int count, __global const ulong* scratch,
+                            __global ulong* state, __global const uchar* flags) {
+  const size_t item = get_global_id(0);
+  const int position = item / BRICK_VOLUME;
+  if (position >= count) return;
+  const int brick = list[position];
+  if (flags[brick] == 0) return;
+  state[(size_t)brick * BRICK_VOLUME + item % BRICK_VOLUME] = scratch[item];
+}
+
+// A brick is relaxed next round when it is unconverged or a brick within stencil reach changed
+// (gathered per brick, so there are no write races).
+__kernel void activate_bricks(int brick_count, __global const int4* brick_origins,
+                              __global const int* table, int4 grid, int4 reach,
+                              __global const uchar* flags, __global uchar* next) {
+  const int brick = get_global_id(0);
+  if (brick >= brick_count) return;
+  bool activate = (flags[brick] & FLAG_UNCONVERGED) != 0;
+  const int3 b = brick_of_voxel(brick_origins[brick].xyz);
+  for (int dz = -reach.z; dz <= reach.z && !activate; ++dz)
+    for (int dy = -reach.y; dy <= reach.y && !activate; ++dy)
+      for (int dx = -reach.x; dx <= reach.x && !activate; ++dx) {
+        const int other = brick_at(b + (int3)(dx, dy, dz), grid, table);
+        activate = other >= 0 && (flags[other] & FLAG_CHANGED) != 0;
+      }
+  next[brick] = activate ? 1 : 0;
+}
+
+// Builds the next active list (order is irrelevant: a brick's result depends only on the
+// snapshot) and clears the flags for the next round.
+__kernel void compact_active(int brick_count, __global const uchar* next, __global uchar* flags,
+                             __global int* list, __global int* count) {
+  const int brick = get_global_id(0);
+  if (brick >= brick_count) return;
+  flags[brick] = 0;
+  if (next[brick]) list[atomic_inc(count)] = brick;
+}

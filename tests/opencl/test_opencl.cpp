@@ -1,0 +1,209 @@
+// The OpenCL engine against the CPU reference (docs/scheme.md): distances to a relative 1e-4,
+// labels identical except at ties, incremental insertion, both relaxation variants, errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <random>
+#include <string>
+
+#include <Eigen/Geometry>
+
+#include "rvor/devices.h"
+#include "rvor/error.h"
+#include "rvor/opencl_propagator.h"
+#include "rvor/propagation.h"
+#include "support/box_canvas.h"
+
+namespace rvor {
+namespace {
+
+constexpr double kRelativeTolerance = 1e-4;
+
+// Skips the test (with the reason) when PoCL is not there.
+#define REQUIRE_POCL(variant)                                               \
+  std::unique_ptr<Propagator> engine;                                       \
+  try {                                                                     \
+    engine = make_opencl_propagator("pocl", OpenCLOptions{variant, 64, 8}); \
+  } catch (const Error& e) {                                                \
+    GTEST_SKIP() << "no usable OpenCL device: " << e.what();                \
+  }
+
+Mat3 rotated_metric(int dimension, double anisotropy) {
+  const double angle = 0.5;
+  const Vec3 v1(std::cos(angle), std::sin(angle), 0.0);
+  const Vec3 v2(-std::sin(angle), std::cos(angle), 0.0);
+  Mat3 G = anisotropy * anisotropy * v1 * v1.transpose() + v2 * v2.transpose() +
+           Vec3::UnitZ() * Vec3::UnitZ().transpose();
+  if (dimension == 3) {
+    const Eigen::AngleAxisd tilt(0.4, Vec3(1, 0, 0).normalized());
+    const Mat3 R = tilt.toRotationMatrix();
+    G = R * G * R.transpose();
+  }
+  return G;
+}
+
+std::vector<Vec3> random_points(const Vec3& lo, const Vec3& hi, int dimension, int count,
+                                unsigned rng_seed) {
+  std::mt19937 rng(rng_seed);
+  std::vector<Vec3> points;
+  for (int n = 0; n < count; ++n) {
+    Vec3 p;
+    for (int a = 0; a < 3; ++a) {
+      std::uniform_real_distribution<double> u(lo[a] + 0.05 * (hi[a] - lo[a]),
+                                               hi[a] - 0.05 * (hi[a] - lo[a]));
+      p[a] = u(rng);
+    }
+    if (dimension == 2) p.z() = 0.0;
+    points.push_back(p);
+  }
+  return points;
+}
+
+// Relative distance error and label agreement over active slots (labels may differ at ties).
+void expect_same_field(const Canvas& canvas, const VoronoiField& expected,
+                       const VoronoiField& actual) {
+  ASSERT_EQ(expected.distance.size(), actual.distance.size());
+  std::size_t bad_distance = 0, bad_label = 0;
+  double worst = 0.0;
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
+    if (!canvas.active[slot]) continue;
+    const double a = expected.distance[slot], b = actual.distance[slot];
+    const double error = a == b ? 0.0 : std::abs(a - b) / std::max(std::abs(a), 1e-30);
+    worst = std::max(worst, error);
+    if (!(error <= kRelativeTolerance)) ++bad_distance;
+    if (expected.label[slot] != actual.label[slot] && !(error <= kRelativeTolerance)) ++bad_label;
+  }
+  EXPECT_EQ(bad_distance, 0u) << "worst relative distance error " << worst;
+  EXPECT_EQ(bad_label, 0u);
+}
+
+void expect_matches_reference(Propagator& engine, const Canvas& canvas,
+                              const std::vector<Vec3>& seeds) {
+  VoronoiField expected, actual;
+  make_reference_propagator()->solve(canvas, seeds, expected);
+  const PropagationStats stats = engine.solve(canvas, seeds, actual);
+  EXPECT_GT(stats.voxel_updates, 0u);
+  expect_same_field(canvas, expected, actual);
+}
+
+const Vec3 kLo(-1, -1, -1), kHi(1, 1, 1);
+
+class BothVariants : public ::testing::TestWithParam<RelaxationVariant> {};
+
+TEST_P(BothVariants, IsotropicOneSeed3D) {
+  REQUIRE_POCL(GetParam());
+  const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 32, Mat3::Identity());
+  expect_matches_reference(*engine, canvas, {Vec3(0.1, -0.2, 0.3)});
+}
+
+TEST_P(BothVariants, AnisotropicManySeeds3D) {
+  REQUIRE_POCL(GetParam());
+  const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 32, rotated_metric(3, 6.0));
+  expect_matches_reference(*engine, canvas, random_points(kLo, kHi, 3, 40, 7));
+}
+
+TEST_P(BothVariants, AnisotropicManySeeds2D) {
+  REQUIRE_POCL(GetParam());
+  const Canvas canvas = test::make_uniform_box_canvas(2, kLo, kHi, 64, rotated_metric(2, 10.0));
+  expect_matches_reference(*engine, canvas, random_points(kLo, kHi, 2, 30, 11));
+}
+
+TEST_P(BothVariants, VaryingMetric2D) {
+  REQUIRE_POCL(GetParam());
+  // A smooth field whose anisotropy and direction vary: exercises per-voxel stencils.
+  const Canvas canvas = test::make_box_canvas(2, kLo, kHi, 64, [](const Vec3& p) {
+    return metric_from_frame(2, Vec3(std::cos(2 * p.x()), std::sin(2 * p.x()), 0),
+                             1.0 + 6 * p.y() * p.y(),
+                             Vec3(-std::sin(2 * p.x()), std::cos(2 * p.x()), 0), 1.0, 1.0);
+  });
+  expect_matches_reference(*engine, canvas, random_points(kLo, kHi, 2, 12, 3));
+}
+
+INSTANTIATE_TEST_SUITE_P(Variants, BothVariants,
+                         ::testing::Values(RelaxationVariant::brick_sweep,
+                                           RelaxationVariant::voxel_jacobi),
+                         [](const auto& info) {
+                           return info.param == RelaxationVariant::brick_sweep ? "BrickSweep"
+                                                                               : "VoxelJacobi";
+                         });
+
+TEST(OpenCLInsertion, OneByOneEqualsAllAtOnce) {
+  REQUIRE_POCL(RelaxationVariant::automatic);
+  const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 32, rotated_metric(3, 4.0));
+  const std::vector<Vec3> seeds = random_points(kLo, kHi, 3, 20, 5);
+  VoronoiField all, incremental;
+  engine->solve(canvas, seeds, all);
+  engine->solve(canvas, {seeds[0]}, incremental);
+  std::vector<Vec3> so_far{seeds[0]};
+  for (std::size_t n = 1; n < seeds.size(); ++n) {
+    so_far.push_back(seeds[n]);
+    engine->insert(canvas, so_far, n, incremental);
+  }
+  expect_same_field(canvas, all, incremental);
+}
+
+TEST(OpenCLInsertion, TouchesLessThanASolve) {
+  REQUIRE_POCL(RelaxationVariant::automatic);
+  const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 48, Mat3::Identity());
+  std::vector<Vec3> seeds = random_points(kLo, kHi, 3, 60, 9);
+  VoronoiField field;
+  const PropagationStats full = engine->solve(canvas, seeds, field);
+  seeds.push_back(Vec3(0.01, 0.02, 0.03));
+  const PropagationStats one = engine->insert(canvas, seeds, seeds.size() - 1, field);
+  EXPECT_LT(one.voxel_updates * 5, full.voxel_updates);
+}
+
+TEST(OpenCLDevices, BadDeviceNamesAreClearErrors) {
+  EXPECT_THROW(
+      {
+        try {
+          make_propagator("quantum");
+        } catch (const Error& e) {
+          EXPECT_NE(std::string(e.what()).find("unknown device 'quantum'"), std::string::npos)
+              << e.what();
+          throw;
+        }
+      },
+      Error);
+  EXPECT_THROW(
+      {
+        try {
+          make_propagator("opencl:99");
+        } catch (const Error& e) {
+          EXPECT_NE(std::string(e.what()).find("--device cpu"), std::string::npos) << e.what();
+          throw;
+        }
+      },
+      Error);
+  EXPECT_THROW(make_propagator("opencl:x"), Error);
+}
+
+TEST(OpenCLDevices, DefaultDeviceNameComesFromTheEnvironment) {
+  setenv("RVOR_DEVICE", "cpu", 1);
+  EXPECT_EQ(default_device_name(), "cpu");
+  unsetenv("RVOR_DEVICE");
+  EXPECT_EQ(default_device_name(), "auto");
+}
+
+TEST(OpenCLPrograms, SyntaxErrorGivesTheBuildLog) {
+  if (list_opencl_devices().empty()) GTEST_SKIP() << "no OpenCL device";
+  try {
+    build_opencl_program("opencl", "__kernel void broken(__global int* x) { x[0] = ; }");
+    FAIL() << "a broken kernel compiled";
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("build log"), std::string::npos) << message;
+    EXPECT_NE(message.find("expected expression"), std::string::npos) << message;
+  }
+}
+
+TEST(OpenCLSeeds, SeedOutsideTheDomainIsAnError) {
+  REQUIRE_POCL(RelaxationVariant::automatic);
+  const Canvas canvas = test::make_uniform_box_canvas(2, kLo, kHi, 16, Mat3::Identity());
+  VoronoiField field;
+  EXPECT_THROW(engine->solve(canvas, {Vec3(5, 0, 0)}, field), Error);
+}
+
+}  // namespace
+}  // namespace rvor
