@@ -1,10 +1,35 @@
+// `rvor devices`: the compute devices rvor can use, in the order "opencl:N" counts them.
+#include <iostream>
+
 #include "commands.h"
+#include "rvor/devices.h"
 
 namespace rvor::cli {
 
-// Placeholder until the OpenCL runtime lands: the command exists but lists nothing.
+namespace {
+
+void print_devices() {
+  std::cout << "cpu        CPU reference solver (sequential, double precision)\n";
+  const std::vector<OpenCLDeviceInfo> devices = list_opencl_devices();
+  for (const OpenCLDeviceInfo& d : devices) {
+    std::cout << "opencl:" << d.index << "   " << d.name << " ["
+              << (d.is_gpu   ? "GPU"
+                  : d.is_cpu ? "CPU"
+                             : "other")
+              << ", " << d.compute_units << " compute units, " << (d.global_memory_bytes >> 20)
+              << " MiB] " << d.platform << ", " << d.version << ", driver " << d.driver;
+    if (!d.missing_requirement.empty()) std::cout << " (unusable: " << d.missing_requirement << ")";
+    std::cout << "\n";
+  }
+  if (devices.empty()) std::cout << "(no OpenCL device found: use --device cpu)\n";
+  std::cout << "default: " << default_device_name() << " (set RVOR_DEVICE to change it)\n";
+}
+
+}  // namespace
+
 void add_devices_command(CLI::App& app) {
-  app.add_subcommand("devices", "List the compute devices rvor can use");
+  CLI::App* command = app.add_subcommand("devices", "List the compute devices rvor can use");
+  command->callback(print_devices);
 }
 
 }  // namespace rvor::cli
