@@ -1,10 +1,222 @@
+// rvor bench: propagation throughput with OpenVDB FastSweeping and the CPU reference measured in
+// the same run on the same canvas and seeds (rvor/benchmark.h); a table, or JSON with --json.
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
 #include "commands.h"
+#include "rvor/benchmark.h"
+#include "rvor/metric_field.h"
+#include "terminal.h"
 
 namespace rvor::cli {
 
-// Placeholder until the OpenCL engine lands.
+namespace {
+
+struct BenchOptions {
+  std::string domain, metric;
+  std::optional<int> resolution;
+  std::optional<std::size_t> seeds;
+  std::uint64_t rng_seed = 1;
+  std::string device = "auto";
+  RelaxationVariant variant = RelaxationVariant::automatic;
+  int repetitions = 1;
+  bool no_reference = false;
+  bool no_fastsweeping = false;
+  bool json = false;
+  bool quiet = false;
+};
+
+// Without --domain the metric's own domain (radial_shock_3d: [1,11]^3), else [-1,1]^3.
+std::string domain_for(const std::string& metric) {
+  const std::optional<Box> natural = make_analytic_metric(metric, 3)->natural_domain();
+  if (!natural) return BenchCase().domain;
+  const Vec3 lo = natural->lo, hi = natural->hi;
+  return "box:" + std::to_string(lo.x()) + "," + std::to_string(lo.y()) + "," +
+         std::to_string(lo.z()) + "," + std::to_string(hi.x()) + "," + std::to_string(hi.y()) +
+         "," + std::to_string(hi.z());
+}
+
+std::vector<BenchCase> chosen_cases(const BenchOptions& o) {
+  std::vector<BenchCase> cases;
+  if (o.domain.empty() && o.metric.empty()) {
+    cases = standard_bench_cases();
+  } else {
+    BenchCase custom;
+    custom.metric = o.metric.empty() ? custom.metric : o.metric;
+    custom.domain = o.domain.empty() ? domain_for(custom.metric) : o.domain;
+    cases.push_back(custom);
+  }
+  for (BenchCase& c : cases) {
+    if (o.resolution) c.resolution = *o.resolution;
+    if (o.seeds) c.seeds = *o.seeds;
+    c.rng_seed = o.rng_seed;
+    c.device = o.device;
+    c.variant = o.variant;
+    c.repetitions = o.repetitions;
+    c.reference = !o.no_reference;
+    c.fastsweeping = !o.no_fastsweeping;
+  }
+  return cases;
+}
+
+// 12345678 -> "12.3M": rates and counts stay readable in a narrow column.
+std::string short_number(double value) {
+  const char* suffixes[] = {"", "k", "M", "G", "T"};
+  int power = 0;
+  while (value >= 1000.0 && power < 4) {
+    value /= 1000.0;
+    ++power;
+  }
+  char text[32];
+  std::snprintf(text, sizeof text, value < 100 ? "%.3g%s" : "%.0f%s", value, suffixes[power]);
+  return text;
+}
+
+std::string fixed(double value, int digits) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.*f", digits, value);
+  return text;
+}
+
+std::string optional_rate(const std::optional<double>& rate) {
+  return rate ? short_number(*rate) : "-";
+}
+
+std::string optional_ratio(const std::optional<double>& ratio) {
+  return ratio ? fixed(*ratio, 2) + "x" : "-";
+}
+
+std::string case_name(const BenchResult& r) {
+  return r.bench_case.metric + "@" + std::to_string(r.bench_case.resolution);
+}
+
+void print_table(std::ostream& out, const std::vector<BenchResult>& results) {
+  const std::vector<std::string> header = {"case",     "voxels",    "seeds",   "seconds",
+                                           "voxels/s", "upd/voxel", "B/voxel", "FS vox/s",
+                                           "vs FS",    "ref vox/s", "vs ref"};
+  const std::vector<int> widths = {24, 9, 6, 8, 9, 9, 8, 9, 7, 9, 7};
+  auto row = [&](const std::vector<std::string>& cells) {
+    for (std::size_t n = 0; n < cells.size(); ++n) {
+      const std::string& cell = cells[n];
+      const std::size_t width = static_cast<std::size_t>(widths[n]);
+      const std::string pad(cell.size() < width ? width - cell.size() : 0, ' ');
+      out << (n == 0 ? cell + pad : "  " + pad + cell);
+    }
+    out << "\n";
+  };
+  row(header);
+  for (const BenchResult& r : results)
+    row({case_name(r), short_number(double(r.active_voxels)), std::to_string(r.bench_case.seeds),
+         fixed(r.seconds, 3), short_number(r.voxels_per_second), fixed(r.updates_per_voxel, 2),
+         fixed(r.bytes_per_voxel, 1), optional_rate(r.fastsweeping_voxels_per_second),
+         optional_ratio(r.fastsweeping_ratio), optional_rate(r.cpu_reference_voxels_per_second),
+         optional_ratio(r.reference_ratio)});
+  for (const BenchResult& r : results)
+    out << case_name(r) << ": " << r.device_description << "; " << r.metric_description << " on "
+        << r.domain_description << ", max anisotropy " << fixed(r.max_anisotropy, 1) << "\n";
+}
+
+template <typename T>
+nlohmann::json or_null(const std::optional<T>& value) {
+  return value ? nlohmann::json(*value) : nlohmann::json(nullptr);
+}
+
+nlohmann::json case_json(const BenchResult& r) {
+  return {{"domain", r.bench_case.domain},
+          {"metric", r.bench_case.metric},
+          {"metric_description", r.metric_description},
+          {"resolution", r.bench_case.resolution},
+          {"seeds", r.bench_case.seeds},
+          {"rng_seed", r.bench_case.rng_seed},
+          {"device", r.bench_case.device},
+          {"device_description", r.device_description},
+          {"active_voxels", r.active_voxels},
+          {"max_anisotropy", r.max_anisotropy},
+          {"seconds", r.seconds},
+          {"iterations", r.iterations},
+          {"voxel_updates", r.voxel_updates},
+          {"voxels_per_second", r.voxels_per_second},
+          {"updates_per_voxel", r.updates_per_voxel},
+          {"device_bytes", r.device_bytes},
+          {"bytes_per_voxel", r.bytes_per_voxel},
+          {"fastsweeping_seconds", or_null(r.fastsweeping_seconds)},
+          {"fastsweeping_init_seconds", or_null(r.fastsweeping_init_seconds)},
+          {"fastsweeping_voxels_per_second", or_null(r.fastsweeping_voxels_per_second)},
+          {"fastsweeping_ratio", or_null(r.fastsweeping_ratio)},
+          {"fastsweeping_label_agreement", or_null(r.fastsweeping_label_agreement)},
+          {"cpu_reference_seconds", or_null(r.reference_seconds)},
+          {"cpu_reference_voxels_per_second", or_null(r.cpu_reference_voxels_per_second)},
+          {"cpu_reference_ratio", or_null(r.reference_ratio)},
+          {"cpu_reference_max_relative_difference", or_null(r.reference_max_relative_difference)},
+          {"cpu_reference_label_mismatches", or_null(r.reference_label_mismatches)}};
+}
+
+void run_bench(const BenchOptions& o) {
+  std::vector<BenchResult> results;
+  for (const BenchCase& c : chosen_cases(o)) {
+    if (!o.quiet) std::cerr << "bench " << c.metric << " on " << c.domain << " ...\n";
+    results.push_back(run_benchmark_case(c, [&](const std::string& line) {
+      if (!o.quiet) std::cerr << "  " << line << "\n";
+    }));
+  }
+  if (!o.json) return print_table(std::cout, results);
+  nlohmann::json report = {{"generator", "rvor bench"}, {"cases", nlohmann::json::array()}};
+  for (const BenchResult& r : results) report["cases"].push_back(case_json(r));
+  std::cout << report.dump(2) << "\n";
+}
+
+}  // namespace
+
 void add_bench_command(CLI::App& app) {
-  app.add_subcommand("bench", "Measure propagation throughput (voxel updates per second)");
+  auto options = std::make_shared<BenchOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "bench",
+      "Measure propagation throughput (converged voxels per second) next to OpenVDB FastSweeping "
+      "and the CPU reference on the same canvas and seeds");
+  cmd->footer(
+      "Without --domain/--metric the standard cases run: euclidean on box:-1,-1,-1,1,1,1 and\n"
+      "radial_shock_3d on box:1,1,1,11,11,11, 256^3, 1000 seeds (rng seed 1).\n"
+      "Examples:\n"
+      "  rvor bench --resolution 128 --no-reference\n"
+      "  rvor bench --metric swirl --domain box:-1,-1,-1,1,1,1 --resolution 96 --json");
+  cmd->add_option("--domain", options->domain,
+                  "box:X0,Y0,Z0,X1,Y1,Z1 | mesh:FILE | implicit:NAME (default: the metric's "
+                  "domain, else box:-1,-1,-1,1,1,1)");
+  cmd->add_option("--metric", options->metric,
+                  "NAME[:key=value,...], NAME one of: " + join(analytic_metric_names()));
+  cmd->add_option("--resolution", options->resolution,
+                  "Voxels along the longest side (default 256)")
+      ->check(CLI::Range(2, 65536));
+  cmd->add_option("--seeds", options->seeds, "Number of random seeds (default 1000)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--rng-seed", options->rng_seed, "Random generator seed")->capture_default_str();
+  cmd->add_option("--device", options->device,
+                  "auto | opencl | opencl:N | pocl | cpu (the reference itself)")
+      ->capture_default_str();
+  const std::map<std::string, RelaxationVariant> variants = {
+      {"auto", RelaxationVariant::automatic},
+      {"brick_sweep", RelaxationVariant::brick_sweep},
+      {"voxel_jacobi", RelaxationVariant::voxel_jacobi}};
+  cmd->add_option("--variant", options->variant,
+                  "OpenCL relaxation: brick_sweep | voxel_jacobi | auto")
+      ->transform(CLI::CheckedTransformer(variants));
+  cmd->add_option("--repeat", options->repetitions,
+                  "Solves per case with the same engine; the fastest counts (the first includes "
+                  "the canvas upload)")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
+  cmd->add_flag("--no-reference", options->no_reference, "Skip the CPU reference (slow at 256^3)");
+  cmd->add_flag("--no-fastsweeping", options->no_fastsweeping, "Skip OpenVDB FastSweeping");
+  cmd->add_flag("--json", options->json, "Print one JSON object with a `cases` array");
+  cmd->add_flag("--quiet", options->quiet, "No progress lines on stderr");
+  cmd->callback([options] { run_bench(*options); });
 }
 
 }  // namespace rvor::cli

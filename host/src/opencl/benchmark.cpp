@@ -1,0 +1,187 @@
+// run_benchmark_case (rvor/benchmark.h): one canvas, one seed set, three solvers.
+#include "rvor/benchmark.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <sstream>
+
+#include "device_canvas.h"
+#include "fastsweeping_baseline.h"
+#include "opencl_runtime.h"
+#include "rvor/canvas_builder.h"
+#include "rvor/domain.h"
+#include "rvor/error.h"
+#include "rvor/metric_field.h"
+#include "rvor/propagation.h"
+#include "rvor/seeds.h"
+
+namespace rvor {
+
+namespace {
+
+constexpr std::size_t kAnisotropySamples = 20000;
+
+void report(const std::function<void(const std::string&)>& progress, const std::string& line) {
+  if (progress) progress(line);
+}
+
+std::string seconds_text(double seconds) {
+  std::ostringstream out;
+  out.precision(3);
+  out << std::fixed << seconds << " s";
+  return out.str();
+}
+
+double per_second(std::size_t voxels, double seconds) {
+  return seconds > 0 ? static_cast<double>(voxels) / seconds : 0.0;
+}
+
+// sqrt(lambda_max / lambda_min) of the metric at evenly spread active voxels: the ratio of the
+// longest to the shortest unit-ball axis, the anisotropy the cases are specified by.
+double sampled_anisotropy(const Canvas& canvas) {
+  const std::size_t stride = std::max<std::size_t>(1, canvas.slot_count() / kAnisotropySamples);
+  double largest = 1.0;
+  for (std::size_t slot = 0; slot < canvas.slot_count(); slot += stride) {
+    if (!canvas.active[slot]) continue;
+    const Eigen::SelfAdjointEigenSolver<Mat3> eigen(canvas.metric_at(slot), Eigen::EigenvaluesOnly);
+    const Vec3 lambda = eigen.eigenvalues();
+    const double smallest = canvas.dimension == 3 ? lambda[0] : std::min(lambda[0], lambda[1]);
+    largest = std::max(largest, std::sqrt(lambda.maxCoeff() / smallest));
+  }
+  return largest;
+}
+
+std::unique_ptr<Propagator> make_engine(const BenchCase& c) {
+  if (c.device == "cpu") return make_reference_propagator();
+  OpenCLOptions options;
+  options.variant = c.variant;
+  return make_opencl_propagator(c.device, options);
+}
+
+// Device memory of the canvas as the engine packs it: the same upload, measured by its buffers.
+std::uint64_t device_canvas_bytes(const std::string& device_name, const Canvas& canvas) {
+  if (device_name == "cpu") return 0;
+  try {
+    const opencl::Device device = opencl::select_device(device_name);
+    const cl::Context context = opencl::context_for(device);
+    const cl::CommandQueue queue(context, device.device);
+    return opencl::upload_canvas(context, queue, canvas).bytes;
+  } catch (const cl::Error& e) {
+    opencl::throw_opencl_error(e, "measuring the device canvas");
+  }
+}
+
+void time_engine(const BenchCase& c, const Canvas& canvas, const std::vector<Vec3>& seeds,
+                 VoronoiField& field, BenchResult& r) {
+  std::unique_ptr<Propagator> engine = make_engine(c);
+  r.device_description = engine->device_description();
+  for (int repetition = 0; repetition < std::max(1, c.repetitions); ++repetition) {
+    const PropagationStats stats = engine->solve(canvas, seeds, field);
+    if (repetition > 0 && stats.seconds >= r.seconds) continue;
+    r.seconds = stats.seconds;
+    r.iterations = stats.iterations;
+    r.voxel_updates = stats.voxel_updates;
+  }
+  r.voxels_per_second = per_second(r.active_voxels, r.seconds);
+  r.updates_per_voxel = static_cast<double>(r.voxel_updates) / static_cast<double>(r.active_voxels);
+  r.device_bytes = device_canvas_bytes(c.device, canvas);
+  r.bytes_per_voxel = static_cast<double>(r.device_bytes) / static_cast<double>(r.active_voxels);
+}
+
+double label_agreement(const Canvas& canvas, const VoronoiField& a, const VoronoiField& b) {
+  std::size_t same = 0;
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot)
+    if (canvas.active[slot] && a.label[slot] == b.label[slot]) ++same;
+  return static_cast<double>(same) / static_cast<double>(canvas.active_voxel_count);
+}
+
+void time_fastsweeping(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                       const VoronoiField& engine_field, BenchResult& r) {
+  const baseline::FastSweepingRun run = baseline::fast_sweeping_voronoi(canvas, seeds);
+  r.fastsweeping_seconds = run.sweep_seconds;
+  r.fastsweeping_init_seconds = run.init_seconds;
+  r.fastsweeping_voxels_per_second = per_second(r.active_voxels, run.sweep_seconds);
+  r.fastsweeping_ratio = r.voxels_per_second / *r.fastsweeping_voxels_per_second;
+  r.fastsweeping_label_agreement = label_agreement(canvas, engine_field, run.field);
+}
+
+void compare_with_reference(const Canvas& canvas, const VoronoiField& engine,
+                            const VoronoiField& reference, BenchResult& r) {
+  double worst = 0.0;
+  std::size_t mismatches = 0;
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
+    if (!canvas.active[slot]) continue;
+    if (engine.label[slot] != reference.label[slot]) ++mismatches;
+    const double d_ref = reference.distance[slot];
+    if (std::isfinite(d_ref) && d_ref > 0)
+      worst = std::max(worst, std::abs(double(engine.distance[slot]) - d_ref) / d_ref);
+  }
+  r.reference_max_relative_difference = worst;
+  r.reference_label_mismatches = mismatches;
+}
+
+void time_reference(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                    const VoronoiField& engine_field, BenchResult& r) {
+  VoronoiField reference;
+  const PropagationStats stats = make_reference_propagator()->solve(canvas, seeds, reference);
+  r.reference_seconds = stats.seconds;
+  r.cpu_reference_voxels_per_second = per_second(r.active_voxels, stats.seconds);
+  r.reference_ratio = r.voxels_per_second / *r.cpu_reference_voxels_per_second;
+  compare_with_reference(canvas, engine_field, reference, r);
+}
+
+}  // namespace
+
+std::vector<BenchCase> standard_bench_cases() {
+  BenchCase euclidean;
+  BenchCase radial_shock;
+  radial_shock.domain = "box:1,1,1,11,11,11";
+  radial_shock.metric = "radial_shock_3d";
+  return {euclidean, radial_shock};
+}
+
+BenchResult run_benchmark_case(const BenchCase& c,
+                               const std::function<void(const std::string&)>& progress) {
+  BenchResult r;
+  r.bench_case = c;
+  auto start = std::chrono::steady_clock::now();
+  const DomainSpec domain = parse_domain(c.domain);
+  const std::unique_ptr<MetricField> metric = make_analytic_metric(c.metric, domain.dimension());
+  CanvasOptions canvas_options;
+  canvas_options.resolution = c.resolution;
+  const Canvas canvas = build_canvas(domain, *metric, canvas_options);
+  r.domain_description = domain.description();
+  r.metric_description = metric->description();
+  r.active_voxels = canvas.active_voxel_count;
+  r.max_anisotropy = sampled_anisotropy(canvas);
+  const std::vector<Vec3> seeds = random_seeds(canvas, c.seeds, c.rng_seed);
+  report(progress,
+         "canvas " + canvas.description + ": " + std::to_string(r.active_voxels) +
+             " active voxels, " + std::to_string(seeds.size()) + " seeds (" +
+             seconds_text(
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()) +
+             ")");
+
+  VoronoiField field;
+  time_engine(c, canvas, seeds, field, r);
+  report(progress, r.device_description + ": " + seconds_text(r.seconds));
+  if (c.fastsweeping && canvas.dimension == 3) {
+    time_fastsweeping(canvas, seeds, field, r);
+    report(progress, "OpenVDB FastSweeping: sweep " + seconds_text(*r.fastsweeping_seconds) +
+                         ", init " + seconds_text(*r.fastsweeping_init_seconds));
+  }
+  if (c.reference && c.device == "cpu") {  // the engine is the reference: no second run
+    r.reference_seconds = r.seconds;
+    r.cpu_reference_voxels_per_second = r.voxels_per_second;
+    r.reference_ratio = 1.0;
+  } else if (c.reference) {
+    time_reference(canvas, seeds, field, r);
+    report(progress, "CPU reference: " + seconds_text(*r.reference_seconds));
+  }
+  return r;
+}
+
+}  // namespace rvor

@@ -1,0 +1,164 @@
+// rvor bench's library function and its OpenVDB FastSweeping baseline: consistent numbers on a
+// small case, FastSweeping distances and labels against the exact nearest seed, the CLI's JSON.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "fastsweeping_baseline.h"
+#include "rvor/benchmark.h"
+#include "rvor/canvas_builder.h"
+#include "rvor/domain.h"
+#include "rvor/error.h"
+#include "rvor/metric_field.h"
+#include "rvor/opencl_propagator.h"
+#include "rvor/seeds.h"
+#include "support/run_command.h"
+
+namespace rvor {
+namespace {
+
+#define REQUIRE_OPENCL_DEVICE()                              \
+  try {                                                      \
+    make_opencl_propagator("auto");                          \
+  } catch (const Error& e) {                                 \
+    GTEST_SKIP() << "no usable OpenCL device: " << e.what(); \
+  }
+
+struct NearestSeeds {
+  double first = std::numeric_limits<double>::infinity();
+  double second = std::numeric_limits<double>::infinity();
+  int label = -1;
+};
+
+NearestSeeds nearest_seeds(const Vec3& p, const std::vector<Vec3>& seeds) {
+  NearestSeeds n;
+  for (std::size_t s = 0; s < seeds.size(); ++s) {
+    const double d = (p - seeds[s]).norm();
+    if (d < n.first) {
+      n.second = n.first;
+      n.first = d;
+      n.label = static_cast<int>(s);
+    } else {
+      n.second = std::min(n.second, d);
+    }
+  }
+  return n;
+}
+
+Canvas unit_box_canvas(int resolution) {
+  CanvasOptions options;
+  options.resolution = resolution;
+  return build_canvas(parse_domain("box:-1,-1,-1,1,1,1"), *make_analytic_metric("euclidean", 3),
+                      options);
+}
+
+TEST(FastSweepingBaseline, DistanceIsEuclideanAndLabelIsNearestSeedAwayFromBisectors) {
+  const Canvas canvas = unit_box_canvas(32);
+  const std::vector<Vec3> seeds = random_seeds(canvas, 20, 7);
+  const baseline::FastSweepingRun run = baseline::fast_sweeping_voronoi(canvas, seeds);
+  const double h = canvas.voxel_size;
+  double worst_error = 0, total_error = 0;
+  std::size_t checked_labels = 0, wrong_labels = 0;
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
+    if (!canvas.active[slot]) continue;
+    const NearestSeeds exact = nearest_seeds(canvas.world_of(slot), seeds);
+    const double error = std::abs(run.field.distance[slot] - exact.first);
+    worst_error = std::max(worst_error, error);
+    total_error += error;
+    // First-order sweeping overestimates oblique distances by up to about a voxel, which moves
+    // bisectors by as much: labels are only checked three voxels away from them.
+    if (exact.second - exact.first < 3 * h) continue;
+    ++checked_labels;
+    if (run.field.label[slot] != exact.label) ++wrong_labels;
+  }
+  EXPECT_LT(worst_error, 1.5 * h);
+  EXPECT_LT(total_error / double(canvas.active_voxel_count), h);
+  EXPECT_GT(checked_labels, canvas.active_voxel_count / 4);
+  EXPECT_EQ(wrong_labels, 0u);
+  EXPECT_GT(run.sweep_seconds, 0);
+  EXPECT_GT(run.swept_voxels, canvas.active_voxel_count / 2);
+}
+
+TEST(RunBenchmarkCase, SmallCaseGivesConsistentPositiveNumbers) {
+  REQUIRE_OPENCL_DEVICE();
+  BenchCase c;
+  c.resolution = 32;
+  c.seeds = 20;
+  const BenchResult r = run_benchmark_case(c);
+  EXPECT_EQ(r.active_voxels, 32u * 32 * 32);
+  EXPECT_NEAR(r.max_anisotropy, 1.0, 1e-9);
+  EXPECT_GT(r.seconds, 0);
+  EXPECT_NEAR(r.voxels_per_second * r.seconds, double(r.active_voxels), 1e-6 * r.active_voxels);
+  EXPECT_GE(r.updates_per_voxel, 1.0);
+  EXPECT_NEAR(r.updates_per_voxel, double(r.voxel_updates) / double(r.active_voxels), 1e-12);
+  // state 8 + scratch 8 + stencil 42 B per slot, plus small tables (device_canvas.h).
+  EXPECT_GE(r.bytes_per_voxel, 58.0);
+  EXPECT_LT(r.bytes_per_voxel, 64.0);
+  ASSERT_TRUE(r.fastsweeping_voxels_per_second && r.fastsweeping_ratio);
+  EXPECT_GT(*r.fastsweeping_voxels_per_second, 0);
+  EXPECT_NEAR(*r.fastsweeping_ratio, r.voxels_per_second / *r.fastsweeping_voxels_per_second,
+              1e-9 * *r.fastsweeping_ratio);
+  EXPECT_GT(*r.fastsweeping_label_agreement, 0.9);  // isotropic: the same cells up to bisectors
+  ASSERT_TRUE(r.cpu_reference_voxels_per_second && r.reference_ratio);
+  EXPECT_GT(*r.cpu_reference_voxels_per_second, 0);
+  // Agreement with the reference is test_opencl's subject; here only that it was measured.
+  EXPECT_TRUE(r.reference_max_relative_difference && r.reference_label_mismatches);
+}
+
+TEST(RunBenchmarkCase, OptionalBaselinesCanBeSkipped) {
+  BenchCase c;
+  c.resolution = 16;
+  c.seeds = 5;
+  c.device = "cpu";
+  c.fastsweeping = false;
+  const BenchResult r = run_benchmark_case(c);
+  EXPECT_FALSE(r.fastsweeping_voxels_per_second);
+  EXPECT_EQ(r.device_bytes, 0u);
+  ASSERT_TRUE(r.reference_ratio);
+  EXPECT_EQ(*r.reference_ratio, 1.0);  // the engine is the reference
+}
+
+TEST(BenchCommand, JsonHasTheRequiredKeysPerCase) {
+  REQUIRE_OPENCL_DEVICE();
+  const test::CommandResult result =
+      test::run_command(test::rvor_binary() + " bench --resolution 24 --seeds 10 --json --quiet");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const nlohmann::json report = nlohmann::json::parse(result.out);
+  ASSERT_EQ(report.at("cases").size(), 2u);
+  const std::vector<std::string> required = {"metric",
+                                             "resolution",
+                                             "seeds",
+                                             "device",
+                                             "voxels_per_second",
+                                             "updates_per_voxel",
+                                             "bytes_per_voxel",
+                                             "fastsweeping_voxels_per_second",
+                                             "cpu_reference_voxels_per_second"};
+  for (const nlohmann::json& c : report["cases"]) {
+    for (const std::string& key : required) EXPECT_TRUE(c.contains(key)) << key;
+    EXPECT_EQ(c.at("resolution"), 24);
+    EXPECT_EQ(c.at("seeds"), 10);
+    EXPECT_GT(c.at("voxels_per_second").get<double>(), 0);
+    EXPECT_GT(c.at("fastsweeping_voxels_per_second").get<double>(), 0);
+    EXPECT_GT(c.at("cpu_reference_voxels_per_second").get<double>(), 0);
+  }
+  EXPECT_EQ(report["cases"][1].at("metric"), "radial_shock_3d");
+  EXPECT_GE(report["cases"][1].at("max_anisotropy").get<double>(), 10.0);
+}
+
+TEST(BenchCommand, UnknownVariantIsAOneLineError) {
+  const test::CommandResult result =
+      test::run_command(test::rvor_binary() + " bench --variant fastest --resolution 8");
+  EXPECT_NE(result.exit_code, 0);
+  EXPECT_NE(result.err.find("--variant"), std::string::npos) << result.err;
+}
+
+}  // namespace
+}  // namespace rvor
