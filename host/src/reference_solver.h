@@ -22,6 +22,7 @@ struct VoxelStencil {
   int8_t size = 0;
   int8_t offset[6][3] = {};
   double weight[6] = {};
+  Mat3 D = Mat3::Identity();  // the voxel's dual metric G^-1, for the factorization test
 };
 
 class ReferenceSolver {
@@ -40,6 +41,7 @@ class ReferenceSolver {
   struct Seed {
     Vec3 position;
     Mat3 G;  // metric of the voxel containing the seed
+    Mat3 F;  // F_s = G_s^{1/2}, for the factorization test
   };
   struct QueueEntry {
     double value;
@@ -66,6 +68,7 @@ class ReferenceSolver {
     double inverse_u0;  // 0 at the seed itself (no correction there)
   };
   SourceFrame source_frame(int32_t voxel, int32_t label) const;
+  bool seed_metric_fits(const Seed& seed, const Mat3& D) const;
   // h e_t of the voxel's stencil term t, in world units.
   Vec3 stencil_step(int32_t voxel, int term) const;
   double corrected_value(const SourceFrame& frame, const Vec3& step, double sign,
