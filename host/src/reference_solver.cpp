@@ -58,13 +58,10 @@ VoxelStencil to_voxel_stencil(const SellingStencil& selling, const Mat3& D) {
 
 // Solves sum_k rho_k max(0, t - w_k)^2 = h^2 for its largest root, w sorted ascending (n >= 1).
 // Solved for tau = t - w_0 so that large distances do not cancel catastrophically.
-// `used` receives the number of terms in the root (the smallest w's).
-double solve_sorted_quadratic(const double* w, const double* rho, int n, double h, int& used) {
+double solve_sorted_quadratic(const double* w, const double* rho, int n, double h) {
   double a = 0, b = 0, c = -h * h;
   double tau = 0;
-  used = 0;
   for (int k = 0; k < n; ++k) {
-    used = k + 1;
     const double delta = w[k] - w[0];
     a += rho[k];
     b += rho[k] * delta;
@@ -363,8 +360,7 @@ double ReferenceSolver::local_solve(int32_t voxel, int32_t label) const {
     rho[k] = stencil.weight[t];
   }
   if (n == 0) return kInfinity;
-  int used = 0;
-  return solve_sorted_quadratic(w, rho, n, h_, used);
+  return solve_sorted_quadratic(w, rho, n, h_);
 }
 
 namespace {
