@@ -1,5 +1,6 @@
 #pragma once
-// OpenVDB files: the Voronoi result (float grid `distance`, int grid `label`, world transform of
+// OpenVDB files: the Voronoi result (float grid `distance` with background +inf for unreached
+// voxels, int grid `label` with background -1, world transform of
 // the canvas) and metric fields as six float grids m11 m12 m22 m13 m23 m33.
 #include <string>
 
