@@ -5,6 +5,7 @@
 #include <iomanip>
 #include <iostream>
 
+#include "rvor/devices.h"
 #include "rvor/error.h"
 
 namespace rvor::cli {
@@ -52,12 +53,13 @@ std::string join(const std::vector<std::string>& items, const std::string& separ
 }
 
 std::string default_device() {
-  const char* from_environment = std::getenv("RVOR_DEVICE");
-  return from_environment && *from_environment ? from_environment : "cpu";
+  return default_device_name();
 }
 
 std::string device_option_help() {
-  return "Where to propagate: cpu (sequential reference); default $RVOR_DEVICE or cpu";
+  return "Where to propagate: auto (first OpenCL GPU, else OpenCL CPU device), pocl, opencl, "
+         "opencl:N (see `rvor devices`), or cpu (sequential reference); default $RVOR_DEVICE or "
+         "auto";
 }
 
 void print_voronoi_summary(std::ostream& out, const std::string& out_dir, std::size_t active_voxels,

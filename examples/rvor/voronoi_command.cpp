@@ -15,9 +15,11 @@
 #include "rvor/atomic_file.h"
 #include "rvor/canvas_builder.h"
 #include "rvor/canvas_output.h"
+#include "rvor/dual.h"
 #include "rvor/error.h"
 #include "rvor/field_summary.h"
 #include "rvor/metric_field.h"
+#include "rvor/nerve.h"
 #include "rvor/propagation.h"
 #include "rvor/seeds.h"
 #include "rvor/vdb_io.h"
@@ -41,6 +43,7 @@ struct VoronoiOptions {
   bool vtu = false;
   bool overwrite = false;
   std::string memory_budget;
+  std::string dual;  // "" or "straight"
   bool quiet = false;
 };
 
@@ -58,6 +61,11 @@ std::vector<std::string> output_names(const VoronoiOptions& o) {
   std::vector<std::string> names = {"voronoi.vdb", "report.json", "seeds.xyz"};
   if (o.vtu) names.push_back("canvas.vtu");
   if (!o.probe_file.empty()) names.push_back("probe.csv");
+  if (!o.dual.empty()) {
+    names.push_back("dual.vtu");
+    names.push_back("dual.mesh");
+    names.push_back("dual_flagged.vtu");
+  }
   return names;
 }
 
@@ -121,6 +129,21 @@ void run_voronoi(const VoronoiOptions& o) {
   const FieldSummary summary = summarize_field(canvas, field, seeds.size());
   const double output_seconds = progress.end("");
 
+  nlohmann::json dual_report;
+  double dual_seconds = 0;
+  if (!o.dual.empty()) {
+    progress.begin("building the straight dual");
+    const StraightDual dual =
+        build_straight_dual(canvas, extract_nerve(canvas, field, seeds.size()), seeds);
+    write_dual_vtu(path("dual.vtu"), dual);
+    write_dual_medit(path("dual.mesh"), dual);
+    write_dual_vtu(path("dual_flagged.vtu"), dual, /*only_flagged=*/true);
+    dual_report = nlohmann::json::parse(dual_report_json(dual));
+    dual_seconds = progress.end(
+        std::string(dual.checks.is_triangulation ? "a triangulation" : "NOT a triangulation") +
+        ", " + std::to_string(dual.top_count()) + " elements");
+  }
+
   const double total =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   nlohmann::json report = {
@@ -142,9 +165,11 @@ void run_voronoi(const VoronoiOptions& o) {
        {{"canvas", canvas_seconds},
         {"propagation", propagation_seconds},
         {"outputs", output_seconds},
+        {"dual", dual_seconds},
         {"total", total}}},
       {"field", summary_json(summary)},
       {"outputs", output_names(o)}};
+  if (!o.dual.empty()) report["dual"] = dual_report;
   write_file_atomically(path("report.json"), [&](std::ostream& s) { s << report.dump(2) << "\n"; });
   if (!o.quiet)
     print_voronoi_summary(std::cout, out, canvas.active_voxel_count, seeds.size(), summary,
@@ -163,7 +188,8 @@ void add_voronoi_command(CLI::App& app) {
       "Examples:\n"
       "  rvor voronoi --domain box:-1,-1,-1,1,1,1 --metric hyperbolic_shock --resolution 128 \\\n"
       "               --random-seeds 200 --out out/shock\n"
-      "  rvor voronoi --domain rect:-1,-1,1,1 --metric uniform:100,0,1 --seeds seeds.xyz --vtu\n"
+      "  rvor voronoi --domain rect:-1,-1,1,1 --metric uniform:100,0,1 --seeds seeds.xyz --vtu \\\n"
+      "               --dual straight\n"
       "  rvor voronoi --domain mesh:part.off --metric-file m.sol --metric-mesh m.mesh --seeds "
       "s.xyz\n"
       "Outputs in --out: voronoi.vdb (float grid 'distance', int grid 'label'), report.json,\n"
@@ -197,6 +223,12 @@ void add_voronoi_command(CLI::App& app) {
       "Points (.xyz) at which to write probe.csv: nearest active voxel, distance, label");
   cmd->add_option("--out", options->out_dir, "Output directory (created if missing)")
       ->capture_default_str();
+  cmd->add_option(
+         "--dual", options->dual,
+         "Also build the straight Riemannian Delaunay dual, checked with exact predicates: "
+         "dual.vtu, dual.mesh (Medit), dual_flagged.vtu (offending elements), and a 'dual' "
+         "object in report.json")
+      ->check(CLI::IsMember({"straight"}));
   cmd->add_flag("--vtu", options->vtu, "Also write the labeled canvas as canvas.vtu (ParaView)");
   cmd->add_flag("--overwrite", options->overwrite, "Replace output files left by an earlier run");
   cmd->add_option("--memory-budget", options->memory_budget,
