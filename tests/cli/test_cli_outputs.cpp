@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rvor/canvas_builder.h"
+#include "rvor/devices.h"
 #include "rvor/metric_field.h"
 #include "rvor/vdb_io.h"
 #include "support/run_command.h"
@@ -32,7 +33,7 @@ class CliOutputs : public ::testing::Test {
 };
 
 TEST_F(CliOutputs, ReportHoldsTheRunFacts) {
-  const CommandResult result = run_uniform_2d("");
+  const CommandResult result = run_uniform_2d("--device cpu");
   ASSERT_EQ(result.exit_code, 0) << result.err;
   std::ifstream in(out() + "/report.json");
   const nlohmann::json report = nlohmann::json::parse(in);
@@ -44,6 +45,14 @@ TEST_F(CliOutputs, ReportHoldsTheRunFacts) {
   for (const char* stage : {"canvas", "propagation", "outputs", "total"})
     EXPECT_GE(report["timings"][stage].get<double>(), 0) << stage;
   EXPECT_EQ(report["field"]["unreached_voxels"].get<int>(), 0);
+}
+
+TEST_F(CliOutputs, DefaultDeviceIsOpenCLWhenOneIsPresent) {
+  if (list_opencl_devices().empty()) GTEST_SKIP() << "no OpenCL device on this machine";
+  ASSERT_EQ(run_uniform_2d("").exit_code, 0);
+  std::ifstream in(out() + "/report.json");
+  const std::string device = nlohmann::json::parse(in)["device"].get<std::string>();
+  EXPECT_EQ(device.rfind("OpenCL", 0), 0u) << device;
 }
 
 TEST_F(CliOutputs, ProbesGiveExactDistancesForUniformMetric) {
