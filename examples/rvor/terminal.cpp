@@ -62,7 +62,8 @@ std::string device_option_help() {
          "auto";
 }
 
-void print_voronoi_summary(std::ostream& out, const std::string& out_dir, std::size_t active_voxels,
+void print_voronoi_summary(std::ostream& out, const std::string& out_dir,
+                           const std::vector<std::string>& outputs, std::size_t active_voxels,
                            std::size_t seeds, const FieldSummary& summary,
                            double propagation_seconds, double total_seconds) {
   out << "rvor voronoi: " << active_voxels << " voxels, " << seeds << " seeds, "
@@ -78,7 +79,7 @@ void print_voronoi_summary(std::ostream& out, const std::string& out_dir, std::s
       << (propagation_seconds > 0 ? active_voxels / propagation_seconds / 1e6 : 0.0)
       << " M voxels/s), total " << std::setprecision(2) << total_seconds << " s\n"
       << std::defaultfloat;
-  out << "  outputs in " << out_dir << "/: voronoi.vdb, report.json, seeds.xyz\n";
+  out << "  outputs in " << out_dir << "/: " << join(outputs) << "\n";
 }
 
 }  // namespace rvor::cli

@@ -30,7 +30,8 @@ std::string join(const std::vector<std::string>& items, const std::string& separ
 std::string default_device();
 std::string device_option_help();
 
-void print_voronoi_summary(std::ostream& out, const std::string& out_dir, std::size_t active_voxels,
+void print_voronoi_summary(std::ostream& out, const std::string& out_dir,
+                           const std::vector<std::string>& outputs, std::size_t active_voxels,
                            std::size_t seeds, const FieldSummary& summary,
                            double propagation_seconds, double total_seconds);
 

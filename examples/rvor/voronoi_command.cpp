@@ -172,8 +172,8 @@ void run_voronoi(const VoronoiOptions& o) {
   if (!o.dual.empty()) report["dual"] = dual_report;
   write_file_atomically(path("report.json"), [&](std::ostream& s) { s << report.dump(2) << "\n"; });
   if (!o.quiet)
-    print_voronoi_summary(std::cout, out, canvas.active_voxel_count, seeds.size(), summary,
-                          propagation_seconds, total);
+    print_voronoi_summary(std::cout, out, output_names(o), canvas.active_voxel_count, seeds.size(),
+                          summary, propagation_seconds, total);
 }
 
 }  // namespace
