@@ -15,6 +15,7 @@
 #include "rvor/atomic_file.h"
 #include "rvor/canvas_builder.h"
 #include "rvor/canvas_output.h"
+#include "rvor/canvas_png.h"
 #include "rvor/dual.h"
 #include "rvor/error.h"
 #include "rvor/field_summary.h"
@@ -44,6 +45,7 @@ struct VoronoiOptions {
   bool overwrite = false;
   std::string memory_budget;
   std::string dual;  // "" or "straight"
+  bool png = false;
   bool quiet = false;
 };
 
@@ -66,6 +68,7 @@ std::vector<std::string> output_names(const VoronoiOptions& o) {
     names.push_back("dual.mesh");
     names.push_back("dual_flagged.vtu");
   }
+  if (o.png) names.push_back("voronoi.png");
   return names;
 }
 
@@ -104,6 +107,8 @@ void run_voronoi(const VoronoiOptions& o) {
 
   progress.begin("building canvas");
   const DomainSpec domain = parse_domain(o.domain);
+  if (o.png && domain.dimension() != 2)
+    throw Error("--png draws 2D results only: use a rect: domain (3D results: --vtu for ParaView)");
   const std::unique_ptr<MetricField> metric = load_metric(o, domain.dimension());
   CanvasOptions canvas_options;
   canvas_options.resolution = o.resolution;
@@ -131,18 +136,19 @@ void run_voronoi(const VoronoiOptions& o) {
 
   nlohmann::json dual_report;
   double dual_seconds = 0;
+  std::optional<StraightDual> dual;
   if (!o.dual.empty()) {
     progress.begin("building the straight dual");
-    const StraightDual dual =
-        build_straight_dual(canvas, extract_nerve(canvas, field, seeds.size()), seeds);
-    write_dual_vtu(path("dual.vtu"), dual);
-    write_dual_medit(path("dual.mesh"), dual);
-    write_dual_vtu(path("dual_flagged.vtu"), dual, /*only_flagged=*/true);
-    dual_report = nlohmann::json::parse(dual_report_json(dual));
+    dual = build_straight_dual(canvas, extract_nerve(canvas, field, seeds.size()), seeds);
+    write_dual_vtu(path("dual.vtu"), *dual);
+    write_dual_medit(path("dual.mesh"), *dual);
+    write_dual_vtu(path("dual_flagged.vtu"), *dual, /*only_flagged=*/true);
+    dual_report = nlohmann::json::parse(dual_report_json(*dual));
     dual_seconds = progress.end(
-        std::string(dual.checks.is_triangulation ? "a triangulation" : "NOT a triangulation") +
-        ", " + std::to_string(dual.top_count()) + " elements");
+        std::string(dual->checks.is_triangulation ? "a triangulation" : "NOT a triangulation") +
+        ", " + std::to_string(dual->top_count()) + " elements");
   }
+  if (o.png) write_canvas_png(path("voronoi.png"), canvas, field, seeds, dual ? &*dual : nullptr);
 
   const double total =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -229,6 +235,10 @@ void add_voronoi_command(CLI::App& app) {
          "dual.vtu, dual.mesh (Medit), dual_flagged.vtu (offending elements), and a 'dual' "
          "object in report.json")
       ->check(CLI::IsMember({"straight"}));
+  cmd->add_flag(
+      "--png", options->png,
+      "2D only: also write voronoi.png, the cells shaded by distance bands, the seeds, and "
+      "the straight dual when --dual is given");
   cmd->add_flag("--vtu", options->vtu, "Also write the labeled canvas as canvas.vtu (ParaView)");
   cmd->add_flag("--overwrite", options->overwrite, "Replace output files left by an earlier run");
   cmd->add_option("--memory-budget", options->memory_budget,

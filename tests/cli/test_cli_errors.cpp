@@ -135,6 +135,10 @@ TEST_F(CliErrors, ExistingOutputsAreNotReplacedWithoutOverwrite) {
   EXPECT_EQ(read_text(out() + "/report.json"), "mine");
 }
 
+TEST_F(CliErrors, PngOf3DRun) {
+  expect_error("--domain box:-1,-1,-1,1,1,1 --resolution 16 --random-seeds 3 --png", "--png");
+}
+
 TEST_F(CliErrors, UnknownDevice) {
   expect_error("--domain rect:-1,-1,1,1 --resolution 16 --device quantum --seeds " + seeds2d(),
                "quantum");

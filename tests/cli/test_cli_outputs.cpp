@@ -108,6 +108,21 @@ TEST_F(CliOutputs, VtuOpensInVtk) {
   EXPECT_EQ(result.out, "4096 4225 0.0\n");  // 64x64 pixels share 65x65 corners
 }
 
+TEST_F(CliOutputs, PngPictureOf2DRunWithDual) {
+  ASSERT_EQ(run_uniform_2d("--png --dual straight").exit_code, 0);
+  const std::string png = read_text(out() + "/voronoi.png");
+  ASSERT_GT(png.size(), 1000u);
+  EXPECT_EQ(png.substr(1, 3), "PNG");
+  // IHDR: width and height, big-endian, at bytes 16..23; 64 voxels at 16 pixels each.
+  auto be32 = [&png](std::size_t at) {
+    return (static_cast<unsigned char>(png[at]) << 24) |
+           (static_cast<unsigned char>(png[at + 1]) << 16) |
+           (static_cast<unsigned char>(png[at + 2]) << 8) | static_cast<unsigned char>(png[at + 3]);
+  };
+  EXPECT_EQ(be32(16), 1024);
+  EXPECT_EQ(be32(20), 1024);
+}
+
 TEST_F(CliOutputs, OverwriteReplacesAnEarlierRun) {
   ASSERT_EQ(run_uniform_2d("").exit_code, 0);
   EXPECT_NE(run_uniform_2d("").exit_code, 0);
