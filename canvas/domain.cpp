@@ -50,13 +50,6 @@ std::string lowercase_extension(const std::string& path) {
   return extension;
 }
 
-std::string format_number(double value) {
-  std::ostringstream out;
-  out.precision(10);
-  out << value;
-  return out.str();
-}
-
 }  // namespace
 
 bool DomainSpec::implicit_is_2d() const {
@@ -68,12 +61,12 @@ std::string DomainSpec::description() const {
   const Vec3& hi = bounds.hi;
   switch (kind) {
     case Kind::Box:
-      return "box:" + format_number(lo.x()) + "," + format_number(lo.y()) + "," +
-             format_number(lo.z()) + "," + format_number(hi.x()) + "," + format_number(hi.y()) +
-             "," + format_number(hi.z());
+      return "box:" + format_spec_number(lo.x()) + "," + format_spec_number(lo.y()) + "," +
+             format_spec_number(lo.z()) + "," + format_spec_number(hi.x()) + "," +
+             format_spec_number(hi.y()) + "," + format_spec_number(hi.z());
     case Kind::Rectangle:
-      return "rect:" + format_number(lo.x()) + "," + format_number(lo.y()) + "," +
-             format_number(hi.x()) + "," + format_number(hi.y());
+      return "rect:" + format_spec_number(lo.x()) + "," + format_spec_number(lo.y()) + "," +
+             format_spec_number(hi.x()) + "," + format_spec_number(hi.y());
     case Kind::Mesh:
       return "mesh:" + path;
     case Kind::Implicit:

@@ -66,14 +66,14 @@ double take_radius(const std::string& spec, Parameters& parameters, const std::s
   return value;
 }
 
-std::string format_number(double value) {
+}  // namespace
+
+std::string format_spec_number(double value) {
   std::ostringstream out;
   out.precision(10);
   out << value;
   return out.str();
 }
-
-}  // namespace
 
 ImplicitShape ImplicitShape::parse(const std::string& spec) {
   const auto colon = spec.find(':');
@@ -146,20 +146,20 @@ Box ImplicitShape::bounds() const {
 
 std::string ImplicitShape::description() const {
   const Vec3& c = center_;
-  const std::string center3 =
-      "center=" + format_number(c.x()) + "," + format_number(c.y()) + "," + format_number(c.z());
+  const std::string center3 = "center=" + format_spec_number(c.x()) + "," +
+                              format_spec_number(c.y()) + "," + format_spec_number(c.z());
   switch (kind_) {
     case Kind::Sphere:
-      return "sphere:" + center3 + ",r=" + format_number(radii_.x());
+      return "sphere:" + center3 + ",r=" + format_spec_number(radii_.x());
     case Kind::Disk:
-      return "disk:center=" + format_number(c.x()) + "," + format_number(c.y()) +
-             ",r=" + format_number(radii_.x());
+      return "disk:center=" + format_spec_number(c.x()) + "," + format_spec_number(c.y()) +
+             ",r=" + format_spec_number(radii_.x());
     case Kind::Torus:
-      return "torus:" + center3 + ",R=" + format_number(radii_.x()) +
-             ",r=" + format_number(radii_.y());
+      return "torus:" + center3 + ",R=" + format_spec_number(radii_.x()) +
+             ",r=" + format_spec_number(radii_.y());
     case Kind::Ellipsoid:
-      return "ellipsoid:" + center3 + ",a=" + format_number(radii_.x()) +
-             ",b=" + format_number(radii_.y()) + ",c=" + format_number(radii_.z());
+      return "ellipsoid:" + center3 + ",a=" + format_spec_number(radii_.x()) +
+             ",b=" + format_spec_number(radii_.y()) + ",c=" + format_spec_number(radii_.z());
   }
   return {};
 }

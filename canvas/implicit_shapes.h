@@ -32,4 +32,7 @@ class ImplicitShape {
   Vec3 radii_ = Vec3::Ones();  // sphere/disk: x; ellipsoid: a,b,c; torus: x = R, y = r
 };
 
+// A number as written back into a domain spec (10 significant digits).
+std::string format_spec_number(double value);
+
 }  // namespace rvor
