@@ -15,7 +15,9 @@
 #define FLAG_CHANGED 1u     /* a value changed: bricks within reach must be relaxed */
 #define FLAG_UNCONVERGED 2u /* the brick itself is not locally converged yet */
 
-inline int local_index(int3 v) { return (v.x & 7) + EDGE * ((v.y & 7) + EDGE * (DIM == 3 ? (v.z & 7) : 0)); }
+inline int local_index(int3 v) {
+  return (v.x & 7) + EDGE * ((v.y & 7) + EDGE * (DIM == 3 ? (v.z & 7) : 0));
+}
 
 inline int3 local_coordinates(int l) {
   return (int3)(l % EDGE, (l / EDGE) % EDGE, l / (EDGE * EDGE));
@@ -26,9 +28,12 @@ inline int brick_at(int3 b, int4 grid, __global const int* table) {
   return table[b.x + grid.x * (b.y + grid.y * b.z)];
 }
 
-inline int3 brick_of_voxel(int3 v) { return (int3)(v.x >> 3, v.y >> 3, DIM == 3 ? v.z >> 3 : 0); }
+inline int3 brick_of_voxel(int3 v) {
+  return (int3)(v.x >> 3, v.y >> 3, DIM == 3 ? v.z >> 3 : 0);
+}
 
-// Slot of voxel v, or -1 outside the index box or in an empty brick (inactive slots hold INF_STATE).
+// Slot of voxel v, or -1 outside the index box or in an empty brick (inactive slots hold
+// INF_STATE).
 inline long slot_at(int3 v, int4 dims, int4 grid, __global const int* table) {
   if (v.x < 0 || v.y < 0 || v.z < 0 || v.x >= dims.x || v.y >= dims.y || v.z >= dims.z) return -1;
   const int brick = brick_at(brick_of_voxel(v), grid, table);
@@ -59,8 +64,9 @@ inline long seed_block_slot(int item, int first_seed, __global const float* seed
   const int cell = item % INIT_BLOCK;
   __global const float* seed = seeds + (size_t)label * SEED_RECORD;
   const int3 centre = convert_int3((float3)(seed[4], seed[5], seed[6]));
-  const int3 d = (int3)(cell % INIT_SIDE, (cell / INIT_SIDE) % INIT_SIDE, cell / (INIT_SIDE * INIT_SIDE)) -
-                 (int3)(INIT_RADIUS, INIT_RADIUS, DIM == 3 ? INIT_RADIUS : 0);
+  const int3 d =
+      (int3)(cell % INIT_SIDE, (cell / INIT_SIDE) % INIT_SIDE, cell / (INIT_SIDE * INIT_SIDE)) -
+      (int3)(INIT_RADIUS, INIT_RADIUS, DIM == 3 ? INIT_RADIUS : 0);
   *voxel = centre + d;
   const long slot = slot_at(*voxel, dims, grid, table);
   return slot < 0 || weights[slot * STENCIL_TERMS] <= 0.0f ? -1 : slot;
@@ -79,8 +85,10 @@ __kernel void freeze_seed_blocks(int first_seed, int seed_count, int existing,
   const long slot = seed_block_slot(item, first_seed, seeds, weights, table, dims, grid, &v);
   if (slot < 0) return;
   const ulong s = state[slot];
-  if (existing) state[slot] = s | FROZEN_BIT;
-  else if (!state_frozen(s)) state[slot] = INF_STATE | FROZEN_BIT;
+  if (existing)
+    state[slot] = s | FROZEN_BIT;
+  else if (!state_frozen(s))
+    state[slot] = INF_STATE | FROZEN_BIT;
 }
 
 // Exact values u0_s(x) = |F_s (x - s)| on the new seeds' blocks: the smallest (value, label).
@@ -105,67 +113,109 @@ __kernel void initialise_seeds(int first_seed, int seed_count, __global const fl
 // ---------------------------------------------------------------------------------------------
 // Neighbour gathering: values inside the brick being relaxed come from its working copy.
 
-#define GATHER_NEIGHBOURS(nb, v, offset, terms, READ_OWN)                  \
-  for (int i_ = 0; i_ < terms; ++i_) {                                     \
-    for (int s_ = 0; s_ < 2; ++s_) {                                       \
-      const int3 y_ = s_ == 0 ? v + offset[i_] : v - offset[i_];           \
-      ulong value_ = INF_STATE;                                            \
-      if (inside_brick(y_, origin)) {                                      \
-        value_ = READ_OWN(local_index(y_));                                \
-      } else {                                                             \
-        const long slot_ = slot_at(y_, dims, grid, table);                 \
-        if (slot_ >= 0) value_ = state[slot_];                             \
-      }                                                                    \
-      nb[2 * i_ + s_] = value_;                                            \
-    }                                                                      \
+#define GATHER_NEIGHBOURS(nb, v, offset, terms, READ_OWN)        \
+  for (int i_ = 0; i_ < terms; ++i_) {                           \
+    for (int s_ = 0; s_ < 2; ++s_) {                             \
+      const int3 y_ = s_ == 0 ? v + offset[i_] : v - offset[i_]; \
+      ulong value_ = INF_STATE;                                  \
+      if (inside_brick(y_, origin)) {                            \
+        value_ = READ_OWN(local_index(y_));                      \
+      } else {                                                   \
+        const long slot_ = slot_at(y_, dims, grid, table);       \
+        if (slot_ >= 0) value_ = state[slot_];                   \
+      }                                                          \
+      nb[2 * i_ + s_] = value_;                                  \
+    }                                                            \
   }
 
 // ---------------------------------------------------------------------------------------------
 // CPU-friendly variant: one work-item sweeps its brick Gauss-Seidel, alternating the sweep
 // direction, until a sweep changes nothing significant (or max_sweeps).
+//
+// Work avoidance: T(x) depends only on the states of x's stencil neighbours, so a voxel whose
+// neighbours kept their exact state words since its last evaluation would get the same result
+// again and is skipped (results are bit-identical to recomputing). Per slot, `evaluated` holds the
+// stamp of the last evaluation and `changed` the stamp of the last change of the state word
+// (0: never / unknown, so the host fills both with 0 before a solve). A stamp is
+// round_base + tick, tick in [1, stride) counting evaluations of this brick within the round.
+// A neighbour inside the brick was seen iff it changed before x's evaluation; one outside was
+// read from the round's snapshot, so x saw it iff it changed in an earlier round than x's last
+// evaluation. Any bit change is committed (FLAG_WRITTEN), so stamps always describe `state`.
 
-#define READ_WORK(l) work[l]
+#define FLAG_WRITTEN 4u /* the brick's working copy differs from the state: commit it */
 
 __kernel void relax_brick_sweep(__global const int* list, int count, __global const ulong* state,
                                 __global ulong* scratch, __global const float* weights,
                                 __global const char* offsets, __global const int* table,
                                 __global const int4* brick_origins, int4 dims, int4 grid,
                                 __global const float* seeds, __global uchar* flags,
-                                __global ulong* update_counter, int max_sweeps) {
+                                __global ulong* update_counter, int max_sweeps,
+                                __global uint* evaluated, __global uint* changed, uint round_base,
+                                uint stride) {
   const int position = get_global_id(0);
   if (position >= count) return;
   const int brick = list[position];
   __global ulong* work = scratch + (size_t)position * BRICK_VOLUME;
-  for (int l = 0; l < BRICK_VOLUME; ++l) work[l] = state[(size_t)brick * BRICK_VOLUME + l];
+  const size_t brick_slot = (size_t)brick * BRICK_VOLUME;
+  for (int l = 0; l < BRICK_VOLUME; ++l) work[l] = state[brick_slot + l];
   const int3 origin = brick_origins[brick].xyz;
   uint brick_flags = FLAG_UNCONVERGED;
   ulong updates = 0;
+  uint tick = 0;
   for (int sweep = 0; sweep < max_sweeps; ++sweep) {
     const int direction = sweep % (DIM == 3 ? 8 : 4);
     bool sweep_changed = false;
     for (int n = 0; n < BRICK_VOLUME; ++n) {
+      ++tick;
       int3 c = local_coordinates(n);
       if (direction & 1) c.x = EDGE - 1 - c.x;
       if (direction & 2) c.y = EDGE - 1 - c.y;
       if (direction & 4) c.z = EDGE_Z - 1 - c.z;
       const int l = c.x + EDGE * (c.y + EDGE * c.z);
-      const size_t slot = (size_t)brick * BRICK_VOLUME + l;
+      const size_t slot = brick_slot + l;
+      const ulong current = work[l];
+      if (state_frozen(current)) continue;
       float weight[STENCIL_TERMS];
       int3 offset[STENCIL_TERMS];
       const int terms = load_stencil(weights, offsets, slot, weight, offset);
-      const ulong current = work[l];
-      if (terms == 0 || state_frozen(current)) continue;
+      if (terms == 0) continue;
       const int3 v = origin + c;
+      const uint last = evaluated[slot];
+      const uint last_round = last - last % stride;
+      bool dirty = last == 0;
       ulong nb[2 * STENCIL_TERMS];
-      GATHER_NEIGHBOURS(nb, v, offset, terms, READ_WORK)
+      for (int i = 0; i < terms; ++i) {
+        for (int s = 0; s < 2; ++s) {
+          const int3 y = s == 0 ? v + offset[i] : v - offset[i];
+          ulong value = INF_STATE;
+          if (inside_brick(y, origin)) {
+            const int m = local_index(y);
+            value = work[m];
+            dirty = dirty || changed[brick_slot + m] > last;
+          } else {
+            const long other = slot_at(y, dims, grid, table);
+            if (other >= 0) {
+              value = state[other];
+              dirty = dirty || changed[other] >= last_round;
+            }
+          }
+          nb[2 * i + s] = value;
+        }
+      }
+      if (!dirty) continue;
+      const uint stamp = round_base + tick;
+      evaluated[slot] = stamp;
       const ulong best = best_candidate(nb, weight, offset, terms, convert_float3(v), seeds);
       ++updates;
       if (best != current) {  // T(x) replaces the state, larger or not
         work[l] = best;
+        changed[slot] = stamp;
+        brick_flags |= FLAG_WRITTEN;
         sweep_changed = sweep_changed || significant_change(current, best);
       }
     }
-    if (sweep_changed) brick_flags |= FLAG_CHANGED;
+    if (sweep_changed)
+      brick_flags |= FLAG_CHANGED;
     else {
       brick_flags &= ~FLAG_UNCONVERGED;
       break;
@@ -228,7 +278,8 @@ __kernel __attribute__((reqd_work_group_size(BRICK_VOLUME, 1, 1))) void relax_vo
   }
   scratch[(size_t)position * BRICK_VOLUME + l] = tile[l];
   if (l == 0) {
-    flags[brick] = (uchar)((changed_ever ? FLAG_CHANGED : 0u) | (changed_last ? FLAG_UNCONVERGED : 0u));
+    flags[brick] =
+        (uchar)((changed_ever ? FLAG_CHANGED : 0u) | (changed_last ? FLAG_UNCONVERGED : 0u));
     atom_add(update_counter, (ulong)active_voxels * (ulong)iterations);
   }
 }

@@ -139,6 +139,8 @@ DeviceCanvas upload_canvas(const cl::Context& context, const cl::CommandQueue& q
   d.origins = make_buffer(context, origins, d.bytes);
   d.state = make_scratch(context, d.slots * sizeof(cl_ulong), d.bytes);
   d.scratch = make_scratch(context, d.slots * sizeof(cl_ulong), d.bytes);
+  d.evaluated = make_scratch(context, d.slots * sizeof(cl_uint), d.bytes);
+  d.changed = make_scratch(context, d.slots * sizeof(cl_uint), d.bytes);
   d.flags = make_scratch(context, d.bricks, d.bytes);
   d.next = make_scratch(context, d.bricks, d.bytes);
   d.list = make_scratch(context, d.bricks * sizeof(cl_int), d.bytes);

@@ -28,6 +28,8 @@ struct DeviceCanvas {
   cl_int4 dims{}, grid{}, brick_reach{};  // brick_reach: bricks within stencil reach per axis
   cl::Buffer state, scratch, weights, offsets, table, origins;
   cl::Buffer flags, next, list, list_count, update_counter, seeds;
+  // brick_sweep work avoidance: per slot, stamps of the last evaluation and the last change.
+  cl::Buffer evaluated, changed;
   std::size_t seed_capacity = 0;
   std::uint64_t bytes = 0;  // device memory allocated for this canvas
 };

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <memory>
 
 #include "device_canvas.h"
@@ -170,6 +171,7 @@ class OpenCLPropagator final : public Propagator {
   PropagationStats finish(const Canvas& canvas, std::size_t first_seed, std::size_t seed_count,
                           VoronoiField& field, std::chrono::steady_clock::time_point start) {
     queue_.enqueueFillBuffer(canvas_->update_counter, cl_ulong{0}, 0, sizeof(cl_ulong));
+    reset_stamps();
     if (first_seed > 0) prepare_seed_blocks(0, first_seed, true);
     prepare_seed_blocks(first_seed, seed_count, false);
     initialise_seeds(first_seed, seed_count);
@@ -216,6 +218,17 @@ class OpenCLPropagator final : public Propagator {
                                 cl::NDRange(kBookkeepingGroup));
   }
 
+  // Forgets every evaluation (brick_sweep work avoidance): the next one recomputes all voxels.
+  void reset_stamps() {
+    stamp_stride_ = static_cast<cl_uint>(std::max(1, options_.max_sweeps)) *
+                        static_cast<cl_uint>(brick_volume_) +
+                    1;
+    round_base_ = 0;
+    if (variant_ != RelaxationVariant::brick_sweep) return;
+    queue_.enqueueFillBuffer(canvas_->evaluated, cl_uint{0}, 0, canvas_->slots * sizeof(cl_uint));
+    queue_.enqueueFillBuffer(canvas_->changed, cl_uint{0}, 0, canvas_->slots * sizeof(cl_uint));
+  }
+
   // Flags -> next list; returns its length.
   int next_active_list() {
     const DeviceCanvasRef d = *canvas_;
@@ -237,6 +250,15 @@ class OpenCLPropagator final : public Propagator {
     set_args(relax_, d.list, static_cast<cl_int>(count), d.state, d.scratch, d.weights, d.offsets,
              d.table, d.origins, d.dims, d.grid, d.seeds, d.flags, d.update_counter,
              static_cast<cl_int>(sweep ? options_.max_sweeps : options_.jacobi_iterations));
+    if (sweep) {
+      // Stamps must stay below 2^32; past that, forget the evaluations and start again.
+      if (round_base_ > std::numeric_limits<cl_uint>::max() - 2 * stamp_stride_) reset_stamps();
+      round_base_ += stamp_stride_;
+      relax_.setArg(14, d.evaluated);
+      relax_.setArg(15, d.changed);
+      relax_.setArg(16, round_base_);
+      relax_.setArg(17, stamp_stride_);
+    }
     const std::size_t voxels = static_cast<std::size_t>(count) * brick_volume_;
     if (sweep)
       queue_.enqueueNDRangeKernel(relax_, cl::NullRange, cl::NDRange(count), cl::NDRange(1));
@@ -279,6 +301,7 @@ class OpenCLPropagator final : public Propagator {
   const Canvas* canvas_identity_ = nullptr;
   std::uint64_t fingerprint_ = 0;
   std::size_t brick_volume_ = 512;
+  cl_uint stamp_stride_ = 1, round_base_ = 0;  // brick_sweep evaluation stamps
   cl::Kernel freeze_, init_, relax_, commit_, activate_, compact_;
 };
 
