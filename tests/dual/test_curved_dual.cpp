@@ -44,6 +44,7 @@ struct CurvedCase {
   int resolution;
   std::size_t seed_count;
   std::uint64_t rng_seed;
+  bool reference_solver = false;  // else the exact field of the uniform metric
 };
 
 struct CurvedMeasures {
@@ -61,7 +62,8 @@ CurvedMeasures run_case(const CurvedCase& c, const std::string& vtu_path = "") {
   const std::vector<Vec3> seeds = test::poisson_disk_seeds(
       c.dimension, lo, hi, 3 * h, F, test::poisson_radius(c.dimension, lo, hi, F, c.seed_count),
       c.seed_count, c.rng_seed);
-  const VoronoiField field = test::exact_uniform_field(canvas, seeds, F);
+  const VoronoiField field = c.reference_solver ? test::solve_reference(canvas, seeds)
+                                                : test::exact_uniform_field(canvas, seeds, F);
   const Nerve nerve = extract_nerve(canvas, field, seeds.size());
   const CurvedDual dual = build_curved_dual(canvas, field, nerve, seeds);
   EXPECT_EQ(dual.edges.size(), nerve.edges.size());
@@ -96,11 +98,13 @@ CurvedMeasures run_case(const CurvedCase& c, const std::string& vtu_path = "") {
     EXPECT_LE(error, 0.02) << "edge " << e.seeds[0] << "-" << e.seeds[1];
   }
   std::printf(
-      "[curved %dD %d^%d, %zu seeds] %zu edges (%zu Gabriel), %zu unreached, %.3f s; Gabriel "
+      "[curved %dD %d^%d, %zu seeds, %s field] %zu edges (%zu Gabriel), %zu unreached, %.3f s; "
+      "Gabriel "
       "edges: "
       "max deviation %.3f voxels, max relative length error %.4f; all edges: %.3f voxels, %.4f\n",
-      c.dimension, c.resolution, c.dimension, seeds.size(), m.edges, m.gabriel, m.unreached,
-      dual.seconds, m.max_deviation_voxels, m.max_relative_length_error, m.max_deviation_all,
+      c.dimension, c.resolution, c.dimension, seeds.size(),
+      c.reference_solver ? "reference" : "exact", m.edges, m.gabriel, m.unreached, dual.seconds,
+      m.max_deviation_voxels, m.max_relative_length_error, m.max_deviation_all,
       m.max_relative_length_error_all);
   if (!vtu_path.empty()) write_curved_dual_vtu(vtu_path, dual);
   return m;
@@ -120,6 +124,14 @@ TEST(CurvedDual, Uniform3DEdgesFollowStraightSegmentsWithExactLengths) {
     const CurvedMeasures m = run_case({3, 48, 20, rng_seed});
     EXPECT_GT(m.edges, 40u);
     EXPECT_GE(m.gabriel * 4, m.edges);  // fewer Delaunay edges are Gabriel in 3D
+    EXPECT_EQ(m.unreached, 0u);
+  }
+}
+
+TEST(CurvedDual, ReferenceSolverFieldsGiveTheSameGeodesics) {
+  for (int dimension : {2, 3}) {
+    const CurvedMeasures m = run_case({dimension, dimension == 2 ? 128 : 40, 20, 41, true});
+    EXPECT_GT(m.gabriel, 10u);
     EXPECT_EQ(m.unreached, 0u);
   }
 }
