@@ -7,7 +7,9 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <sstream>
 
 #include "dual/dual_fixtures.h"
@@ -134,6 +136,81 @@ TEST(CurvedDual, ReferenceSolverFieldsGiveTheSameGeodesics) {
     EXPECT_GT(m.gabriel, 10u);
     EXPECT_EQ(m.unreached, 0u);
   }
+}
+
+// phi(x) = x + a (sin(w y), sin(w x)) / w, a < 1: a 2D diffeomorphism; G = J^T J pulls the
+// Euclidean metric back, so d(p, q) = |phi(p) - phi(q)| and the geodesic from p to q is the
+// pull-back of the segment [phi(p), phi(q)] (where that segment stays in phi(domain)).
+struct PullBack2D {
+  double a = 0.4, w = 3.0;
+  Vec3 phi(const Vec3& x) const {
+    return {x.x() + a * std::sin(w * x.y()) / w, x.y() + a * std::sin(w * x.x()) / w, 0};
+  }
+  Mat3 metric(const Vec3& x) const {
+    Mat3 J = Mat3::Identity();
+    J(0, 1) = a * std::cos(w * x.y());
+    J(1, 0) = a * std::cos(w * x.x());
+    Mat3 G = J.transpose() * J;
+    G.row(2).setZero();
+    G.col(2).setZero();
+    G(2, 2) = 1;
+    return G;
+  }
+};
+
+TEST(CurvedDual, PulledBackMetricEdgesFollowExactGeodesics) {
+  const PullBack2D pull;
+  const Vec3 lo(-1, -1, 0), hi(1, 1, 0);
+  const Canvas canvas =
+      test::make_box_canvas(2, lo, hi, 160, [&](const Vec3& x) { return pull.metric(x); });
+  const double h = canvas.voxel_size;
+  const Vec3 seed_lo(-0.7, -0.7, 0), seed_hi(0.7, 0.7, 0);
+  const std::vector<Vec3> seeds = test::poisson_disk_seeds(
+      2, seed_lo, seed_hi, 0, Mat3::Identity(),
+      test::poisson_radius(2, seed_lo, seed_hi, Mat3::Identity(), 20), 20, 51);
+  VoronoiField field;
+  field.distance.assign(canvas.slot_count(), std::numeric_limits<float>::infinity());
+  field.label.assign(canvas.slot_count(), -1);
+  std::vector<Vec3> images;
+  for (const Vec3& s : seeds) images.push_back(pull.phi(s));
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
+    if (!canvas.active[slot]) continue;
+    const Vec3 p = pull.phi(canvas.world_of(slot));
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t s = 0; s < images.size(); ++s)
+      if ((p - images[s]).norm() < best) {
+        best = (p - images[s]).norm();
+        field.label[slot] = static_cast<int32_t>(s);
+      }
+    field.distance[slot] = static_cast<float>(best);
+  }
+  const Nerve nerve = extract_nerve(canvas, field, seeds.size());
+  const CurvedDual dual = build_curved_dual(canvas, field, nerve, seeds);
+  EXPECT_EQ(dual.unreached_edges, 0u);
+  std::size_t checked = 0;
+  double max_deviation = 0, max_error = 0;
+  for (const CurvedEdge& e : dual.edges) {
+    const Vec3 &pa = images[e.seeds[0]], &pb = images[e.seeds[1]];
+    // Gabriel in phi-space with a 2-voxel margin (|J| <= 1 + a).
+    if (!is_gabriel(images, Mat3::Identity(), e.seeds[0], e.seeds[1], 2 * h * (1 + pull.a)))
+      continue;
+    ++checked;
+    double deviation = 0;  // in phi-space, voxels
+    for (const Vec3& p : e.points)
+      deviation = std::max(deviation, distance_to_segment(pull.phi(p), pa, pb) / h);
+    const double exact = (pa - pb).norm();
+    const double error = std::abs(e.length - exact) / exact;
+    max_deviation = std::max(max_deviation, deviation);
+    max_error = std::max(max_error, error);
+    EXPECT_LE(deviation, 2.0) << "edge " << e.seeds[0] << "-" << e.seeds[1];
+    EXPECT_LE(error, 0.02) << "edge " << e.seeds[0] << "-" << e.seeds[1];
+  }
+  std::printf(
+      "[curved 2D pull-back 160^2, %zu seeds] %zu edges (%zu Gabriel in phi-space), %zu "
+      "unreached: max deviation from phi^-1(segment) %.3f voxels (phi-space), max relative "
+      "length error %.4f\n",
+      seeds.size(), dual.edges.size(), checked, dual.unreached_edges, max_deviation, max_error);
+  EXPECT_GT(checked, 10u);
 }
 
 TEST(CurvedDual, VtuReadsBackInVtkWithOnePolylinePerEdge) {
