@@ -2,16 +2,23 @@
 // The curved Riemannian Delaunay dual: each edge of the nerve as a geodesic polyline from seed a
 // through the bisector point of smallest distance (the edge's nearest witness, nerve.h) to seed b.
 //
+// The bisector point: the nearest witness is only a coarse estimate (the distance is flat along
+// the bisector near its minimum), so it is first moved, within grid cells carrying both labels,
+// to where the descent directions towards a and b are opposite and u_a = u_b: the fixed point of
+// x -> midpoint of the two seeds as extrapolated from x (v - G^{-1} grad(u^2) / 2 per voxel v).
+//
 // Tracing (per side, label L in {a, b}): from the bisector point, step ~0.5 voxel against the
-// metric gradient direction D grad u (D = G^{-1}), with grad u taken by finite differences of the
-// distance on voxels of label L only (central where both neighbours carry L, one-sided otherwise)
-// and interpolated (bi/trilinearly, weights renormalised over the cell corners of label L). The
-// trace stops within 1 voxel of the seed, which is then appended; a trace that runs out of steps
-// or off voxels of label L is reported as not reached (the polyline ends where it stopped).
-// In a uniform metric the geodesics are straight, so a curved edge follows the straight segment
-// wherever the segment's midpoint lies on the common Voronoi face of its seeds (a "Gabriel" edge);
-// otherwise the bisector point of smallest distance lies on the face's boundary, off the segment,
-// and the curved edge is broken there.
+// metric gradient direction D grad u (D = G^{-1}), with the gradient taken by finite differences
+// of the squared distance u^2 (same descent direction as u, smooth at the seed, exact differences
+// in a uniform metric) on voxels of label L only (central where both neighbours carry L, one-sided
+// of second order otherwise) and interpolated (bi/trilinearly, weights renormalised over the cell
+// corners of label L). The trace stops within 1 voxel of the seed, which is then appended; a trace
+// that runs out of steps or off voxels of label L (for more than a few steps, crossed in its last
+// direction) is reported as not reached (the polyline ends where it stopped). In a uniform metric
+// the geodesics are straight, so a curved edge follows the straight segment wherever the segment's
+// midpoint lies on the common Voronoi face of its seeds (a "Gabriel" edge); otherwise the bisector
+// point of smallest distance lies on the face's boundary, off the segment, and the curved edge is
+// broken there.
 #include <array>
 #include <cstddef>
 #include <cstdint>

@@ -17,11 +17,11 @@ namespace rvor {
 
 namespace {
 
-constexpr double kStep = 0.5;        // voxels per tracing step
-constexpr double kArrival = 1.0;     // voxels: a trace this close to its seed has reached it
-constexpr double kMinWeight = 1e-9;  // below: corner weights are renormalised uniformly
-constexpr int kMaxMisses = 4;        // steps through cells without a voxel of the label
-constexpr int kRefineIterations = 32;
+constexpr double kStep = 0.5;          // voxels per tracing step
+constexpr double kArrival = 1.0;       // voxels: a trace this close to its seed has reached it
+constexpr double kMinWeight = 1e-9;    // below: corner weights are renormalised uniformly
+constexpr int kMaxMisses = 4;          // steps through cells without a voxel of the label
+constexpr int kRefineIterations = 64;  // moves of at most a voxel each
 constexpr uint8_t kVtkPolyLine = 4;
 
 class Tracer {
