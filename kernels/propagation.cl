@@ -132,10 +132,10 @@ __kernel void initialise_seeds(int first_seed, int seed_count, __global const fl
 // CPU-friendly variant: one work-item sweeps its brick Gauss-Seidel, alternating the sweep
 // direction, until a sweep changes nothing significant (or max_sweeps).
 //
-// Work avoidance: T(x) depends only on the states of x's stencil neighbours, so a voxel whose
-// neighbours kept their exact state words since its last evaluation would get the same result
-// again and is skipped (results are bit-identical to recomputing). Per slot, `evaluated` holds the
-// stamp of the last evaluation and `changed` the stamp of the last change of the state word
+// Work avoidance: T(x) depends only on the states of x's stencil neighbours, so a voxel none of
+// whose neighbours changed significantly (docs/scheme.md, "Convergence") since its last evaluation
+// is skipped, just as a brick is not re-activated by insignificant changes. Per slot, `evaluated`
+// holds the stamp of the last evaluation and `changed` the stamp of the last significant change
 // (0: never / unknown, so the host fills both with 0 before a solve). A stamp is
 // round_base + tick, tick in [1, stride) counting evaluations of this brick within the round.
 // A neighbour inside the brick was seen iff it changed before x's evaluation; one outside was
@@ -209,9 +209,11 @@ __kernel void relax_brick_sweep(__global const int* list, int count, __global co
       ++updates;
       if (best != current) {  // T(x) replaces the state, larger or not
         work[l] = best;
-        changed[slot] = stamp;
         brick_flags |= FLAG_WRITTEN;
-        sweep_changed = sweep_changed || significant_change(current, best);
+        if (significant_change(current, best)) {
+          changed[slot] = stamp;
+          sweep_changed = true;
+        }
       }
     }
     if (sweep_changed)
