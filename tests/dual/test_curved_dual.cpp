@@ -236,6 +236,12 @@ TEST(CurvedDual, VtuReadsBackInVtkWithOnePolylinePerEdge) {
   EXPECT_GT(min_length, 0.0);
 }
 
+// A timing, not a timed test: run with --gtest_also_run_disabled_tests.
+TEST(CurvedDual, DISABLED_Timing3D) {
+  const CurvedMeasures m = run_case({3, 96, 500, 61});
+  EXPECT_EQ(m.unreached, 0u);
+}
+
 TEST(CurvedDual, RejectsMismatchedSeeds) {
   const Mat3 F = Mat3::Identity();
   const Canvas canvas =

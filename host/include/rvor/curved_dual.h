@@ -10,15 +10,17 @@
 // Tracing (per side, label L in {a, b}): from the bisector point, step ~0.5 voxel against the
 // metric gradient direction D grad u (D = G^{-1}), with the gradient taken by finite differences
 // of the squared distance u^2 (same descent direction as u, smooth at the seed, exact differences
-// in a uniform metric) on voxels of label L only (central where both neighbours carry L, one-sided
-// of second order otherwise) and interpolated (bi/trilinearly, weights renormalised over the cell
-// corners of label L). The trace stops within 1 voxel of the seed, which is then appended; a trace
-// that runs out of steps or off voxels of label L (for more than a few steps, crossed in its last
-// direction) is reported as not reached (the polyline ends where it stopped). In a uniform metric
-// the geodesics are straight, so a curved edge follows the straight segment wherever the segment's
-// midpoint lies on the common Voronoi face of its seeds (a "Gabriel" edge); otherwise the bisector
-// point of smallest distance lies on the face's boundary, off the segment, and the curved edge is
-// broken there.
+// in a uniform metric) on voxels of label L only (central where both neighbours carry L, else
+// one-sided of second order, else of first order corrected by h^2 G_aa; voxels with no neighbour
+// of label L along some axis are skipped) and interpolated (bi/trilinearly, weights renormalised
+// over the cell corners of label L; where no corner qualifies, inverse-distance weighted over the
+// 4^d, then 8^d block around the cell). The trace stops within 1 voxel of the seed, which is then
+// appended; a trace that runs out of steps or off voxels of label L (for more than a few steps,
+// crossed in its last direction) is reported as not reached (the polyline ends where it stopped).
+// In a uniform metric the geodesics are straight, so a curved edge follows the straight segment
+// wherever the segment's midpoint lies on the common Voronoi face of its seeds (a "Gabriel" edge);
+// otherwise the bisector point of smallest distance lies on the face's boundary, off the segment,
+// and the curved edge is broken there.
 #include <array>
 #include <cstddef>
 #include <cstdint>

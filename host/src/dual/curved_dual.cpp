@@ -20,7 +20,7 @@ namespace {
 constexpr double kStep = 0.5;          // voxels per tracing step
 constexpr double kArrival = 1.0;       // voxels: a trace this close to its seed has reached it
 constexpr double kMinWeight = 1e-9;    // below: corner weights are renormalised uniformly
-constexpr int kMaxMisses = 4;          // steps through cells without a voxel of the label
+constexpr int kMaxMisses = 16;         // steps through cells without a voxel of the label
 constexpr int kRefineIterations = 64;  // moves of at most a voxel each
 constexpr uint8_t kVtkPolyLine = 4;
 
@@ -45,7 +45,11 @@ class Tracer {
       }
       Vec3 gradient;
       Mat3 G;
-      if (sample(x, label, gradient, G)) {
+      const bool sampled =
+          (sample(x, label, gradient, G) && !gradient.isZero()) ||
+          (sample_wide(x, label, gradient, G, 2) && !gradient.isZero()) ||  // e.g. a sliver
+          (sample_wide(x, label, gradient, G, 4) && !gradient.isZero());
+      if (sampled) {
         misses = 0;
         direction = -G.ldlt().solve(gradient);  // index units; only the direction matters
         if (dimension_ == 2) direction.z() = 0.0;
@@ -144,25 +148,33 @@ class Tracer {
   // else one-sided of second order where two voxels on one side do, else of first order. u^2
   // descends along the same direction as u, but is smooth at the seed and quadratic in a uniform
   // metric, where these differences are exact.
-  Vec3 voxel_gradient(int64_t slot, int32_t label) const {
+  // `complete` is false when some axis has no neighbour of the label (the component is then 0).
+  Vec3 voxel_gradient(int64_t slot, int32_t label, bool& complete) const {
     const VoxelIndex v = canvas_.voxel_of(static_cast<std::size_t>(slot));
     const double q0 = squared_distance(slot, label);
+    const double h2 = canvas_.voxel_size * canvas_.voxel_size;
+    const Mat3 G = canvas_.metric_at(static_cast<std::size_t>(slot));
     Vec3 g = Vec3::Zero();
+    complete = true;
     for (int a = 0; a < dimension_; ++a) {
       auto at = [&](int offset) {
         VoxelIndex w = v;
         (a == 0 ? w.i : a == 1 ? w.j : w.k) += offset;
         return squared_distance(canvas_.slot_of(w), label);
       };
+      // First-order differences are corrected by the curvature of u^2 in the metric, h^2 G_aa
+      // (exact in a uniform metric): uncorrected, their error is amplified by G's anisotropy.
       const double qm = at(-1), qp = at(1);
       if (!std::isnan(qm) && !std::isnan(qp)) {
         g[a] = 0.5 * (qp - qm);
       } else if (!std::isnan(qp)) {
         const double qpp = at(2);
-        g[a] = std::isnan(qpp) ? qp - q0 : 0.5 * (-3.0 * q0 + 4.0 * qp - qpp);
+        g[a] = std::isnan(qpp) ? qp - q0 - h2 * G(a, a) : 0.5 * (-3.0 * q0 + 4.0 * qp - qpp);
       } else if (!std::isnan(qm)) {
         const double qmm = at(-2);
-        g[a] = std::isnan(qmm) ? q0 - qm : 0.5 * (3.0 * q0 - 4.0 * qm + qmm);
+        g[a] = std::isnan(qmm) ? q0 - qm + h2 * G(a, a) : 0.5 * (3.0 * q0 - 4.0 * qm + qmm);
+      } else {
+        complete = false;
       }
     }
     return g;
@@ -183,10 +195,12 @@ class Tracer {
     int count = 0;
     for_each_corner(x, [&](int64_t slot, double w) {
       if (!carries(slot, label)) return;
+      bool complete = false;
+      const Vec3 g = voxel_gradient(slot, label, complete);
+      if (!complete) return;
       const VoxelIndex v = canvas_.voxel_of(static_cast<std::size_t>(slot));
       const Mat3 G = canvas_.metric_at(static_cast<std::size_t>(slot));
-      const Vec3 estimate =
-          Vec3(v.i, v.j, v.k) - scale * G.ldlt().solve(voxel_gradient(slot, label));
+      const Vec3 estimate = Vec3(v.i, v.j, v.k) - scale * G.ldlt().solve(g);
       weighted += w * estimate;
       uniform += estimate;
       total += w;
@@ -194,6 +208,36 @@ class Tracer {
     });
     if (count == 0) return false;
     seed = total > kMinWeight ? Vec3(weighted / total) : Vec3(uniform / count);
+    return true;
+  }
+
+  // As sample, over the voxels of `label` within the (2 reach)^d block around x's cell (inverse
+  // squared distance weights): for points whose cell has no voxel of the label, e.g. a bisector
+  // point where the label's discrete cell is a thin sliver.
+  bool sample_wide(const Vec3& x, int32_t label, Vec3& gradient, Mat3& G, int reach) const {
+    const int bi = static_cast<int>(std::floor(x.x())), bj = static_cast<int>(std::floor(x.y()));
+    const int bk = dimension_ == 3 ? static_cast<int>(std::floor(x.z())) : 0;
+    const int k_lo = dimension_ == 3 ? 1 - reach : 0, k_hi = dimension_ == 3 ? reach : 0;
+    gradient.setZero();
+    G.setZero();
+    double total = 0.0;
+    for (int dk = k_lo; dk <= k_hi; ++dk)
+      for (int dj = 1 - reach; dj <= reach; ++dj)
+        for (int di = 1 - reach; di <= reach; ++di) {
+          const int64_t slot = canvas_.slot_of(bi + di, bj + dj, bk + dk);
+          if (!carries(slot, label)) continue;
+          bool complete = false;
+          const Vec3 g = voxel_gradient(slot, label, complete);
+          if (!complete) continue;
+          const Vec3 v(bi + di, bj + dj, bk + dk);
+          const double w = 1.0 / (1e-6 + (v - x).squaredNorm());
+          gradient += w * g;
+          G += w * canvas_.metric_at(static_cast<std::size_t>(slot));
+          total += w;
+        }
+    if (total <= 0.0) return false;
+    gradient /= total;
+    G /= total;
     return true;
   }
 
@@ -208,7 +252,9 @@ class Tracer {
     Mat3 uniform_G = Mat3::Zero();
     for_each_corner(x, [&](int64_t slot, double w) {
       if (!carries(slot, label)) return;
-      const Vec3 g = voxel_gradient(slot, label);
+      bool complete = false;
+      const Vec3 g = voxel_gradient(slot, label, complete);
+      if (!complete) return;  // a voxel without neighbours of the label along some axis
       const Mat3 M = canvas_.metric_at(static_cast<std::size_t>(slot));
       gradient += w * g;
       G += w * M;
