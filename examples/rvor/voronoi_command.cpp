@@ -16,6 +16,7 @@
 #include "rvor/canvas_builder.h"
 #include "rvor/canvas_output.h"
 #include "rvor/canvas_png.h"
+#include "rvor/curved_dual.h"
 #include "rvor/dual.h"
 #include "rvor/error.h"
 #include "rvor/field_summary.h"
@@ -44,7 +45,7 @@ struct VoronoiOptions {
   bool vtu = false;
   bool overwrite = false;
   std::string memory_budget;
-  std::string dual;  // "" or "straight"
+  std::string dual;  // "", "straight", "curved" or "both"
   bool png = false;
   bool quiet = false;
 };
@@ -63,11 +64,12 @@ std::vector<std::string> output_names(const VoronoiOptions& o) {
   std::vector<std::string> names = {"voronoi.vdb", "report.json", "seeds.xyz"};
   if (o.vtu) names.push_back("canvas.vtu");
   if (!o.probe_file.empty()) names.push_back("probe.csv");
-  if (!o.dual.empty()) {
+  if (o.dual == "straight" || o.dual == "both") {
     names.push_back("dual.vtu");
     names.push_back("dual.mesh");
     names.push_back("dual_flagged.vtu");
   }
+  if (o.dual == "curved" || o.dual == "both") names.push_back("curved_dual.vtu");
   if (o.png) names.push_back("voronoi.png");
   return names;
 }
@@ -134,19 +136,33 @@ void run_voronoi(const VoronoiOptions& o) {
   const FieldSummary summary = summarize_field(canvas, field, seeds.size());
   const double output_seconds = progress.end("");
 
-  nlohmann::json dual_report;
+  nlohmann::json dual_report, curved_report;
   double dual_seconds = 0;
   std::optional<StraightDual> dual;
   if (!o.dual.empty()) {
-    progress.begin("building the straight dual");
-    dual = build_straight_dual(canvas, extract_nerve(canvas, field, seeds.size()), seeds);
-    write_dual_vtu(path("dual.vtu"), *dual);
-    write_dual_medit(path("dual.mesh"), *dual);
-    write_dual_vtu(path("dual_flagged.vtu"), *dual, /*only_flagged=*/true);
-    dual_report = nlohmann::json::parse(dual_report_json(*dual));
-    dual_seconds = progress.end(
-        std::string(dual->checks.is_triangulation ? "a triangulation" : "NOT a triangulation") +
-        ", " + std::to_string(dual->top_count()) + " elements");
+    progress.begin("building the " + o.dual + " dual");
+    const Nerve nerve = extract_nerve(canvas, field, seeds.size());
+    std::string detail;
+    if (o.dual != "curved") {
+      dual = build_straight_dual(canvas, nerve, seeds);
+      write_dual_vtu(path("dual.vtu"), *dual);
+      write_dual_medit(path("dual.mesh"), *dual);
+      write_dual_vtu(path("dual_flagged.vtu"), *dual, /*only_flagged=*/true);
+      dual_report = nlohmann::json::parse(dual_report_json(*dual));
+      detail =
+          std::string(dual->checks.is_triangulation ? "a triangulation" : "NOT a triangulation") +
+          ", " + std::to_string(dual->top_count()) + " elements";
+    }
+    if (o.dual != "straight") {
+      const CurvedDual curved = build_curved_dual(canvas, field, nerve, seeds);
+      write_curved_dual_vtu(path("curved_dual.vtu"), curved);
+      curved_report = {{"edges", curved.edges.size()},
+                       {"unreached_edges", curved.unreached_edges},
+                       {"seconds", curved.seconds}};
+      detail += (detail.empty() ? "" : "; ") + std::to_string(curved.edges.size()) +
+                " geodesic edges, " + std::to_string(curved.unreached_edges) + " unreached";
+    }
+    dual_seconds = progress.end(detail);
   }
   if (o.png) write_canvas_png(path("voronoi.png"), canvas, field, seeds, dual ? &*dual : nullptr);
 
@@ -175,7 +191,8 @@ void run_voronoi(const VoronoiOptions& o) {
         {"total", total}}},
       {"field", summary_json(summary)},
       {"outputs", output_names(o)}};
-  if (!o.dual.empty()) report["dual"] = dual_report;
+  if (!dual_report.is_null()) report["dual"] = dual_report;
+  if (!curved_report.is_null()) report["curved_dual"] = curved_report;
   write_file_atomically(path("report.json"), [&](std::ostream& s) { s << report.dump(2) << "\n"; });
   if (!o.quiet)
     print_voronoi_summary(std::cout, out, output_names(o), canvas.active_voxel_count, seeds.size(),
@@ -231,10 +248,11 @@ void add_voronoi_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option(
          "--dual", options->dual,
-         "Also build the straight Riemannian Delaunay dual, checked with exact predicates: "
-         "dual.vtu, dual.mesh (Medit), dual_flagged.vtu (offending elements), and a 'dual' "
-         "object in report.json")
-      ->check(CLI::IsMember({"straight"}));
+         "Also build the Riemannian Delaunay dual. straight: seeds joined by straight simplices, "
+         "checked with exact predicates: dual.vtu, dual.mesh (Medit), dual_flagged.vtu "
+         "(offending elements), a 'dual' object in report.json; curved: edges traced as "
+         "geodesics: curved_dual.vtu (polylines); both")
+      ->check(CLI::IsMember({"straight", "curved", "both"}));
   cmd->add_flag(
       "--png", options->png,
       "2D only: also write voronoi.png, the cells shaded by distance bands, the seeds, and "

@@ -1,6 +1,7 @@
 // End-to-end runs of `rvor voronoi`: the files it writes open in real readers and hold the
 // right numbers.
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -121,6 +122,23 @@ TEST_F(CliOutputs, PngPictureOf2DRunWithDual) {
   };
   EXPECT_EQ(be32(16), 1024);
   EXPECT_EQ(be32(20), 1024);
+}
+
+TEST_F(CliOutputs, BothDualsAreWrittenAndReported) {
+  write_text(dir.file("four.xyz"), "-0.5 -0.5\n0.5 -0.5\n0.5 0.5\n-0.4 0.6\n");
+  const CommandResult result = run_command(
+      rvor_binary() + " voronoi --quiet --out " + out() +
+      " --domain rect:-1,-1,1,1 --resolution 64 --metric uniform:4,0,1 --dual both --seeds " +
+      dir.file("four.xyz"));
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  std::ifstream in(out() + "/report.json");
+  const nlohmann::json report = nlohmann::json::parse(in);
+  EXPECT_EQ(report["dual"]["vertices"].get<int>(), 4);
+  EXPECT_GE(report["dual"]["triangles"].get<int>(), 2);
+  EXPECT_GE(report["curved_dual"]["edges"].get<int>(), 5);
+  EXPECT_EQ(report["curved_dual"]["unreached_edges"].get<int>(), 0);
+  for (const char* file : {"dual.vtu", "dual.mesh", "dual_flagged.vtu", "curved_dual.vtu"})
+    EXPECT_TRUE(std::filesystem::exists(out() + "/" + file)) << file;
 }
 
 TEST_F(CliOutputs, OverwriteReplacesAnEarlierRun) {
