@@ -136,7 +136,8 @@ __kernel void initialise_seeds(int first_seed, int seed_count, __global const fl
 // whose neighbours changed significantly (docs/scheme.md, "Convergence") since its last evaluation
 // is skipped, just as a brick is not re-activated by insignificant changes. Per slot, `evaluated`
 // holds the stamp of the last evaluation and `changed` the stamp of the last significant change
-// (0: never / unknown, so the host fills both with 0 before a solve). A stamp is
+// (0: never / unknown, so the host fills both with 0 before a solve), as 16-bit numbers that the
+// host restarts before they could wrap. A stamp is
 // round_base + tick, tick in [1, stride) counting evaluations of this brick within the round.
 // A neighbour inside the brick was seen iff it changed before x's evaluation; one outside was
 // read from the round's snapshot, so x saw it iff it changed in an earlier round than x's last
@@ -150,7 +151,7 @@ __kernel void relax_brick_sweep(__global const int* list, int count, __global co
                                 __global const int4* brick_origins, int4 dims, int4 grid,
                                 __global const float* seeds, __global uchar* flags,
                                 __global ulong* update_counter, int max_sweeps,
-                                __global uint* evaluated, __global uint* changed, uint round_base,
+                                __global ushort* evaluated, __global ushort* changed, uint round_base,
                                 uint stride) {
   const int position = get_global_id(0);
   if (position >= count) return;
@@ -204,14 +205,14 @@ __kernel void relax_brick_sweep(__global const int* list, int count, __global co
       }
       if (!dirty) continue;
       const uint stamp = round_base + tick;
-      evaluated[slot] = stamp;
+      evaluated[slot] = (ushort)stamp;
       const ulong best = best_candidate(nb, weight, offset, terms, convert_float3(v), seeds);
       ++updates;
       if (best != current) {  // T(x) replaces the state, larger or not
         work[l] = best;
         brick_flags |= FLAG_WRITTEN;
         if (significant_change(current, best)) {
-          changed[slot] = stamp;
+          changed[slot] = (ushort)stamp;
           sweep_changed = true;
         }
       }

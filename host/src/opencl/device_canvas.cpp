@@ -139,8 +139,10 @@ DeviceCanvas upload_canvas(const cl::Context& context, const cl::CommandQueue& q
   d.origins = make_buffer(context, origins, d.bytes);
   d.state = make_scratch(context, d.slots * sizeof(cl_ulong), d.bytes);
   d.scratch = make_scratch(context, d.slots * sizeof(cl_ulong), d.bytes);
-  d.evaluated = make_scratch(context, d.slots * sizeof(cl_uint), d.bytes);
-  d.changed = make_scratch(context, d.slots * sizeof(cl_uint), d.bytes);
+  // 16-bit stamps keep the device canvas under 64 B per voxel; the host restarts them before they
+  // wrap (every ~31 rounds with 4 sweeps of 8^3 bricks), at the cost of one full re-evaluation.
+  d.evaluated = make_scratch(context, d.slots * sizeof(cl_ushort), d.bytes);
+  d.changed = make_scratch(context, d.slots * sizeof(cl_ushort), d.bytes);
   d.flags = make_scratch(context, d.bricks, d.bytes);
   d.next = make_scratch(context, d.bricks, d.bytes);
   d.list = make_scratch(context, d.bricks * sizeof(cl_int), d.bytes);

@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <memory>
@@ -223,10 +224,15 @@ class OpenCLPropagator final : public Propagator {
     stamp_stride_ = static_cast<cl_uint>(std::max(1, options_.max_sweeps)) *
                         static_cast<cl_uint>(brick_volume_) +
                     1;
+    if (2 * static_cast<std::uint64_t>(stamp_stride_) > kMaxStamp)
+      throw Error("OpenCL brick sweep: max_sweeps " + std::to_string(options_.max_sweeps) +
+                  " is too large for 16-bit evaluation stamps (at most " +
+                  std::to_string(kMaxStamp / 2 / brick_volume_ - 1) + ")");
     round_base_ = 0;
     if (variant_ != RelaxationVariant::brick_sweep) return;
-    queue_.enqueueFillBuffer(canvas_->evaluated, cl_uint{0}, 0, canvas_->slots * sizeof(cl_uint));
-    queue_.enqueueFillBuffer(canvas_->changed, cl_uint{0}, 0, canvas_->slots * sizeof(cl_uint));
+    queue_.enqueueFillBuffer(canvas_->evaluated, cl_ushort{0}, 0,
+                             canvas_->slots * sizeof(cl_ushort));
+    queue_.enqueueFillBuffer(canvas_->changed, cl_ushort{0}, 0, canvas_->slots * sizeof(cl_ushort));
   }
 
   // Flags -> next list; returns its length.
@@ -251,8 +257,8 @@ class OpenCLPropagator final : public Propagator {
              d.table, d.origins, d.dims, d.grid, d.seeds, d.flags, d.update_counter,
              static_cast<cl_int>(sweep ? options_.max_sweeps : options_.jacobi_iterations));
     if (sweep) {
-      // Stamps must stay below 2^32; past that, forget the evaluations and start again.
-      if (round_base_ > std::numeric_limits<cl_uint>::max() - 2 * stamp_stride_) reset_stamps();
+      // Stamps are 16-bit: before one could wrap, forget the evaluations and start again.
+      if (static_cast<std::uint64_t>(round_base_) + 2 * stamp_stride_ > kMaxStamp) reset_stamps();
       round_base_ += stamp_stride_;
       relax_.setArg(14, d.evaluated);
       relax_.setArg(15, d.changed);
@@ -301,7 +307,8 @@ class OpenCLPropagator final : public Propagator {
   const Canvas* canvas_identity_ = nullptr;
   std::uint64_t fingerprint_ = 0;
   std::size_t brick_volume_ = 512;
-  cl_uint stamp_stride_ = 1, round_base_ = 0;  // brick_sweep evaluation stamps
+  static constexpr std::uint64_t kMaxStamp = 65535;  // stamps are cl_ushort on the device
+  cl_uint stamp_stride_ = 1, round_base_ = 0;        // brick_sweep evaluation stamps
   cl::Kernel freeze_, init_, relax_, commit_, activate_, compact_;
 };
 
