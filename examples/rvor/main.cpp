@@ -8,6 +8,17 @@
 int main(int argc, char** argv) {
   CLI::App app{"rvor: Riemannian Voronoi diagrams and Delaunay duals on sparse canvases"};
   app.require_subcommand(1);
+  app.footer(
+      "Examples:\n"
+      "  rvor voronoi --domain box:-1,-1,-1,1,1,1 --metric hyperbolic_shock --resolution 96 \\\n"
+      "               --random-seeds 300 --dual straight --vtu --out out/demo\n"
+      "  rvor voronoi --domain rect:-1,-1,1,1 --metric swirl --random-seeds 100 --png --out "
+      "out/swirl\n"
+      "  rvor devices\n"
+      "  rvor bench --resolution 64 --seeds 1000\n"
+      "Run `rvor SUBCOMMAND --help` for every option of a sub-command. Errors: one line on "
+      "stderr,\n"
+      "exit code 1.");
   rvor::cli::add_voronoi_command(app);
   rvor::cli::add_devices_command(app);
   rvor::cli::add_bench_command(app);

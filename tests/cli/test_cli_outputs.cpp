@@ -147,6 +147,13 @@ TEST_F(CliOutputs, OverwriteReplacesAnEarlierRun) {
   EXPECT_EQ(run_uniform_2d("--overwrite").exit_code, 0);
 }
 
+TEST_F(CliOutputs, TopLevelHelpListsSubcommandsWithExamples) {
+  const CommandResult result = run_command(rvor_binary() + " --help");
+  ASSERT_EQ(result.exit_code, 0);
+  for (const char* text : {"voronoi", "devices", "bench", "Examples:"})
+    EXPECT_NE(result.out.find(text), std::string::npos) << text;
+}
+
 TEST_F(CliOutputs, HelpExplainsEveryOption) {
   const CommandResult result = run_command(rvor_binary() + " voronoi --help");
   ASSERT_EQ(result.exit_code, 0);
