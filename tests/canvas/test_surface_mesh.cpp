@@ -8,16 +8,8 @@
 namespace rvor {
 namespace {
 
+using test::error_of;
 using test::TempDir;
-
-std::string error_of(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const Error& error) {
-    return error.what();
-  }
-  return "";
-}
 
 TEST(SurfaceMesh, ReadsEveryFormatAsTheSameClosedBox) {
   TempDir dir;

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include "canvas_test_support.h"
+
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -14,14 +16,7 @@
 namespace rvor {
 namespace {
 
-std::string error_of(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const Error& error) {
-    return error.what();
-  }
-  return "";
-}
+using test::error_of;
 
 // A Voronoi field with finite values, unreached voxels (+inf, -1) and negative labels.
 VoronoiField sample_field(const Canvas& canvas) {
