@@ -5,7 +5,6 @@
 #include <iomanip>
 #include <iostream>
 
-#include "rvor/devices.h"
 #include "rvor/error.h"
 
 namespace rvor::cli {
@@ -50,10 +49,6 @@ std::string join(const std::vector<std::string>& items, const std::string& separ
   std::string joined;
   for (const std::string& item : items) joined += (joined.empty() ? "" : separator) + item;
   return joined;
-}
-
-std::string default_device() {
-  return default_device_name();
 }
 
 std::string device_option_help() {

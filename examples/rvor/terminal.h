@@ -26,8 +26,6 @@ class Progress {
 std::uint64_t parse_byte_size(const std::string& text);
 std::string join(const std::vector<std::string>& items, const std::string& separator = ", ");
 
-// The device the tool uses when --device is not given: $RVOR_DEVICE, else the library default.
-std::string default_device();
 std::string device_option_help();
 
 void print_voronoi_summary(std::ostream& out, const std::string& out_dir,

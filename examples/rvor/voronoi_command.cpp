@@ -17,6 +17,7 @@
 #include "rvor/canvas_output.h"
 #include "rvor/canvas_png.h"
 #include "rvor/curved_dual.h"
+#include "rvor/devices.h"
 #include "rvor/dual.h"
 #include "rvor/error.h"
 #include "rvor/field_summary.h"
@@ -39,7 +40,7 @@ struct VoronoiOptions {
   std::string seeds_file;
   std::size_t random_seed_count = 0;
   std::uint64_t rng_seed = 1;
-  std::string device = default_device();
+  std::string device = default_device_name();  // $RVOR_DEVICE, else auto
   std::string probe_file;
   std::string out_dir = "rvor-out";
   bool vtu = false;

@@ -19,8 +19,9 @@ void write_xyz(const std::string& path, const std::vector<Vec3>& points, int dim
 // is not an active canvas voxel, or its coordinates are not finite; and on an empty seed list.
 void validate_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds);
 
-// `count` points drawn uniformly from the active voxels (a voxel, then uniformly in its cell,
-// clamped to the cell's centre half so the seed stays in an active cell); deterministic in `rng_seed`.
+// `count` points: an active voxel drawn uniformly, then a point within 0.49 voxel of its centre
+// along each axis, so the seed's containing voxel is that active voxel; deterministic in
+// `rng_seed`.
 std::vector<Vec3> random_seeds(const Canvas& canvas, std::size_t count, std::uint64_t rng_seed);
 
 }  // namespace rvor
