@@ -1,26 +1,38 @@
 #pragma once
-// The curved Riemannian Delaunay dual: each edge of the nerve as a geodesic polyline from seed a
-// through the bisector point of smallest distance (the edge's nearest witness, nerve.h) to seed b.
+// The curved Riemannian Delaunay dual: each nerve edge as a geodesic polyline from seed a through
+// the bisector point of smallest distance to seed b, and each nerve triangle (a, b, c) as a
+// triangulated patch of geodesics from the points of its curved edge (b, c) to a.
 //
-// The bisector point: the nearest witness is only a coarse estimate (the distance is flat along
-// the bisector near its minimum), so it is first moved, within grid cells carrying both labels,
-// to where the descent directions towards a and b are opposite and u_a = u_b: the fixed point of
-// x -> midpoint of the two seeds as extrapolated from x (v - G^{-1} grad(u^2) / 2 per voxel v).
+// Distances. With local fields (local_fields.h: u_a, seed a's own distance over its star box),
+// the bisector is the whole set {u_a = u_b} where both boxes overlap and geodesics run through any
+// cell of the star: edges follow the definition for every Delaunay edge. Without them
+// (a cheaper fallback, no extra solves), only the labeled field is known: u_a inside a's cell.
+// Each side then descends within its own cell, the bisector point is restricted to the common
+// Voronoi face (correct for "Gabriel" edges, whose segment midpoint lies on that face; for the
+// others it lies on the face's boundary, off the segment, and the edge is broken there), and no
+// faces are built (a geodesic from the opposite edge to a crosses other cells).
+//
+// The bisector point: with local fields, the voxel of smallest max(u_a, u_b) over both boxes;
+// without, the edge's nearest witness (nerve.h). Either is only a coarse estimate (the distance
+// is flat along the bisector near its minimum), so it is then moved to where the descent
+// directions towards a and b are opposite and u_a = u_b: the fixed point of x -> midpoint of the
+// two seeds as extrapolated from x (v - G^{-1} grad(u^2) / 2 per voxel v).
 //
 // Tracing (per side, label L in {a, b}): from the bisector point, step ~0.5 voxel against the
 // metric gradient direction D grad u (D = G^{-1}), with the gradient taken by finite differences
 // of the squared distance u^2 (same descent direction as u, smooth at the seed, exact differences
-// in a uniform metric) on voxels of label L only (central where both neighbours carry L, else
-// one-sided of second order, else of first order corrected by h^2 G_aa; voxels with no neighbour
-// of label L along some axis are skipped) and interpolated (bi/trilinearly, weights renormalised
-// over the cell corners of label L; where no corner qualifies, inverse-distance weighted over the
+// in a uniform metric) on voxels where u_L is known (central where both neighbours are, else
+// one-sided of second order, else of first order corrected by h^2 G_aa; voxels with no such
+// neighbour along some axis are skipped) and interpolated (bi/trilinearly, weights renormalised
+// over the cell corners where u_L is known; where none is, inverse-distance weighted over the
 // 4^d, then 8^d block around the cell). The trace stops within 1 voxel of the seed, which is then
-// appended; a trace that runs out of steps or off voxels of label L (for more than a few steps,
+// appended; a trace that runs out of steps or off the known voxels (for more than a few steps,
 // crossed in its last direction) is reported as not reached (the polyline ends where it stopped).
-// In a uniform metric the geodesics are straight, so a curved edge follows the straight segment
-// wherever the segment's midpoint lies on the common Voronoi face of its seeds (a "Gabriel" edge);
-// otherwise the bisector point of smallest distance lies on the face's boundary, off the segment,
-// and the curved edge is broken there.
+//
+// Faces (local fields only): the curved edge (b, c) is sampled every ~2 voxels of its length;
+// from each sample a geodesic to a is traced by descending u_a; the geodesics, resampled to the
+// same number of points (~2 voxels apart), are joined row by row into triangles, the last row
+// fanning into a. Cost: about (|bc| / 2) geodesics of |ab| / 0.5 steps per triangle.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -28,6 +40,7 @@
 #include <vector>
 
 #include "rvor/canvas.h"
+#include "rvor/local_fields.h"
 #include "rvor/nerve.h"
 #include "rvor/propagation.h"
 
@@ -45,23 +58,45 @@ struct CurvedEdge {
   bool reached() const { return side_reached[0] && side_reached[1]; }
 };
 
+// A triangulated geodesic patch for the nerve triangle seeds[0..2]: geodesics from the points of
+// the curved edge (seeds[1], seeds[2]) to the apex seeds[0].
+struct CurvedFace {
+  std::array<int32_t, 3> seeds{-1, -1, -1};        // ascending, as in the nerve
+  std::vector<Vec3> points;                        // world; points[0] is the apex seed
+  std::vector<std::array<uint32_t, 3>> triangles;  // indices into points
+  std::size_t geodesics = 0;                       // traced from the opposite edge
+  std::size_t unreached_geodesics = 0;  // of which did not come within 1 voxel of the apex
+  bool reached() const { return geodesics > 0 && unreached_geodesics == 0; }
+};
+
 struct CurvedDual {
   int dimension = 3;
   std::vector<Vec3> vertices;     // the seeds
   std::vector<CurvedEdge> edges;  // one per nerve edge, in the nerve's order
+  std::vector<CurvedFace>
+      faces;  // one per nerve triangle, in its order; empty without local fields
   std::size_t unreached_edges = 0;
-  double seconds = 0.0;
+  std::size_t unreached_faces = 0;  // faces with an unreached geodesic
+  bool local_fields = false;        // whether local fields were given
+  double seconds = 0.0;             // edges and faces, not the local fields
 };
 
-// Traces every nerve edge. `field` is the labeled canvas the nerve was extracted from and `seeds`
-// the propagation's seeds (label i = seeds[i]). Throws rvor::Error when the field does not match
-// the canvas or the nerve does not match the seeds.
+// Traces every nerve edge and, with `locals` (compute_local_fields on the same canvas, field,
+// nerve and seeds), every nerve triangle. `field` is the labeled canvas the nerve was extracted
+// from and `seeds` the propagation's seeds (label i = seeds[i]). Throws rvor::Error when the field
+// does not match the canvas, or the nerve or the local fields do not match the seeds.
 CurvedDual build_curved_dual(const Canvas& canvas, const VoronoiField& field, const Nerve& nerve,
-                             const std::vector<Vec3>& seeds);
+                             const std::vector<Vec3>& seeds, const LocalFields* locals = nullptr);
 
 // VTK .vtu of the curved edges as polylines (VTK_POLY_LINE, cell type 4). Cell data: length
 // (Float64, in the metric), reached (UInt8, 1 when both sides reached their seed), seed_a, seed_b
 // (Int32). Atomic.
 void write_curved_dual_vtu(const std::string& path, const CurvedDual& dual);
+
+// VTK .vtu of the curved faces as triangles (VTK_TRIANGLE, cell type 5), all patches in one
+// point set. Cell data: face (Int32, index in dual.faces and the nerve's triangles), seed_a,
+// seed_b, seed_c (Int32; seed_a the apex), reached (UInt8, 1 when every geodesic of the face
+// reached the apex). Atomic.
+void write_curved_faces_vtu(const std::string& path, const CurvedDual& dual);
 
 }  // namespace rvor

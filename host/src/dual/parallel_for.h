@@ -1,0 +1,39 @@
+#pragma once
+// Runs f(i) for i in [0, count) on up to hardware_concurrency threads (work shared through an
+// atomic counter; at least `per_thread` items per extra thread, so small jobs stay on the caller).
+// The first exception is rethrown on the calling thread once all threads have stopped.
+#include <algorithm>
+#include <atomic>
+#include <cstddef>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace rvor::detail {
+
+template <typename F>
+void parallel_for(std::size_t count, std::size_t per_thread, F&& f) {
+  std::atomic<std::size_t> next{0};
+  std::mutex error_mutex;
+  std::exception_ptr error;
+  auto work = [&] {
+    try {
+      for (std::size_t i; (i = next.fetch_add(1)) < count;) f(i);
+    } catch (...) {
+      const std::lock_guard<std::mutex> lock(error_mutex);
+      if (!error) error = std::current_exception();
+      next = count;
+    }
+  };
+  const std::size_t threads =
+      std::min<std::size_t>(std::max(1u, std::thread::hardware_concurrency()),
+                            std::max<std::size_t>(1, count / std::max<std::size_t>(1, per_thread)));
+  std::vector<std::thread> pool;
+  for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(work);
+  work();
+  for (std::thread& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+}
+
+}  // namespace rvor::detail
