@@ -285,6 +285,10 @@ void ReferenceSolver::run_queue(PropagationStats& stats) {
     const QueueEntry entry = queue_.back();
     queue_.pop_back();
     if (entry.value != state_[entry.voxel].value) continue;  // stale: the voxel changed since
+    if (entry.value > distance_limit_) {  // later pops are larger, as are the values they give
+      queue_.clear();
+      break;
+    }
     if (++stats.iterations > max_pops)
       throw Error("reference solver did not converge (a voxel was recomputed over " +
                   std::to_string(kMaxPopsPerVoxel) + " times on average)");

@@ -4,6 +4,7 @@
 // make_reference_propagator() in rvor/propagation.h, which wraps this class.
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "rvor/canvas.h"
@@ -36,6 +37,11 @@ class ReferenceSolver {
   // Adds seeds[first_new..] to `field`, solved for seeds[0..first_new).
   PropagationStats insert(const Canvas& canvas, const std::vector<Vec3>& seeds,
                           std::size_t first_new, ExactField& field);
+  // Stops the solves at the first queue entry above `limit` (the queue runs in value order, so
+  // values up to the limit are final wherever the update is causal): values above it are then
+  // only upper bounds. For fields needed in a bounded ball only (rvor/local_fields.h). Default
+  // +inf: solve everything.
+  void set_distance_limit(double limit) { distance_limit_ = limit; }
 
  private:
   struct Seed {
@@ -132,6 +138,7 @@ class ReferenceSolver {
   // 1 for voxels of a seed's initialisation block: their exact values are boundary data.
   std::vector<uint8_t> frozen_;
   std::vector<QueueEntry> queue_;  // binary min-heap (std::push_heap with greater)
+  double distance_limit_ = std::numeric_limits<double>::infinity();
 };
 
 }  // namespace rvor::detail

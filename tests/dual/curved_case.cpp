@@ -85,7 +85,7 @@ CurvedMeasures run_case(const CurvedCase& c, const std::string& vtu_path) {
   if (c.local_fields) {
     locals = compute_local_fields(canvas, nerve, seeds);
     m.local_seconds = locals.seconds;
-    m.local_voxels_per_seed = static_cast<double>(locals.voxels) / seeds.size();
+    m.local_voxels_per_seed = static_cast<double>(locals.solved_voxels) / seeds.size();
   }
   const CurvedDual dual =
       build_curved_dual(canvas, field, nerve, seeds, c.local_fields ? &locals : nullptr);

@@ -29,10 +29,11 @@
 // appended; a trace that runs out of steps or off the known voxels (for more than a few steps,
 // crossed in its last direction) is reported as not reached (the polyline ends where it stopped).
 //
-// Faces (local fields only): the curved edge (b, c) is sampled every ~2 voxels of its length;
-// from each sample a geodesic to a is traced by descending u_a; the geodesics, resampled to the
-// same number of points (~2 voxels apart), are joined row by row into triangles, the last row
-// fanning into a. Cost: about (|bc| / 2) geodesics of |ab| / 0.5 steps per triangle.
+// Faces (local fields only): the curved edge (b, c) is sampled every ~2 voxels of its length
+// (2 to 16 intervals); from each sample a geodesic to a is traced by descending u_a; the
+// geodesics, resampled to the same number of points (~2 voxels apart, 2 to 16 intervals), are
+// joined row by row into triangles, the last row fanning into a: at most 16 x 32 triangles per
+// face. Cost: up to 17 geodesics of |ab| / 0.5 steps per triangle.
 #include <array>
 #include <cstddef>
 #include <cstdint>

@@ -15,7 +15,10 @@ constexpr uint8_t kVtkTriangle = 5;
 
 namespace {
 
-constexpr double kSpacing = 2.0;  // voxels between geodesics along the edge, and between rows
+// Voxels between geodesics along the edge, and between the points of a geodesic; at most
+// kMaxIntervals of each per face, so that long faces stay a few hundred triangles.
+constexpr double kSpacing = 2.0;
+constexpr std::size_t kMaxIntervals = 16;
 
 double polyline_length(const std::vector<Vec3>& line) {
   double length = 0.0;
@@ -50,7 +53,8 @@ std::vector<Vec3> resample(const std::vector<Vec3>& line, std::size_t intervals)
 }
 
 std::size_t intervals_for(double length_voxels) {
-  return std::max<std::size_t>(2, static_cast<std::size_t>(std::ceil(length_voxels / kSpacing)));
+  return std::clamp<std::size_t>(static_cast<std::size_t>(std::ceil(length_voxels / kSpacing)), 2,
+                                 kMaxIntervals);
 }
 
 Vec3 index_point(const Canvas& canvas, const Vec3& world) {

@@ -1,7 +1,8 @@
-// Per-seed local distance fields (local_fields.h): star boxes from the nerve, one single-source
-// reference solve per seed on a cropped canvas.
+// Per-seed local distance fields (local_fields.h): stars from the nerve, one single-source
+// reference solve per seed on a cropped canvas active on the star.
 #include "rvor/local_fields.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -11,6 +12,7 @@
 #include "parallel_for.h"
 #include "reference_solver.h"
 #include "rvor/error.h"
+#include "star_mask.h"
 
 namespace rvor {
 
@@ -32,9 +34,9 @@ struct IndexBox {
   bool empty() const { return lo[0] > hi[0]; }
 };
 
-// The star box of every seed: the bounding box of its voxel and its nerve neighbours' voxels
-// (the star's Delaunay simplices, where a uniform metric's geodesics run), grown on each axis by
-// the margin plus a fraction of its extent (room for geodesics that bend), clipped to the canvas.
+// The bounding box of every seed's star: its voxel and its nerve neighbours' voxels, grown on each
+// axis by the margin plus a fraction of its extent (at least the simplices' margins), clipped to
+// the canvas.
 std::vector<IndexBox> star_boxes(const Canvas& canvas, const Nerve& nerve,
                                  const std::vector<Vec3>& seeds, const LocalFieldOptions& options) {
   std::vector<VoxelIndex> voxels;
@@ -57,9 +59,61 @@ std::vector<IndexBox> star_boxes(const Canvas& canvas, const Nerve& nerve,
   return stars;
 }
 
+// The distance within which each seed's field is solved: every geodesic from a to a neighbour b
+// (and, in a uniform metric, every point of a triangle of a's star) is within d(a, b) of a, and
+// d(a, b) <= u_a(w) + u_b(w) ~ 2 u(w) at the edge's nearest witness w (the labeled distance there;
+// exact for Gabriel edges, an upper bound for the others). Grown by 10% and the margin (voxels,
+// at the seed's largest metric scale) for geodesics that bend and the witness's discretisation.
+std::vector<double> distance_limits(const Canvas& canvas, const Nerve& nerve,
+                                    const std::vector<Vec3>& seeds,
+                                    const LocalFieldOptions& options) {
+  std::vector<double> reach(seeds.size(), 0.0);
+  for (const NerveSimplex& e : nerve.edges)
+    for (int s = 0; s < 2; ++s) {
+      double& r = reach[static_cast<std::size_t>(e.seeds[s])];
+      r = std::max(r, 2.0 * static_cast<double>(e.nearest.distance));
+    }
+  std::vector<double> limits(seeds.size());
+  for (std::size_t s = 0; s < seeds.size(); ++s) {
+    const int64_t slot = canvas.slot_of(canvas.voxel_containing(seeds[s]));
+    const Mat3 G = slot >= 0 ? canvas.metric_at(static_cast<std::size_t>(slot)) : Mat3::Identity();
+    const double scale = std::sqrt(Eigen::SelfAdjointEigenSolver<Mat3>(G).eigenvalues().maxCoeff());
+    limits[s] = 1.1 * reach[s] + options.margin * canvas.voxel_size * scale;
+  }
+  return limits;
+}
+
+// The simplices of each seed's star in index coordinates: its top simplices and its edges (an
+// edge without a top simplex still needs its segment), each with the margin plus a fraction of
+// its longest edge (room for geodesics that bend).
+std::vector<std::vector<detail::StarSimplex>> star_simplices(const Canvas& canvas,
+                                                             const Nerve& nerve,
+                                                             const std::vector<Vec3>& seeds,
+                                                             const LocalFieldOptions& options) {
+  std::vector<std::vector<detail::StarSimplex>> stars(seeds.size());
+  auto add = [&](const NerveSimplex& simplex) {
+    detail::StarSimplex star;
+    for (int v = 0; v < simplex.vertex_count; ++v) {
+      Vec3 x = canvas.index_coordinates(seeds[static_cast<std::size_t>(simplex.seeds[v])]);
+      if (canvas.dimension == 2) x.z() = 0.0;
+      star.vertices.push_back(x);
+    }
+    double longest = 0.0;
+    for (const Vec3& p : star.vertices)
+      for (const Vec3& q : star.vertices) longest = std::max(longest, (p - q).norm());
+    star.margin = options.margin + options.relative_margin * longest;
+    for (int v = 0; v < simplex.vertex_count; ++v)
+      stars[static_cast<std::size_t>(simplex.seeds[v])].push_back(star);
+  };
+  for (const NerveSimplex& top : nerve.top_simplices()) add(top);
+  for (const NerveSimplex& edge : nerve.edges) add(edge);
+  return stars;
+}
+
 // A copy of the canvas restricted to the box (same voxel size; its voxel (0,0,0) is the box's
-// lowest voxel), every brick of the box allocated.
-Canvas crop(const Canvas& canvas, const IndexBox& box) {
+// lowest voxel), every brick of the box allocated, active where the canvas is and the mask (dense
+// over the box, x fastest) is set.
+Canvas crop(const Canvas& canvas, const IndexBox& box, const std::vector<uint8_t>& mask) {
   std::array<int, 3> dims{};
   for (int a = 0; a < 3; ++a) dims[a] = box.hi[a] - box.lo[a] + 1;
   const int ez = canvas.brick_edge_z(), e = Canvas::kBrickEdge;
@@ -73,6 +127,10 @@ Canvas crop(const Canvas& canvas, const IndexBox& box) {
   for (std::size_t slot = 0; slot < out.slot_count(); ++slot) {
     const VoxelIndex v = out.voxel_of(slot);
     if (v.i >= dims[0] || v.j >= dims[1] || v.k >= dims[2]) continue;  // brick padding
+    if (!mask[static_cast<std::size_t>(v.i) +
+              static_cast<std::size_t>(dims[0]) *
+                  (static_cast<std::size_t>(v.j) + static_cast<std::size_t>(dims[1]) * v.k)])
+      continue;
     const int64_t source = canvas.slot_of(v.i + box.lo[0], v.j + box.lo[1], v.k + box.lo[2]);
     if (source < 0) continue;
     out.active[slot] = 1;
@@ -83,9 +141,14 @@ Canvas crop(const Canvas& canvas, const IndexBox& box) {
   return out;
 }
 
-LocalField solve_local(const Canvas& canvas, const IndexBox& box, const Vec3& seed) {
-  const Canvas cropped = crop(canvas, box);
+LocalField solve_local(const Canvas& canvas, const IndexBox& box,
+                       const std::vector<detail::StarSimplex>& star, const Vec3& seed,
+                       double limit) {
+  std::array<int, 3> dims{};
+  for (int a = 0; a < 3; ++a) dims[a] = box.hi[a] - box.lo[a] + 1;
+  const Canvas cropped = crop(canvas, box, detail::star_mask(box.lo, dims, canvas.dimension, star));
   detail::ReferenceSolver solver(cropped);
+  solver.set_distance_limit(limit);
   detail::ExactField exact;
   solver.solve(cropped, {seed}, exact);
   LocalField local;
@@ -100,7 +163,8 @@ LocalField solve_local(const Canvas& canvas, const IndexBox& box, const Vec3& se
                    static_cast<std::size_t>(local.dims[0]) *
                        (static_cast<std::size_t>(v.j) +
                         static_cast<std::size_t>(local.dims[1]) * v.k)] =
-        static_cast<float>(exact.distance[slot]);
+        exact.distance[slot] <= limit ? static_cast<float>(exact.distance[slot])
+                                      : std::numeric_limits<float>::infinity();
   }
   return local;
 }
@@ -114,14 +178,20 @@ LocalFields compute_local_fields(const Canvas& canvas, const Nerve& nerve,
     throw Error("local fields: the nerve has " + std::to_string(nerve.seed_count) + " seeds, " +
                 std::to_string(seeds.size()) + " given");
   const std::vector<IndexBox> boxes = star_boxes(canvas, nerve, seeds, options);
+  const std::vector<double> limits = distance_limits(canvas, nerve, seeds, options);
+  const std::vector<std::vector<detail::StarSimplex>> stars =
+      star_simplices(canvas, nerve, seeds, options);
 
   LocalFields out;
   out.fields.resize(seeds.size());
   // One seed per task: solves are independent and each is large enough to amortise a thread.
   detail::parallel_for(seeds.size(), 1, [&](std::size_t s) {
-    out.fields[s] = solve_local(canvas, boxes[s], seeds[s]);
+    out.fields[s] = solve_local(canvas, boxes[s], stars[s], seeds[s], limits[s]);
   });
-  for (const LocalField& f : out.fields) out.voxels += f.distance.size();
+  for (const LocalField& f : out.fields) {
+    out.voxels += f.distance.size();
+    for (float u : f.distance) out.solved_voxels += std::isfinite(u) ? 1 : 0;
+  }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }
