@@ -21,6 +21,7 @@
 #include "rvor/dual.h"
 #include "rvor/error.h"
 #include "rvor/field_summary.h"
+#include "rvor/local_fields.h"
 #include "rvor/metric_field.h"
 #include "rvor/nerve.h"
 #include "rvor/propagation.h"
@@ -70,7 +71,10 @@ std::vector<std::string> output_names(const VoronoiOptions& o) {
     names.push_back("dual.mesh");
     names.push_back("dual_flagged.vtu");
   }
-  if (o.dual == "curved" || o.dual == "both") names.push_back("curved_dual.vtu");
+  if (o.dual == "curved" || o.dual == "both") {
+    names.push_back("curved_dual.vtu");
+    names.push_back("curved_faces.vtu");
+  }
   if (o.png) names.push_back("voronoi.png");
   return names;
 }
@@ -98,6 +102,28 @@ nlohmann::json summary_json(const FieldSummary& s) {
           {"non_empty_cells", s.non_empty_cells},  {"smallest_cell_voxels", s.smallest_cell},
           {"largest_cell_voxels", s.largest_cell}, {"max_distance", s.max_distance},
           {"mean_distance", s.mean_distance}};
+}
+
+// The curved dual with its faces: per-seed local fields first (one small solve per seed, on the
+// CPU), then the geodesics; writes curved_dual.vtu and curved_faces.vtu and fills `report`.
+template <typename PathOf>
+CurvedDual build_curved(const Canvas& canvas, const VoronoiField& field, const Nerve& nerve,
+                        const std::vector<Vec3>& seeds, const PathOf& path,
+                        nlohmann::json& report) {
+  const LocalFields locals = compute_local_fields(canvas, nerve, seeds);
+  CurvedDual curved = build_curved_dual(canvas, field, nerve, seeds, &locals);
+  write_curved_dual_vtu(path("curved_dual.vtu"), curved);
+  write_curved_faces_vtu(path("curved_faces.vtu"), curved);
+  report = {{"edges", curved.edges.size()},
+            {"unreached_edges", curved.unreached_edges},
+            {"faces", curved.faces.size()},
+            {"unreached_faces", curved.unreached_faces},
+            {"local_fields",
+             {{"voxels", locals.voxels},
+              {"solved_voxels", locals.solved_voxels},
+              {"seconds", locals.seconds}}},
+            {"seconds", curved.seconds}};
+  return curved;
 }
 
 void run_voronoi(const VoronoiOptions& o) {
@@ -140,6 +166,7 @@ void run_voronoi(const VoronoiOptions& o) {
   nlohmann::json dual_report, curved_report;
   double dual_seconds = 0;
   std::optional<StraightDual> dual;
+  std::optional<CurvedDual> curved;
   if (!o.dual.empty()) {
     progress.begin("building the " + o.dual + " dual");
     const Nerve nerve = extract_nerve(canvas, field, seeds.size());
@@ -155,17 +182,16 @@ void run_voronoi(const VoronoiOptions& o) {
           ", " + std::to_string(dual->top_count()) + " elements";
     }
     if (o.dual != "straight") {
-      const CurvedDual curved = build_curved_dual(canvas, field, nerve, seeds);
-      write_curved_dual_vtu(path("curved_dual.vtu"), curved);
-      curved_report = {{"edges", curved.edges.size()},
-                       {"unreached_edges", curved.unreached_edges},
-                       {"seconds", curved.seconds}};
-      detail += (detail.empty() ? "" : "; ") + std::to_string(curved.edges.size()) +
-                " geodesic edges, " + std::to_string(curved.unreached_edges) + " unreached";
+      curved = build_curved(canvas, field, nerve, seeds, path, curved_report);
+      detail += (detail.empty() ? "" : "; ") + std::to_string(curved->edges.size()) +
+                " geodesic edges, " + std::to_string(curved->faces.size()) + " faces, " +
+                std::to_string(curved->unreached_edges + curved->unreached_faces) + " unreached";
     }
     dual_seconds = progress.end(detail);
   }
-  if (o.png) write_canvas_png(path("voronoi.png"), canvas, field, seeds, dual ? &*dual : nullptr);
+  if (o.png)
+    write_canvas_png(path("voronoi.png"), canvas, field, seeds, dual ? &*dual : nullptr,
+                     curved ? &*curved : nullptr);
 
   const double total =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -251,13 +277,14 @@ void add_voronoi_command(CLI::App& app) {
          "--dual", options->dual,
          "Also build the Riemannian Delaunay dual. straight: seeds joined by straight simplices, "
          "checked with exact predicates: dual.vtu, dual.mesh (Medit), dual_flagged.vtu "
-         "(offending elements), a 'dual' object in report.json; curved: edges traced as "
-         "geodesics: curved_dual.vtu (polylines); both")
+         "(offending elements), a 'dual' object in report.json; curved: edges and faces traced as "
+         "geodesics (one CPU solve per seed over its star first): curved_dual.vtu (polylines), "
+         "curved_faces.vtu (triangulated patches), a 'curved_dual' object in report.json; both")
       ->check(CLI::IsMember({"straight", "curved", "both"}));
   cmd->add_flag(
       "--png", options->png,
       "2D only: also write voronoi.png, the cells shaded by distance bands, the seeds, and "
-      "the straight dual when --dual is given");
+      "the dual when --dual is given (straight: dark segments, curved: red geodesics)");
   cmd->add_flag("--vtu", options->vtu, "Also write the labeled canvas as canvas.vtu (ParaView)");
   cmd->add_flag("--overwrite", options->overwrite, "Replace output files left by an earlier run");
   cmd->add_option("--memory-budget", options->memory_budget,

@@ -8,6 +8,7 @@
 #include <cairo.h>
 
 #include "rvor/atomic_file.h"
+#include "rvor/curved_dual.h"
 #include "rvor/dual.h"
 #include "rvor/error.h"
 
@@ -64,6 +65,23 @@ void draw_dual(cairo_t* cr, const Canvas& canvas, const StraightDual& dual, int 
   cairo_stroke(cr);
 }
 
+// Thinner than the straight edges and in red, so that both stay visible where they coincide.
+void draw_curved_edges(cairo_t* cr, const Canvas& canvas, const CurvedDual& curved, int scale) {
+  const double height = canvas.dims[1] * scale;
+  cairo_set_line_width(cr, std::max(1.0, scale * 0.2));
+  cairo_set_source_rgba(cr, 0.8, 0.05, 0.05, 0.9);
+  for (const CurvedEdge& edge : curved.edges)
+    for (std::size_t p = 0; p < edge.points.size(); ++p) {
+      const Vec3 c = canvas.index_coordinates(edge.points[p]);
+      const double x = (c.x() + 0.5) * scale, y = height - (c.y() + 0.5) * scale;
+      if (p == 0)
+        cairo_move_to(cr, x, y);
+      else
+        cairo_line_to(cr, x, y);
+    }
+  cairo_stroke(cr);
+}
+
 void draw_seeds(cairo_t* cr, const Canvas& canvas, const std::vector<Vec3>& seeds, int scale) {
   const double height = canvas.dims[1] * scale;
   cairo_set_source_rgb(cr, 0, 0, 0);
@@ -79,7 +97,7 @@ void draw_seeds(cairo_t* cr, const Canvas& canvas, const std::vector<Vec3>& seed
 
 void write_canvas_png(const std::string& path, const Canvas& canvas, const VoronoiField& field,
                       const std::vector<Vec3>& seeds, const StraightDual* dual,
-                      int pixels_per_voxel) {
+                      const CurvedDual* curved, int pixels_per_voxel) {
   if (canvas.dimension != 2)
     throw Error("a PNG picture needs a 2D canvas (--png is for rect domains)");
   const int longest = std::max(canvas.dims[0], canvas.dims[1]);
@@ -99,6 +117,7 @@ void write_canvas_png(const std::string& path, const Canvas& canvas, const Voron
   cairo_surface_mark_dirty(surface);
   cairo_t* cr = cairo_create(surface);
   if (dual) draw_dual(cr, canvas, *dual, scale);
+  if (curved) draw_curved_edges(cr, canvas, *curved, scale);
   draw_seeds(cr, canvas, seeds, scale);
   cairo_destroy(cr);
   const std::string temporary = temporary_path_for(path);

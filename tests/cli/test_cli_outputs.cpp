@@ -137,7 +137,11 @@ TEST_F(CliOutputs, BothDualsAreWrittenAndReported) {
   EXPECT_GE(report["dual"]["triangles"].get<int>(), 2);
   EXPECT_GE(report["curved_dual"]["edges"].get<int>(), 5);
   EXPECT_EQ(report["curved_dual"]["unreached_edges"].get<int>(), 0);
-  for (const char* file : {"dual.vtu", "dual.mesh", "dual_flagged.vtu", "curved_dual.vtu"})
+  EXPECT_GE(report["curved_dual"]["faces"].get<int>(), 2);
+  EXPECT_EQ(report["curved_dual"]["unreached_faces"].get<int>(), 0);
+  EXPECT_GT(report["curved_dual"]["local_fields"]["voxels"].get<int>(), 0);
+  for (const char* file :
+       {"dual.vtu", "dual.mesh", "dual_flagged.vtu", "curved_dual.vtu", "curved_faces.vtu"})
     EXPECT_TRUE(std::filesystem::exists(out() + "/" + file)) << file;
 }
 
