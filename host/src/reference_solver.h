@@ -72,9 +72,10 @@ class ReferenceSolver {
     double u0_squared;
     double u0;
     double inverse_u0;  // 0 at the seed itself (no correction there)
+    double weight;      // of the factorization correction, in [0, 1] (docs/scheme.md, step 2)
   };
   SourceFrame source_frame(int32_t voxel, int32_t label) const;
-  bool seed_metric_fits(const Seed& seed, const Mat3& D) const;
+  double factorization_weight(const Seed& seed, const Mat3& D) const;
   // h e_t of the voxel's stencil term t, in world units.
   Vec3 stencil_step(int32_t voxel, int term) const;
   double corrected_value(const SourceFrame& frame, const Vec3& step, double sign,

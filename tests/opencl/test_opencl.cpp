@@ -4,11 +4,11 @@
 
 #include <cmath>
 #include <memory>
-#include <random>
 #include <string>
 
 #include <Eigen/Geometry>
 
+#include "opencl/opencl_test_support.h"
 #include "rvor/devices.h"
 #include "rvor/error.h"
 #include "rvor/opencl_propagator.h"
@@ -17,17 +17,6 @@
 
 namespace rvor {
 namespace {
-
-constexpr double kRelativeTolerance = 1e-4;
-
-// Skips the test (with the reason) when PoCL is not there.
-#define REQUIRE_POCL(variant)                                              \
-  std::unique_ptr<Propagator> engine;                                      \
-  try {                                                                    \
-    engine = make_opencl_propagator("pocl", OpenCLOptions{variant, 4, 8}); \
-  } catch (const Error& e) {                                               \
-    GTEST_SKIP() << "no usable OpenCL device: " << e.what();               \
-  }
 
 Mat3 rotated_metric(int dimension, double anisotropy) {
   const double angle = 0.5;
@@ -43,50 +32,6 @@ Mat3 rotated_metric(int dimension, double anisotropy) {
   return G;
 }
 
-std::vector<Vec3> random_points(const Vec3& lo, const Vec3& hi, int dimension, int count,
-                                unsigned rng_seed) {
-  std::mt19937 rng(rng_seed);
-  std::vector<Vec3> points;
-  for (int n = 0; n < count; ++n) {
-    Vec3 p;
-    for (int a = 0; a < 3; ++a) {
-      std::uniform_real_distribution<double> u(lo[a] + 0.05 * (hi[a] - lo[a]),
-                                               hi[a] - 0.05 * (hi[a] - lo[a]));
-      p[a] = u(rng);
-    }
-    if (dimension == 2) p.z() = 0.0;
-    points.push_back(p);
-  }
-  return points;
-}
-
-// Relative distance error and label agreement over active slots (labels may differ at ties).
-void expect_same_field(const Canvas& canvas, const VoronoiField& expected,
-                       const VoronoiField& actual) {
-  ASSERT_EQ(expected.distance.size(), actual.distance.size());
-  std::size_t bad_distance = 0, bad_label = 0;
-  double worst = 0.0;
-  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
-    if (!canvas.active[slot]) continue;
-    const double a = expected.distance[slot], b = actual.distance[slot];
-    const double error = a == b ? 0.0 : std::abs(a - b) / std::max(std::abs(a), 1e-30);
-    worst = std::max(worst, error);
-    if (!(error <= kRelativeTolerance)) ++bad_distance;
-    if (expected.label[slot] != actual.label[slot] && !(error <= kRelativeTolerance)) ++bad_label;
-  }
-  EXPECT_EQ(bad_distance, 0u) << "worst relative distance error " << worst;
-  EXPECT_EQ(bad_label, 0u);
-}
-
-void expect_matches_reference(Propagator& engine, const Canvas& canvas,
-                              const std::vector<Vec3>& seeds) {
-  VoronoiField expected, actual;
-  make_reference_propagator()->solve(canvas, seeds, expected);
-  const PropagationStats stats = engine.solve(canvas, seeds, actual);
-  EXPECT_GT(stats.voxel_updates, 0u);
-  expect_same_field(canvas, expected, actual);
-}
-
 const Vec3 kLo(-1, -1, -1), kHi(1, 1, 1);
 
 class BothVariants : public ::testing::TestWithParam<RelaxationVariant> {};
@@ -94,19 +39,19 @@ class BothVariants : public ::testing::TestWithParam<RelaxationVariant> {};
 TEST_P(BothVariants, IsotropicOneSeed3D) {
   REQUIRE_POCL(GetParam());
   const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 32, Mat3::Identity());
-  expect_matches_reference(*engine, canvas, {Vec3(0.1, -0.2, 0.3)});
+  test::expect_matches_reference(*engine, canvas, {Vec3(0.1, -0.2, 0.3)});
 }
 
 TEST_P(BothVariants, AnisotropicManySeeds3D) {
   REQUIRE_POCL(GetParam());
   const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 32, rotated_metric(3, 6.0));
-  expect_matches_reference(*engine, canvas, random_points(kLo, kHi, 3, 40, 7));
+  test::expect_matches_reference(*engine, canvas, test::random_points(kLo, kHi, 3, 40, 7));
 }
 
 TEST_P(BothVariants, AnisotropicManySeeds2D) {
   REQUIRE_POCL(GetParam());
   const Canvas canvas = test::make_uniform_box_canvas(2, kLo, kHi, 64, rotated_metric(2, 10.0));
-  expect_matches_reference(*engine, canvas, random_points(kLo, kHi, 2, 30, 11));
+  test::expect_matches_reference(*engine, canvas, test::random_points(kLo, kHi, 2, 30, 11));
 }
 
 TEST_P(BothVariants, VaryingMetric2D) {
@@ -117,7 +62,7 @@ TEST_P(BothVariants, VaryingMetric2D) {
                              1.0 + 6 * p.y() * p.y(),
                              Vec3(-std::sin(2 * p.x()), std::cos(2 * p.x()), 0), 1.0, 1.0);
   });
-  expect_matches_reference(*engine, canvas, random_points(kLo, kHi, 2, 12, 3));
+  test::expect_matches_reference(*engine, canvas, test::random_points(kLo, kHi, 2, 12, 3));
 }
 
 INSTANTIATE_TEST_SUITE_P(Variants, BothVariants,
@@ -131,7 +76,7 @@ INSTANTIATE_TEST_SUITE_P(Variants, BothVariants,
 TEST(OpenCLInsertion, OneByOneEqualsAllAtOnce) {
   REQUIRE_POCL(RelaxationVariant::automatic);
   const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 32, rotated_metric(3, 4.0));
-  const std::vector<Vec3> seeds = random_points(kLo, kHi, 3, 20, 5);
+  const std::vector<Vec3> seeds = test::random_points(kLo, kHi, 3, 20, 5);
   VoronoiField all, incremental;
   engine->solve(canvas, seeds, all);
   engine->solve(canvas, {seeds[0]}, incremental);
@@ -140,13 +85,13 @@ TEST(OpenCLInsertion, OneByOneEqualsAllAtOnce) {
     so_far.push_back(seeds[n]);
     engine->insert(canvas, so_far, n, incremental);
   }
-  expect_same_field(canvas, all, incremental);
+  test::expect_same_field(canvas, all, incremental);
 }
 
 TEST(OpenCLInsertion, TouchesLessThanASolve) {
   REQUIRE_POCL(RelaxationVariant::automatic);
   const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 48, Mat3::Identity());
-  std::vector<Vec3> seeds = random_points(kLo, kHi, 3, 60, 9);
+  std::vector<Vec3> seeds = test::random_points(kLo, kHi, 3, 60, 9);
   VoronoiField field;
   const PropagationStats full = engine->solve(canvas, seeds, field);
   seeds.push_back(Vec3(0.01, 0.02, 0.03));

@@ -17,6 +17,16 @@ struct OpenCLOptions {
   RelaxationVariant variant = RelaxationVariant::automatic;
   int max_sweeps = 4;  // brick_sweep: sweeps per brick and round (of 1/2/4/64, 4 measured best)
   int jacobi_iterations = 8;  // voxel_jacobi: inner iterations per round
+  // Front ordering: each round relaxes only the pending bricks whose key (smallest changed value
+  // that made them pending) is within front_band brick crossings (8 voxels along the cheapest
+  // metric direction, median over the canvas) of the smallest key. 0: relax every pending brick.
+  // (Measured before brick colouring, 192^3, 1000 seeds, euclidean: 16.3 updates per voxel without,
+  // 13.5 with 0.5.)
+  double front_band = 0.5;
+  // Relax one brick colour (parities of the brick coordinates, 2^d colours) per round, so that a
+  // brick reads its neighbours' fresh values (96^3, 1000 seeds: euclidean 12.4 -> 10.1 updates per
+  // voxel, radial_shock_3d 20.5 -> 13.7).
+  bool brick_colouring = true;
 };
 
 // device: "auto", "opencl", "opencl:N" or "pocl" (see devices.h). Throws rvor::Error when the

@@ -12,6 +12,7 @@
 namespace rvor::opencl {
 
 constexpr int kStencilTerms = 6;
+constexpr std::size_t kBrickDirections = 27;  // neighbour bricks in {-1, 0, 1}^3
 
 // The Selling stencils of every slot, in the device layout (inactive slots: all-zero weights).
 struct PackedStencils {
@@ -25,9 +26,14 @@ PackedStencils pack_stencils(const Canvas& canvas);
 
 struct DeviceCanvas {
   std::size_t slots = 0, bricks = 0;
-  cl_int4 dims{}, grid{}, brick_reach{};  // brick_reach: bricks within stencil reach per axis
+  // Stencil reach per axis: in bricks (brick_reach) and in voxels (voxel_reach).
+  cl_int4 dims{}, grid{}, brick_reach{}, voxel_reach{};
   cl::Buffer state, scratch, weights, offsets, table, origins;
-  cl::Buffer flags, next, list, list_count, update_counter, seeds;
+  cl::Buffer flags, list, list_count, update_counter, seeds;
+  // Front ordering (kernels/propagation.cl): per brick and neighbour direction (27), the smallest
+  // value that changed in the last round within reach; the key of a pending brick (float bits);
+  // the smallest key of the round.
+  cl::Buffer changed_min, pending_key, front;
   // brick_sweep work avoidance: per slot, stamps of the last evaluation and the last change.
   cl::Buffer evaluated, changed;
   std::size_t seed_capacity = 0;

@@ -1,0 +1,42 @@
+#pragma once
+// Shared by the OpenCL engine tests: comparison against the CPU reference (docs/scheme.md:
+// distances to a relative 1e-4, labels identical except at ties) and random seeds.
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <vector>
+
+#include "rvor/canvas.h"
+#include "rvor/error.h"
+#include "rvor/opencl_propagator.h"
+#include "rvor/propagation.h"
+
+namespace rvor::test {
+
+constexpr double kRelativeTolerance = 1e-4;
+constexpr int kTieReach = 3;  // voxels: how far a tie-broken label changes neighbouring values
+
+// Declares `engine` on PoCL, or skips the test (with the reason) when PoCL is not there.
+#define REQUIRE_POCL(variant)                                              \
+  std::unique_ptr<Propagator> engine;                                      \
+  try {                                                                    \
+    engine = make_opencl_propagator("pocl", OpenCLOptions{variant, 4, 8}); \
+  } catch (const Error& e) {                                               \
+    GTEST_SKIP() << "no usable OpenCL device: " << e.what();               \
+  }
+
+// Uniformly random points in the box shrunk by 5% per side (z = 0 in 2D).
+std::vector<Vec3> random_points(const Vec3& lo, const Vec3& hi, int dimension, int count,
+                                unsigned rng_seed);
+
+// Distances agree to kRelativeTolerance (relative, or against one voxel's metric length for
+// distances below it) except within kTieReach voxels of a voxel the two fields label
+// differently; label differences (ties) and such voxels must be rare.
+void expect_same_field(const Canvas& canvas, const VoronoiField& expected,
+                       const VoronoiField& actual);
+
+// Solves with the engine and with the CPU reference and compares the fields.
+void expect_matches_reference(Propagator& engine, const Canvas& canvas,
+                              const std::vector<Vec3>& seeds);
+
+}  // namespace rvor::test

@@ -1,0 +1,99 @@
+// Every analytic field of DESIGN.md and a uniform anisotropic metric, 2D and 3D: the OpenCL
+// engine (PoCL) equals the CPU reference with one seed and with 1000 seeds, and inserting 100
+// seeds one by one equals solving with all of them at once (docs/scheme.md tolerances).
+#include <gtest/gtest.h>
+
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "opencl/opencl_test_support.h"
+#include "rvor/metric_field.h"
+#include "support/box_canvas.h"
+
+namespace rvor {
+namespace {
+
+// Canvas sizes keep each reference solve to about a second on 2 cores.
+constexpr int kResolution2D = 192, kResolution3D = 40;
+constexpr int kInsertionResolution2D = 128, kInsertionResolution3D = 24;
+
+struct FieldCase {
+  std::string spec;
+  int dimension;
+};
+
+// The rotated anisotropic uniform tensor (anisotropy 10 in 2D, up to 8 in 3D).
+std::string uniform_spec(int dimension) {
+  return dimension == 2 ? "uniform:50.5,49.5,50.5" : "uniform:20,-12,20,4,3,30";
+}
+
+std::vector<FieldCase> field_cases() {
+  std::vector<FieldCase> cases;
+  for (int dimension : {2, 3})
+    for (const std::string& name : analytic_metric_names()) {
+      const std::string spec = name == "uniform" ? uniform_spec(dimension) : name;
+      try {
+        make_analytic_metric(spec, dimension);
+        cases.push_back({spec, dimension});
+      } catch (const Error&) {  // the field does not exist in this dimension
+      }
+    }
+  return cases;
+}
+
+Canvas field_canvas(const FieldCase& c, int resolution, Box* domain) {
+  const std::unique_ptr<MetricField> field = make_analytic_metric(c.spec, c.dimension);
+  *domain = field->natural_domain().value_or(Box{Vec3(-1, -1, -1), Vec3(1, 1, 1)});
+  if (c.dimension == 2) domain->lo.z() = domain->hi.z() = 0.0;
+  return test::make_box_canvas(c.dimension, domain->lo, domain->hi, resolution,
+                               [&field](const Vec3& p) { return field->at(p); });
+}
+
+class EveryField : public ::testing::TestWithParam<FieldCase> {};
+
+TEST_P(EveryField, OneSeedMatchesTheReference) {
+  REQUIRE_POCL(RelaxationVariant::automatic);
+  const FieldCase& c = GetParam();
+  Box box;
+  const Canvas canvas = field_canvas(c, c.dimension == 2 ? kResolution2D : kResolution3D, &box);
+  test::expect_matches_reference(*engine, canvas,
+                                 test::random_points(box.lo, box.hi, c.dimension, 1, 3));
+}
+
+TEST_P(EveryField, ThousandSeedsMatchTheReference) {
+  REQUIRE_POCL(RelaxationVariant::automatic);
+  const FieldCase& c = GetParam();
+  Box box;
+  const Canvas canvas = field_canvas(c, c.dimension == 2 ? kResolution2D : kResolution3D, &box);
+  test::expect_matches_reference(*engine, canvas,
+                                 test::random_points(box.lo, box.hi, c.dimension, 1000, 17));
+}
+
+TEST_P(EveryField, HundredInsertionsOneByOneEqualASolve) {
+  REQUIRE_POCL(RelaxationVariant::automatic);
+  const FieldCase& c = GetParam();
+  Box box;
+  const Canvas canvas =
+      field_canvas(c, c.dimension == 2 ? kInsertionResolution2D : kInsertionResolution3D, &box);
+  const std::vector<Vec3> seeds = test::random_points(box.lo, box.hi, c.dimension, 100, 29);
+  VoronoiField all, incremental;
+  engine->solve(canvas, seeds, all);
+  engine->solve(canvas, {seeds[0]}, incremental);
+  std::vector<Vec3> so_far{seeds[0]};
+  for (std::size_t n = 1; n < seeds.size(); ++n) {
+    so_far.push_back(seeds[n]);
+    engine->insert(canvas, so_far, n, incremental);
+  }
+  test::expect_same_field(canvas, all, incremental);
+}
+
+std::string case_name(const ::testing::TestParamInfo<FieldCase>& info) {
+  std::string name = info.param.spec.substr(0, info.param.spec.find(':'));
+  return name + "_" + std::to_string(info.param.dimension) + "D";
+}
+
+INSTANTIATE_TEST_SUITE_P(Fields, EveryField, ::testing::ValuesIn(field_cases()), case_name);
+
+}  // namespace
+}  // namespace rvor
