@@ -1,7 +1,8 @@
-// The curved dual with local fields on larger cases (ctest -L heavy: a minute or more): 500 seeds
-// at 96^3 and 200 seeds at 256^2 in uniform anisotropic metrics. Every edge (Gabriel or not) must
-// follow its straight segment within 2 voxels and measure |F (a - b)| within 2%, every face vertex
-// lie within 2 voxels of its flat triangle; the run time of the local fields is printed.
+// The curved dual with local fields on larger cases (ctest -L heavy: about 3 minutes on 2 cores):
+// 500 seeds at 96^3 and 200 seeds at 256^2 in uniform anisotropic metrics. Every edge (Gabriel or
+// not) must follow its straight segment within 2 voxels and measure |F (a - b)| within 2%, every
+// face vertex lie within 2 voxels of its flat triangle; the run time of the local fields is
+// printed.
 #include <gtest/gtest.h>
 
 #include "dual/curved_case.h"

@@ -1,5 +1,6 @@
-// The curved dual: nerve edges traced as geodesics by descending the distance field of each side's
-// label from the edge's bisector point of smallest distance (curved_dual.h), and its VTK file.
+// The curved dual (curved_dual.h): nerve edges traced as geodesics by descending each side's
+// distance from the edge's bisector point of smallest distance, faces (curved_faces.cpp) when
+// local fields are given, and the edges' VTK file.
 #include "rvor/curved_dual.h"
 
 #include <Eigen/Dense>
