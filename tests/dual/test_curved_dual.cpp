@@ -95,7 +95,7 @@ struct PullBack2D {
   }
 };
 
-TEST(CurvedDual, PulledBackMetricEdgesFollowExactGeodesics) {
+TEST(CurvedDual, PulledBackMetricEdgesAndFacesFollowExactGeodesics) {
   const PullBack2D pull;
   const Vec3 lo(-1, -1, 0), hi(1, 1, 0);
   const Canvas canvas =
@@ -147,6 +147,23 @@ TEST(CurvedDual, PulledBackMetricEdgesFollowExactGeodesics) {
       "length error %.4f\n",
       seeds.size(), dual.edges.size(), checked, dual.unreached_edges, max_deviation, max_error);
   EXPECT_GT(checked, 10u);
+
+  // A face is the pull-back of the flat triangle of the images: its geodesics are pull-backs of
+  // segments from points of [phi(b), phi(c)] to phi(a).
+  double max_face_deviation = 0;  // in phi-space, voxels
+  for (const CurvedFace& f : dual.faces)
+    for (const Vec3& p : f.points) {
+      const double deviation = test::distance_to_triangle(pull.phi(p), images[f.seeds[0]],
+                                                          images[f.seeds[1]], images[f.seeds[2]]) /
+                               h;
+      max_face_deviation = std::max(max_face_deviation, deviation);
+      EXPECT_LE(deviation, 2.0) << "face " << f.seeds[0] << "-" << f.seeds[1] << "-" << f.seeds[2];
+    }
+  std::printf(
+      "[curved 2D pull-back 160^2] %zu faces: max deviation from phi^-1(triangle) %.3f "
+      "voxels (phi-space)\n",
+      dual.faces.size(), max_face_deviation);
+  EXPECT_GT(dual.faces.size(), 10u);
 }
 
 // Prints, per file, the cell count, the first cell's type and the minimum of two cell arrays.
