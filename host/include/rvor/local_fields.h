@@ -16,9 +16,10 @@
 // cropped copy of the canvas (the star's bounding box, active on the star only), seeds spread over
 // threads: time and transient memory of the reference solver on the star's voxels (about 100 B
 // per voxel while solving, per thread); kept: 4 B per voxel of the bounding box. Measured (3D,
-// 150 random seeds at 64^3, uniform anisotropic metric): the stars hold 12 times the canvas's
-// voxels in all (about 20 cells' worth each), 5.5 times the time of the full-canvas CPU reference
-// solve of the labeled field. `solved_voxels` and `seconds` report what it was.
+// uniform anisotropic metric, random seeds, 2 threads on a loaded 2-core machine): 150 seeds at
+// 64^3: the stars hold 12 times the canvas's voxels (about 20 cells' worth each), 30 s, 5.5 times
+// the single-threaded CPU solve of the labeled field; 500 seeds at 96^3: 14 times, 164 s (0.33 s
+// a seed), 5.9 times, 365 MB peak. `solved_voxels` and `seconds` report what it was.
 #include <array>
 #include <cstddef>
 #include <limits>
