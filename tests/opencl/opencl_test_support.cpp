@@ -81,6 +81,18 @@ void expect_same_field(const Canvas& canvas, const VoronoiField& expected,
   EXPECT_LE(near_ties, std::max<std::size_t>(10, active / 2000));
 }
 
+VoronoiField insert_one_by_one(Propagator& engine, const Canvas& canvas,
+                               const std::vector<Vec3>& seeds) {
+  VoronoiField field;
+  engine.solve(canvas, {seeds[0]}, field);
+  std::vector<Vec3> so_far{seeds[0]};
+  for (std::size_t n = 1; n < seeds.size(); ++n) {
+    so_far.push_back(seeds[n]);
+    engine.insert(canvas, so_far, n, field);
+  }
+  return field;
+}
+
 void expect_matches_reference(Propagator& engine, const Canvas& canvas,
                               const std::vector<Vec3>& seeds) {
   VoronoiField expected, actual;

@@ -35,6 +35,10 @@ std::vector<Vec3> random_points(const Vec3& lo, const Vec3& hi, int dimension, i
 void expect_same_field(const Canvas& canvas, const VoronoiField& expected,
                        const VoronoiField& actual);
 
+// Solves with seeds[0], then inserts the others one at a time.
+VoronoiField insert_one_by_one(Propagator& engine, const Canvas& canvas,
+                               const std::vector<Vec3>& seeds);
+
 // Solves with the engine and with the CPU reference and compares the fields.
 void expect_matches_reference(Propagator& engine, const Canvas& canvas,
                               const std::vector<Vec3>& seeds);

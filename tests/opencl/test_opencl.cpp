@@ -77,15 +77,9 @@ TEST(OpenCLInsertion, OneByOneEqualsAllAtOnce) {
   REQUIRE_POCL(RelaxationVariant::automatic);
   const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 32, rotated_metric(3, 4.0));
   const std::vector<Vec3> seeds = test::random_points(kLo, kHi, 3, 20, 5);
-  VoronoiField all, incremental;
+  VoronoiField all;
   engine->solve(canvas, seeds, all);
-  engine->solve(canvas, {seeds[0]}, incremental);
-  std::vector<Vec3> so_far{seeds[0]};
-  for (std::size_t n = 1; n < seeds.size(); ++n) {
-    so_far.push_back(seeds[n]);
-    engine->insert(canvas, so_far, n, incremental);
-  }
-  test::expect_same_field(canvas, all, incremental);
+  test::expect_same_field(canvas, all, test::insert_one_by_one(*engine, canvas, seeds));
 }
 
 TEST(OpenCLInsertion, TouchesLessThanASolve) {

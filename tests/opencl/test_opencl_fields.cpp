@@ -52,22 +52,21 @@ Canvas field_canvas(const FieldCase& c, int resolution, Box* domain) {
 
 class EveryField : public ::testing::TestWithParam<FieldCase> {};
 
-TEST_P(EveryField, OneSeedMatchesTheReference) {
+// Solves the field's canvas with `count` random seeds on PoCL and with the reference.
+void expect_seeds_match_reference(const FieldCase& c, int count, unsigned rng_seed) {
   REQUIRE_POCL(RelaxationVariant::automatic);
-  const FieldCase& c = GetParam();
   Box box;
   const Canvas canvas = field_canvas(c, c.dimension == 2 ? kResolution2D : kResolution3D, &box);
   test::expect_matches_reference(*engine, canvas,
-                                 test::random_points(box.lo, box.hi, c.dimension, 1, 3));
+                                 test::random_points(box.lo, box.hi, c.dimension, count, rng_seed));
+}
+
+TEST_P(EveryField, OneSeedMatchesTheReference) {
+  expect_seeds_match_reference(GetParam(), 1, 3);
 }
 
 TEST_P(EveryField, ThousandSeedsMatchTheReference) {
-  REQUIRE_POCL(RelaxationVariant::automatic);
-  const FieldCase& c = GetParam();
-  Box box;
-  const Canvas canvas = field_canvas(c, c.dimension == 2 ? kResolution2D : kResolution3D, &box);
-  test::expect_matches_reference(*engine, canvas,
-                                 test::random_points(box.lo, box.hi, c.dimension, 1000, 17));
+  expect_seeds_match_reference(GetParam(), 1000, 17);
 }
 
 TEST_P(EveryField, HundredInsertionsOneByOneEqualASolve) {
@@ -77,15 +76,9 @@ TEST_P(EveryField, HundredInsertionsOneByOneEqualASolve) {
   const Canvas canvas =
       field_canvas(c, c.dimension == 2 ? kInsertionResolution2D : kInsertionResolution3D, &box);
   const std::vector<Vec3> seeds = test::random_points(box.lo, box.hi, c.dimension, 100, 29);
-  VoronoiField all, incremental;
+  VoronoiField all;
   engine->solve(canvas, seeds, all);
-  engine->solve(canvas, {seeds[0]}, incremental);
-  std::vector<Vec3> so_far{seeds[0]};
-  for (std::size_t n = 1; n < seeds.size(); ++n) {
-    so_far.push_back(seeds[n]);
-    engine->insert(canvas, so_far, n, incremental);
-  }
-  test::expect_same_field(canvas, all, incremental);
+  test::expect_same_field(canvas, all, test::insert_one_by_one(*engine, canvas, seeds));
 }
 
 std::string case_name(const ::testing::TestParamInfo<FieldCase>& info) {
