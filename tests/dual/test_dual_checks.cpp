@@ -123,16 +123,30 @@ TEST(DualChecks, RegularTetrahedronHasQualityOne) {
 
 // Seeds too close for the canvas: 60 seeds on 24 x 24 voxels, cells of a few voxels each, so
 // the labels are too coarse to resolve the Voronoi diagram.
-StraightDual bad_configuration() {
+// Deciding near-degenerate configurations in the metric would repair this uniform-metric case
+// (and flag most of it near-degenerate, checked below): the checks see the canvas's own nerve.
+StraightDual bad_configuration(bool decide_near_degenerate) {
   const Canvas canvas =
       test::make_uniform_box_canvas(2, Vec3(0, 0, 0), Vec3(1, 1, 0), 24, Mat3::Identity());
   const std::vector<Vec3> seeds = random_seeds(canvas, 60, 7);
   const VoronoiField field = test::solve_reference(canvas, seeds);
-  return build_straight_dual(canvas, extract_nerve(canvas, field, seeds.size()), seeds);
+  StraightDualOptions options;
+  options.decide_near_degenerate = decide_near_degenerate;
+  return build_straight_dual(canvas, extract_nerve(canvas, field, seeds.size()), seeds, options);
+}
+
+TEST(DualChecks, SeedsTooCloseForTheCanvasAreMostlyNearDegenerateWhenDecided) {
+  const StraightDual dual = bad_configuration(true);
+  std::printf("bad configuration, decided: %zu triangles, near-degenerate %zu, triangulation %d\n",
+              dual.triangles.size(), dual.checks.near_degenerate,
+              int(dual.checks.is_triangulation));
+  EXPECT_GE(2 * dual.checks.near_degenerate, dual.triangles.size());
+  const auto report = nlohmann::json::parse(dual_report_json(dual));
+  EXPECT_EQ(report["near_degenerate"], dual.checks.near_degenerate);
 }
 
 TEST(DualChecks, SeedsTooCloseForTheCanvasAreNotATriangulation) {
-  const StraightDual dual = bad_configuration();
+  const StraightDual dual = bad_configuration(false);
   const DualChecks& c = dual.checks;
   std::printf(
       "bad configuration: %zu triangles, inverted %zu, intersecting %zu (%zu pairs), "

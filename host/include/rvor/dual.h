@@ -33,6 +33,14 @@ struct DualChecks {
   std::size_t intersecting_pairs = 0;
   std::size_t non_manifold = 0;          // facets (and boundary edges/vertices) as defined above
   std::size_t degenerate_witnesses = 0;  // from the nerve
+  // Top simplices with another seed within half a voxel diameter (the voxel's diagonal along the
+  // metric's strongest axis, in the metric at the witness) of their circumsphere: the canvas
+  // cannot order such seeds, the metric decided (see build_straight_dual). Witnessed simplices
+  // with a seed inside their circumsphere were removed (`near_degenerate_removed`); Delaunay
+  // simplices of such configurations that the canvas missed were added (`near_degenerate_added`).
+  std::size_t near_degenerate = 0;
+  std::size_t near_degenerate_removed = 0;
+  std::size_t near_degenerate_added = 0;
   std::size_t dangling = 0;  // lower simplices of the nerve that are no face of a top simplex
   std::size_t unused_vertices = 0;        // seeds in no top simplex
   int euler_characteristic = 0;           // of the complex of the top simplices and their faces
@@ -70,7 +78,8 @@ struct QualitySummary {
 enum DualFlag : uint8_t {
   kDualInverted = 1,
   kDualIntersecting = 2,
-  kDualNonManifold = 4,  // has a non-manifold facet
+  kDualNonManifold = 4,     // has a non-manifold facet
+  kDualNearDegenerate = 8,  // decided by the metric, not confirmed by the canvas (DualChecks)
 };
 
 struct StraightDual {
@@ -93,11 +102,26 @@ struct StraightDual {
 
 // Builds and checks the straight dual of the nerve. `seeds` are the propagation's seeds (label
 // i = seeds[i]); each must lie in an active voxel. Throws rvor::Error on a nerve/seed mismatch.
+// Top simplices are the nerve's, except where d+2 or more seeds are cospherical to within about
+// a voxel (a Voronoi edge the canvas cannot resolve): there the empty-sphere test in the metric
+// at the witness decides which of the configuration's simplices are Delaunay (exact for uniform
+// metrics, the locally uniform approximation otherwise), and they are flagged near-degenerate.
+// Lower simplices: the faces of the top simplices and the nerve's dangling ones.
+struct StraightDualOptions {
+  // Decide near-degenerate configurations in the metric (above). Off: the top simplices are
+  // exactly the nerve's, as the canvas witnesses them (near_degenerate stays 0), e.g. to see how
+  // well the canvas alone resolves the diagram. On a canvas too coarse for its seeds, deciding
+  // can hide that: most top simplices are then flagged near-degenerate.
+  bool decide_near_degenerate = true;
+};
+
 StraightDual build_straight_dual(const Canvas& canvas, const Nerve& nerve,
-                                 const std::vector<Vec3>& seeds);
+                                 const std::vector<Vec3>& seeds,
+                                 const StraightDualOptions& options = {});
 
 // The `dual` object of report.json as JSON text: vertices, edges, triangles, tetrahedra,
-// inverted, intersecting, intersecting_pairs, non_manifold, degenerate_witnesses, dangling,
+// inverted, intersecting, intersecting_pairs, non_manifold, degenerate_witnesses,
+// near_degenerate (and _removed, _added), dangling,
 // unused_vertices, euler_characteristic, is_triangulation, seconds, and `quality` (min, mean,
 // histogram, angles, edge lengths).
 std::string dual_report_json(const StraightDual& dual);

@@ -33,6 +33,21 @@ std::vector<int> orientation_signs(const StraightDual& dual);
 std::vector<std::array<std::size_t, 2>> intersecting_pairs(const StraightDual& dual,
                                                            const std::vector<int>& orientation);
 
+// The nerve's top simplices with the near-degenerate ones decided by the empty-sphere test in the
+// metric at their witness (local_delaunay.cpp): sorted, distinct, with a near-degenerate mark each
+// (witnessed or added simplices with another seed within about a voxel of their circumsphere).
+struct LocalDelaunay {
+  std::vector<std::array<int32_t, 4>> top;  // sorted seeds, -1 padded in 2D
+  std::vector<uint8_t> near_degenerate;     // per top simplex
+  std::size_t removed = 0;  // witnessed top simplices with a seed inside their circumsphere
+  std::size_t added = 0;    // Delaunay simplices of near-degenerate configurations not witnessed
+};
+
+LocalDelaunay resolve_near_degenerate(const Canvas& canvas, const Nerve& nerve,
+                                      const std::vector<Vec3>& seeds);
+// The nerve's top simplices unchanged, none marked.
+LocalDelaunay witnessed_as_is(const Nerve& nerve);
+
 // Fills dual.quality and dual.quality_summary.
 void measure_quality(StraightDual& dual);
 

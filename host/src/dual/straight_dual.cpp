@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <map>
+#include <set>
 
 #include "dual/dual_internal.h"
 #include "rvor/error.h"
@@ -21,6 +22,53 @@ std::vector<std::array<int32_t, N>> seed_tuples(const std::vector<NerveSimplex>&
     out.push_back(t);
   }
   return out;
+}
+
+// The size-N faces of the top simplices, and the nerve's size-N simplices that no witnessed top
+// simplex contains (near the boundary, a simplex is witnessed without its Voronoi vertex).
+template <std::size_t N>
+std::vector<std::array<int32_t, N>> lower_simplices(const std::vector<std::array<int32_t, 4>>& tops,
+                                                    const std::vector<NerveSimplex>& witnessed,
+                                                    const std::vector<NerveSimplex>& nerve_tops,
+                                                    int top_size) {
+  auto faces_of = [top_size](const std::array<int32_t, 4>& t,
+                             std::set<std::array<int32_t, N>>& out) {
+    for (unsigned mask = 0; mask < (1u << top_size); ++mask) {
+      if (__builtin_popcount(mask) != static_cast<int>(N)) continue;
+      std::array<int32_t, N> f{};
+      int m = 0;
+      for (int v = 0; v < top_size; ++v)
+        if (mask & (1u << v)) f[m++] = t[v];
+      out.insert(f);
+    }
+  };
+  std::set<std::array<int32_t, N>> faces, nerve_faces;
+  for (const auto& t : tops) faces_of(t, faces);
+  for (const NerveSimplex& t : nerve_tops) faces_of(t.seeds, nerve_faces);
+  for (const auto& t : seed_tuples<N>(witnessed))
+    if (!nerve_faces.count(t)) faces.insert(t);
+  return {faces.begin(), faces.end()};
+}
+
+void set_simplices(const Nerve& nerve, const dual::LocalDelaunay& local, StraightDual& dual) {
+  const int top_size = dual.dimension + 1;
+  const auto& nerve_tops = nerve.top_simplices();
+  dual.edges = lower_simplices<2>(local.top, nerve.edges, nerve_tops, top_size);
+  if (dual.dimension == 3) {
+    dual.triangles = lower_simplices<3>(local.top, nerve.triangles, nerve_tops, top_size);
+    dual.tetrahedra = local.top;
+  } else {
+    dual.triangles.clear();
+    for (const auto& t : local.top) dual.triangles.push_back({t[0], t[1], t[2]});
+  }
+  dual.flags.assign(dual.top_count(), 0);
+  for (std::size_t t = 0; t < local.top.size(); ++t)
+    if (local.near_degenerate[t]) {
+      dual.flags[t] |= kDualNearDegenerate;
+      ++dual.checks.near_degenerate;
+    }
+  dual.checks.near_degenerate_removed = local.removed;
+  dual.checks.near_degenerate_added = local.added;
 }
 
 std::vector<Mat3> seed_metrics(const Canvas& canvas, const std::vector<Vec3>& seeds) {
@@ -93,7 +141,8 @@ std::array<int32_t, 4> StraightDual::top_simplex(std::size_t t) const {
 }
 
 StraightDual build_straight_dual(const Canvas& canvas, const Nerve& nerve,
-                                 const std::vector<Vec3>& seeds) {
+                                 const std::vector<Vec3>& seeds,
+                                 const StraightDualOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   if (nerve.seed_count != seeds.size() || nerve.dimension != canvas.dimension)
     throw Error("straight dual: the nerve was extracted for " + std::to_string(nerve.seed_count) +
@@ -103,10 +152,10 @@ StraightDual build_straight_dual(const Canvas& canvas, const Nerve& nerve,
   dual.dimension = canvas.dimension;
   dual.vertices = seeds;
   dual.vertex_metrics = seed_metrics(canvas, seeds);
-  dual.edges = seed_tuples<2>(nerve.edges);
-  dual.triangles = seed_tuples<3>(nerve.triangles);
-  dual.tetrahedra = seed_tuples<4>(nerve.tetrahedra);
-  dual.flags.assign(dual.top_count(), 0);
+  set_simplices(nerve,
+                options.decide_near_degenerate ? dual::resolve_near_degenerate(canvas, nerve, seeds)
+                                               : dual::witnessed_as_is(nerve),
+                dual);
   dual.checks.degenerate_witnesses = nerve.degenerate_witness_count;
 
   const dual::Topology topo = dual::analyse_topology(dual);
