@@ -34,13 +34,15 @@ double poisson_radius(int dimension, const Vec3& lo, const Vec3& hi, const Mat3&
 
 std::vector<Vec3> poisson_disk_seeds(int dimension, const Vec3& lo, const Vec3& hi, double margin,
                                      const Mat3& F, double radius, std::size_t count,
-                                     std::uint64_t rng_seed) {
+                                     std::uint64_t rng_seed,
+                                     const std::function<bool(const Vec3&)>& accept) {
   std::mt19937_64 rng(rng_seed);
   std::vector<std::uniform_real_distribution<double>> axis;
   for (int a = 0; a < 3; ++a) axis.emplace_back(lo[a] + margin, hi[a] - margin);
   std::vector<Vec3> seeds, images;
   for (int dart = 0; dart < 1000000 && seeds.size() < count; ++dart) {
     const Vec3 p(axis[0](rng), axis[1](rng), dimension == 3 ? axis[2](rng) : 0.0);
+    if (accept && !accept(p)) continue;
     const Vec3 image = F * p;
     bool free = true;
     for (const Vec3& q : images) free = free && (q - image).norm() >= radius;
