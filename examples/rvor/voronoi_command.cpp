@@ -243,7 +243,8 @@ void add_voronoi_command(CLI::App& app) {
       "  rvor voronoi --domain mesh:part.off --metric-file m.sol --metric-mesh m.mesh --seeds "
       "s.xyz\n"
       "Outputs in --out: voronoi.vdb (float grid 'distance', int grid 'label'), report.json,\n"
-      "seeds.xyz, and with --vtu canvas.vtu, with --probe probe.csv (x,y,z,distance,label).");
+      "seeds.xyz, and with --vtu canvas.vtu, with --probe probe.csv (x,y,z,distance,label),\n"
+      "with --dual the files listed there, with --png voronoi.png.");
   cmd->add_option("--domain", options->domain,
                   "box:X0,Y0,Z0,X1,Y1,Z1 | rect:X0,Y0,X1,Y1 | mesh:FILE(.off/.obj/.stl) | "
                   "implicit:NAME[:k=v,...] (sphere, ellipsoid, torus, disk)")
