@@ -6,6 +6,7 @@
 #include <CGAL/intersections.h>
 
 #include <algorithm>
+#include <thread>
 
 #include "dual/dual_internal.h"
 
@@ -155,12 +156,25 @@ std::vector<int> orientation_signs(const StraightDual& dual) {
 std::vector<std::array<std::size_t, 2>> intersecting_pairs(const StraightDual& dual,
                                                            const std::vector<int>& orientation) {
   std::vector<Box> boxes = element_boxes(dual, orientation);
-  const PairTest test(dual);
-  std::vector<std::array<std::size_t, 2>> pairs;
+  std::vector<std::array<std::size_t, 2>> candidates;
   CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {
-    if (test.intersect(a.info(), b.info()))
-      pairs.push_back({std::min(a.info(), b.info()), std::max(a.info(), b.info())});
+    candidates.push_back({std::min(a.info(), b.info()), std::max(a.info(), b.info())});
   });
+  // The exact tests dominate the dual's time (anisotropic elements have large, overlapping
+  // boxes): run them on all cores, each thread on an interleaved share of the candidates.
+  const unsigned threads = std::max(1u, std::min(16u, std::thread::hardware_concurrency()));
+  std::vector<std::vector<std::array<std::size_t, 2>>> found(threads);
+  const PairTest test(dual);
+  auto work = [&](unsigned t) {
+    for (std::size_t i = t; i < candidates.size(); i += threads)
+      if (test.intersect(candidates[i][0], candidates[i][1])) found[t].push_back(candidates[i]);
+  };
+  std::vector<std::thread> pool;
+  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work, t);
+  work(0);
+  for (auto& thread : pool) thread.join();
+  std::vector<std::array<std::size_t, 2>> pairs;
+  for (const auto& f : found) pairs.insert(pairs.end(), f.begin(), f.end());
   std::sort(pairs.begin(), pairs.end());
   return pairs;
 }

@@ -47,10 +47,12 @@ std::optional<Sphere> circumsphere(const std::vector<Vec3>& seeds, const Top& t,
     b[r] = p.dot(G * p) - p0.dot(G * p0);
   }
   if (d == 2) A.row(2) = Vec3(0, 0, 1).transpose();
-  const Eigen::FullPivLU<Eigen::Matrix3d> lu(A);
-  if (!lu.isInvertible() || lu.rcond() < 1e-12) return std::nullopt;
+  // Closed-form 3x3 inverse (this runs for every top simplex); flat: det small against the rows.
+  const double scale = A.row(0).norm() * A.row(1).norm() * A.row(2).norm();
+  const double det = A.determinant();
+  if (!(std::abs(det) > 1e-12 * scale)) return std::nullopt;
   Sphere s;
-  s.centre = lu.solve(b);
+  s.centre = A.inverse() * b;
   s.radius = g_length(G, s.centre - p0);
   return s;
 }
@@ -166,13 +168,16 @@ class Resolver {
   // The G-length of a voxel diagonal along the metric's longest axis: the canvas cannot order
   // distances that differ by less than about this.
   double voxel_diameter(const Mat3& G) const {
-    const double largest = d_ == 3 ? Eigen::SelfAdjointEigenSolver<Mat3>(G, Eigen::EigenvaluesOnly)
-                                         .eigenvalues()
-                                         .maxCoeff()
-                                   : Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(
-                                         G.topLeftCorner<2, 2>(), Eigen::EigenvaluesOnly)
-                                         .eigenvalues()
-                                         .maxCoeff();
+    // Closed form (computeDirect): this runs for every top simplex.
+    double largest = 0.0;
+    if (d_ == 3) {
+      Eigen::SelfAdjointEigenSolver<Mat3> eigen;
+      largest = eigen.computeDirect(G, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
+    } else {
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen;
+      const Eigen::Matrix2d G2 = G.topLeftCorner<2, 2>();
+      largest = eigen.computeDirect(G2, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
+    }
     return canvas_.voxel_size * std::sqrt(d_ * largest);
   }
 
