@@ -1,16 +1,9 @@
 // Block Fast Iterative Method on packed 8^3 bricks (8x8x1 in 2D) for the scheme of
 // docs/scheme.md. One round: relax every listed brick into `scratch` reading other bricks from
 // the `state` snapshot (so results do not depend on scheduling), commit, mark the bricks within
-// stencil reach of a changed brick pending, and list the pending bricks near the front. The host
-// loops until the list is empty. Build options: -DDIM=2|3; eikonal_scheme.clh is prepended.
-//
-// Front ordering: a pending brick's key is the smallest value that changed where its stencils can
-// see it (in itself, or in the part of a neighbour brick within stencil reach of it: each relaxed
-// brick keeps one minimum per neighbour direction). Only pending bricks whose key is within
-// `front_band` of the smallest key are relaxed; the others wait. A brick downstream of the front
-// would otherwise be recomputed each round from values that are not final yet (measured: 16.7
-// updates per voxel at 192^3 with 1000 seeds). Any schedule reaches the same fixed point
-// (docs/scheme.md).
+// stencil reach of a changed brick pending, and list the pending bricks of the round's colour.
+// The host loops while any brick is pending. Build options: -DDIM=2|3; eikonal_scheme.clh is
+// prepended by the host.
 
 #define EDGE 8
 #if DIM == 3
@@ -20,32 +13,8 @@
 #endif
 #define BRICK_VOLUME (EDGE * EDGE * EDGE_Z)
 
-#define FLAG_CHANGED 1u      /* a value changed: bricks within reach must be relaxed */
-#define FLAG_UNCONVERGED 2u  /* the brick itself is not locally converged yet */
-#define KEY_NONE 0x7F800000u /* +inf as float bits: not pending / nothing changed */
-#define DIRECTIONS 27        /* neighbour bricks (dx, dy, dz) in {-1, 0, 1}^3 */
-#define OWN_DIRECTION 13     /* (0, 0, 0): the brick itself */
-
-inline int direction_index(int3 d) {
-  return (d.x + 1) + 3 * (d.y + 1) + 9 * (d.z + 1);
-}
-
-// The neighbour directions a voxel at local coordinates c reaches with stencil offsets of at most
-// `reach` voxels per axis: per axis 0, and -1 / +1 when it lies within reach of that side.
-inline int3 reach_low(int3 c, int4 reach) {
-  return (int3)(c.x < reach.x ? -1 : 0, c.y < reach.y ? -1 : 0, c.z < reach.z ? -1 : 0);
-}
-inline int3 reach_high(int3 c, int4 reach) {
-  return (int3)(c.x >= EDGE - reach.x ? 1 : 0, c.y >= EDGE - reach.y ? 1 : 0,
-                c.z >= EDGE_Z - reach.z ? 1 : 0);
-}
-
-#define FOR_REACHED_DIRECTIONS(c, reach, index)                        \
-  const int3 low_ = reach_low(c, reach), high_ = reach_high(c, reach); \
-  for (int dz_ = low_.z; dz_ <= high_.z; ++dz_)                        \
-    for (int dy_ = low_.y; dy_ <= high_.y; ++dy_)                      \
-      for (int dx_ = low_.x; dx_ <= high_.x; ++dx_)                    \
-        for (int index = direction_index((int3)(dx_, dy_, dz_)), once_ = 1; once_; once_ = 0)
+#define FLAG_CHANGED 1u     /* a value changed: bricks within reach must be relaxed */
+#define FLAG_UNCONVERGED 2u /* the brick itself is not locally converged yet */
 
 inline int local_index(int3 v) {
   return (v.x & 7) + EDGE * ((v.y & 7) + EDGE * (DIM == 3 ? (v.z & 7) : 0));
@@ -127,7 +96,7 @@ __kernel void freeze_seed_blocks(int first_seed, int seed_count, int existing,
 __kernel void initialise_seeds(int first_seed, int seed_count, __global const float* seeds,
                                __global ulong* state, __global const float* weights,
                                __global const int* table, int4 dims, int4 grid,
-                               __global uchar* flags, __global uint* changed_min, int4 reach) {
+                               __global uchar* flags) {
   const int item = get_global_id(0);
   if (item >= seed_count * INIT_BLOCK) return;
   int3 v;
@@ -139,13 +108,7 @@ __kernel void initialise_seeds(int first_seed, int seed_count, __global const fl
   const float u0 = sqrt(max(0.0f, dot(q, seed_metric_apply(seed + 8, q))));
   const ulong candidate = make_state(u0, label) | FROZEN_BIT;
   const ulong previous = atom_min(&state[slot], candidate);
-  if (candidate < previous) {
-    const size_t brick = slot / BRICK_VOLUME;
-    flags[brick] = FLAG_CHANGED | FLAG_UNCONVERGED;
-    const int3 c = local_coordinates((int)(slot % BRICK_VOLUME));
-    FOR_REACHED_DIRECTIONS(c, reach, d)
-    atomic_min(&changed_min[brick * DIRECTIONS + d], as_uint(u0));
-  }
+  if (candidate < previous) flags[slot / BRICK_VOLUME] = FLAG_CHANGED | FLAG_UNCONVERGED;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -190,8 +153,7 @@ __kernel void relax_brick_sweep(__global const int* list, int count, __global co
                                 __global const float* seeds, __global uchar* flags,
                                 __global ulong* update_counter, int max_sweeps,
                                 __global ushort* evaluated, __global ushort* changed,
-                                uint round_base, uint stride, __global uint* changed_min,
-                                int4 reach) {
+                                uint round_base, uint stride) {
   const int position = get_global_id(0);
   if (position >= count) return;
   const int brick = list[position];
@@ -200,8 +162,6 @@ __kernel void relax_brick_sweep(__global const int* list, int count, __global co
   for (int l = 0; l < BRICK_VOLUME; ++l) work[l] = state[brick_slot + l];
   const int3 origin = brick_origins[brick].xyz;
   uint brick_flags = FLAG_UNCONVERGED;
-  float keys[DIRECTIONS];
-  for (int d = 0; d < DIRECTIONS; ++d) keys[d] = INFINITY;
   ulong updates = 0;
   uint tick = 0;
   for (int sweep = 0; sweep < max_sweeps; ++sweep) {
@@ -255,8 +215,6 @@ __kernel void relax_brick_sweep(__global const int* list, int count, __global co
         if (significant_change(current, best)) {
           changed[slot] = (ushort)stamp;
           sweep_changed = true;
-          const float value = min(state_distance(best), state_distance(current));
-          FOR_REACHED_DIRECTIONS(c, reach, d) keys[d] = min(keys[d], value);
         }
       }
     }
@@ -268,7 +226,6 @@ __kernel void relax_brick_sweep(__global const int* list, int count, __global co
     }
   }
   flags[brick] = (uchar)brick_flags;
-  for (int d = 0; d < DIRECTIONS; ++d) changed_min[brick * DIRECTIONS + d] = as_uint(keys[d]);
   atom_add(update_counter, updates);
 }
 
@@ -282,11 +239,9 @@ __kernel __attribute__((reqd_work_group_size(BRICK_VOLUME, 1, 1))) void relax_vo
     __global const int* list, int count, __global const ulong* state, __global ulong* scratch,
     __global const float* weights, __global const char* offsets, __global const int* table,
     __global const int4* brick_origins, int4 dims, int4 grid, __global const float* seeds,
-    __global uchar* flags, __global ulong* update_counter, int iterations,
-    __global uint* changed_min, int4 reach) {
+    __global uchar* flags, __global ulong* update_counter, int iterations) {
   __local ulong tile[BRICK_VOLUME];
   __local int changed_now, changed_ever, active_voxels;
-  __local uint keys[DIRECTIONS];
   const int position = get_group_id(0);
   const int l = get_local_id(0);
   const int brick = list[position];
@@ -303,7 +258,6 @@ __kernel __attribute__((reqd_work_group_size(BRICK_VOLUME, 1, 1))) void relax_vo
     changed_ever = 0;
     active_voxels = 0;
   }
-  if (l < DIRECTIONS) keys[l] = KEY_NONE;
   barrier(CLK_LOCAL_MEM_FENCE);
   if (terms > 0) atomic_inc(&active_voxels);
   int changed_last = 0;
@@ -316,12 +270,7 @@ __kernel __attribute__((reqd_work_group_size(BRICK_VOLUME, 1, 1))) void relax_vo
     }
     barrier(CLK_LOCAL_MEM_FENCE);
     if (terms > 0 && best != tile[l]) {
-      if (significant_change(tile[l], best)) {
-        changed_now = 1;
-        const uint value = as_uint(min(state_distance(best), state_distance(tile[l])));
-        const int3 c = local_coordinates(l);
-        FOR_REACHED_DIRECTIONS(c, reach, d) atomic_min(&keys[d], value);
-      }
+      if (significant_change(tile[l], best)) changed_now = 1;
       tile[l] = best;
     }
     barrier(CLK_LOCAL_MEM_FENCE);
@@ -337,7 +286,6 @@ __kernel __attribute__((reqd_work_group_size(BRICK_VOLUME, 1, 1))) void relax_vo
         (uchar)((changed_ever ? FLAG_CHANGED : 0u) | (changed_last ? FLAG_UNCONVERGED : 0u));
     atom_add(update_counter, (ulong)active_voxels * (ulong)iterations);
   }
-  if (l < DIRECTIONS) changed_min[(size_t)brick * DIRECTIONS + l] = keys[l];
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -355,49 +303,43 @@ __kernel void commit_bricks(__global const int* list, int count, __global const 
 }
 
 // A brick becomes pending when it is unconverged or a brick within stencil reach changed
-// (gathered per brick, so there are no write races); its key is the smallest value that changed
-// there. A pending brick that waits keeps its key. Also reduces the smallest key (the front).
+// (gathered per brick, so there are no write races); it stays pending until its colour's round.
 __kernel void activate_bricks(int brick_count, __global const int4* brick_origins,
                               __global const int* table, int4 grid, int4 reach,
-                              __global const uchar* flags, __global const uint* changed_min,
-                              __global uint* pending_key, __global uint* front) {
+                              __global const uchar* flags, __global uchar* pending,
+                              __global int* any_pending) {
   const int brick = get_global_id(0);
   if (brick >= brick_count) return;
-  uint key = pending_key[brick];
-  if ((flags[brick] & FLAG_UNCONVERGED) != 0)
-    key = min(key, changed_min[brick * DIRECTIONS + OWN_DIRECTION]);
+  bool activate = pending[brick] != 0 || (flags[brick] & FLAG_UNCONVERGED) != 0;
   const int3 b = brick_of_voxel(brick_origins[brick].xyz);
-  for (int dz = -reach.z; dz <= reach.z; ++dz)
-    for (int dy = -reach.y; dy <= reach.y; ++dy)
-      for (int dx = -reach.x; dx <= reach.x; ++dx) {
+  for (int dz = -reach.z; dz <= reach.z && !activate; ++dz)
+    for (int dy = -reach.y; dy <= reach.y && !activate; ++dy)
+      for (int dx = -reach.x; dx <= reach.x && !activate; ++dx) {
         const int other = brick_at(b + (int3)(dx, dy, dz), grid, table);
-        if (other < 0 || (flags[other] & FLAG_CHANGED) == 0) continue;
-        const int3 towards_this = clamp((int3)(-dx, -dy, -dz), -1, 1);
-        key = min(key, changed_min[other * DIRECTIONS + direction_index(towards_this)]);
+        activate = other >= 0 && (flags[other] & FLAG_CHANGED) != 0;
       }
-  pending_key[brick] = key;
-  if (key != KEY_NONE) atomic_min(front, key);
+  if (!activate) return;
+  pending[brick] = 1;
+  any_pending[0] = 1;
 }
 
-// Bricks of one colour (brick coordinate parities) share no face, edge or corner, so relaxing one
-// colour per round reads fresh values of all neighbours (Gauss-Seidel between bricks).
+// Bricks of one colour (parities of the brick coordinates) share no face, edge or corner, so
+// relaxing one colour per round reads fresh values of all neighbours (Gauss-Seidel between
+// bricks). colours == 1: every pending brick, every round.
 inline int brick_colour(int3 b) {
   return (b.x & 1) | (b.y & 1) << 1 | (DIM == 3 ? (b.z & 1) << 2 : 0);
 }
 
-// Lists the pending bricks whose key is within front_band of the front (order is irrelevant: a
-// brick's result depends only on the snapshot) and clears the round's flags.
-__kernel void compact_active(int brick_count, __global uchar* flags, __global uint* changed_min,
-                             __global uint* pending_key, __global const uint* front,
-                             float front_band, __global const int4* brick_origins, int colours,
-                             int colour, __global int* list, __global int* count) {
+// Lists the pending bricks of the round's colour (order is irrelevant: a brick's result depends
+// only on the snapshot) and clears the round's flags.
+__kernel void compact_active(int brick_count, __global uchar* flags, __global uchar* pending,
+                             __global const int4* brick_origins, int colours, int colour,
+                             __global int* list, __global int* count) {
   const int brick = get_global_id(0);
   if (brick >= brick_count) return;
   flags[brick] = 0;
-  for (int d = 0; d < DIRECTIONS; ++d) changed_min[brick * DIRECTIONS + d] = KEY_NONE;
-  const uint key = pending_key[brick];
-  if (key == KEY_NONE || as_float(key) > as_float(front[0]) + front_band) return;
+  if (!pending[brick]) return;
   if (colours > 1 && brick_colour(brick_of_voxel(brick_origins[brick].xyz)) != colour) return;
-  pending_key[brick] = KEY_NONE;
+  pending[brick] = 0;
   list[atomic_inc(count)] = brick;
 }

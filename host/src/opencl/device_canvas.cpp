@@ -125,7 +125,6 @@ DeviceCanvas upload_canvas(const cl::Context& context, const cl::CommandQueue& q
   for (int a = 0; a < 3; ++a) {
     d.dims.s[a] = canvas.dims[a];
     d.grid.s[a] = canvas.brick_grid_dims[a];
-    d.voxel_reach.s[a] = canvas.dimension == 2 && a == 2 ? 0 : stencils.reach[a];
     d.brick_reach.s[a] =
         canvas.dimension == 2 && a == 2 ? 0 : (stencils.reach[a] + edges[a] - 1) / edges[a];
   }
@@ -145,9 +144,8 @@ DeviceCanvas upload_canvas(const cl::Context& context, const cl::CommandQueue& q
   d.evaluated = make_scratch(context, d.slots * sizeof(cl_ushort), d.bytes);
   d.changed = make_scratch(context, d.slots * sizeof(cl_ushort), d.bytes);
   d.flags = make_scratch(context, d.bricks, d.bytes);
-  d.changed_min = make_scratch(context, d.bricks * kBrickDirections * sizeof(cl_uint), d.bytes);
-  d.pending_key = make_scratch(context, d.bricks * sizeof(cl_uint), d.bytes);
-  d.front = make_scratch(context, sizeof(cl_uint), d.bytes);
+  d.pending = make_scratch(context, d.bricks, d.bytes);
+  d.any_pending = make_scratch(context, sizeof(cl_int), d.bytes);
   d.list = make_scratch(context, d.bricks * sizeof(cl_int), d.bytes);
   d.list_count = make_scratch(context, sizeof(cl_int), d.bytes);
   d.update_counter = make_scratch(context, sizeof(cl_ulong), d.bytes);

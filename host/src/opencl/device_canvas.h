@@ -12,7 +12,6 @@
 namespace rvor::opencl {
 
 constexpr int kStencilTerms = 6;
-constexpr std::size_t kBrickDirections = 27;  // neighbour bricks in {-1, 0, 1}^3
 
 // The Selling stencils of every slot, in the device layout (inactive slots: all-zero weights).
 struct PackedStencils {
@@ -26,14 +25,11 @@ PackedStencils pack_stencils(const Canvas& canvas);
 
 struct DeviceCanvas {
   std::size_t slots = 0, bricks = 0;
-  // Stencil reach per axis: in bricks (brick_reach) and in voxels (voxel_reach).
-  cl_int4 dims{}, grid{}, brick_reach{}, voxel_reach{};
+  cl_int4 dims{}, grid{}, brick_reach{};  // brick_reach: bricks within stencil reach per axis
   cl::Buffer state, scratch, weights, offsets, table, origins;
   cl::Buffer flags, list, list_count, update_counter, seeds;
-  // Front ordering (kernels/propagation.cl): per brick and neighbour direction (27), the smallest
-  // value that changed in the last round within reach; the key of a pending brick (float bits);
-  // the smallest key of the round.
-  cl::Buffer changed_min, pending_key, front;
+  // Per brick: waiting for its colour's round (kernels/propagation.cl); whether any brick waits.
+  cl::Buffer pending, any_pending;
   // brick_sweep work avoidance: per slot, stamps of the last evaluation and the last change.
   cl::Buffer evaluated, changed;
   std::size_t seed_capacity = 0;

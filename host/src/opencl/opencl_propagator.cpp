@@ -2,7 +2,6 @@
 // rounds on the device until no brick is active (see kernels/propagation.cl).
 #include "rvor/opencl_propagator.h"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -24,7 +23,6 @@ constexpr std::size_t kSeedRecord = 16;  // floats, see kernels/eikonal_scheme.c
 constexpr std::size_t kBookkeepingGroup = 64;
 constexpr cl_ulong kInfiniteState = 0x7F8000007FFFFFFFull;  // +inf, no label, not frozen
 constexpr std::uint32_t kLabelNone = 0x7FFFFFFFu;
-constexpr cl_uint kKeyNone = 0x7F800000u;  // +inf float bits: brick not pending
 // A scheme that does not settle is a bug; stop with an error rather than loop forever.
 constexpr std::uint64_t kMaxRounds = 100000;
 
@@ -68,27 +66,6 @@ std::vector<float> seed_records(const Canvas& canvas, const std::vector<Vec3>& s
       r[8 + n] = static_cast<float>(h2 * canvas.metric[6 * static_cast<std::size_t>(slot) + n]);
   }
   return records;
-}
-
-// The metric length of a brick edge along its cheapest direction, h * 8 * sqrt(lambda_min(G)),
-// at the median over (a sample of) the active voxels: the distance a front crosses in a brick.
-double typical_brick_crossing(const Canvas& canvas) {
-  std::vector<double> crossings;
-  const std::size_t step = std::max<std::size_t>(1, canvas.slot_count() / 20000);
-  for (std::size_t slot = 0; slot < canvas.slot_count(); slot += step) {
-    if (canvas.metric[6 * slot] <= 0.0f) continue;  // inactive
-    const Mat3 G = canvas.metric_at(slot);
-    const double smallest =
-        canvas.dimension == 3
-            ? Eigen::SelfAdjointEigenSolver<Mat3>(G, Eigen::EigenvaluesOnly).eigenvalues()[0]
-            : Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(G.topLeftCorner<2, 2>(),
-                                                             Eigen::EigenvaluesOnly)
-                  .eigenvalues()[0];
-    crossings.push_back(std::sqrt(std::max(0.0, smallest)));
-  }
-  if (crossings.empty()) return std::numeric_limits<double>::infinity();
-  std::nth_element(crossings.begin(), crossings.begin() + crossings.size() / 2, crossings.end());
-  return canvas.voxel_size * Canvas::kBrickEdge * crossings[crossings.size() / 2];
 }
 
 // Whether every active voxel carries the same metric (bit for bit).
@@ -170,9 +147,6 @@ class OpenCLPropagator final : public Propagator {
       canvas_identity_ = &canvas;
       fingerprint_ = fingerprint;
       build_kernels(canvas);
-      front_band_ = options_.front_band > 0.0
-                        ? static_cast<float>(options_.front_band * typical_brick_crossing(canvas))
-                        : std::numeric_limits<float>::infinity();
     }
     if (canvas_->seed_capacity < seeds.size()) {
       canvas_->seed_capacity = std::max<std::size_t>(seeds.size(), 2 * canvas_->seed_capacity);
@@ -215,9 +189,7 @@ class OpenCLPropagator final : public Propagator {
                           VoronoiField& field, std::chrono::steady_clock::time_point start) {
     queue_.enqueueFillBuffer(canvas_->update_counter, cl_ulong{0}, 0, sizeof(cl_ulong));
     queue_.enqueueFillBuffer(canvas_->flags, cl_uchar{0}, 0, canvas_->bricks);
-    queue_.enqueueFillBuffer(canvas_->changed_min, kKeyNone, 0,
-                             canvas_->bricks * opencl::kBrickDirections * sizeof(cl_uint));
-    queue_.enqueueFillBuffer(canvas_->pending_key, kKeyNone, 0, canvas_->bricks * sizeof(cl_uint));
+    queue_.enqueueFillBuffer(canvas_->pending, cl_uchar{0}, 0, canvas_->bricks);
     reset_stamps();
     if (first_seed > 0) prepare_seed_blocks(0, first_seed, true);
     prepare_seed_blocks(first_seed, seed_count, false);
@@ -262,8 +234,7 @@ class OpenCLPropagator final : public Propagator {
     if (items == 0) return;
     const DeviceCanvasRef d = *canvas_;
     set_args(init_, static_cast<cl_int>(first_seed), static_cast<cl_int>(seed_count - first_seed),
-             d.seeds, d.state, d.weights, d.table, d.dims, d.grid, d.flags, d.changed_min,
-             d.voxel_reach);
+             d.seeds, d.state, d.weights, d.table, d.dims, d.grid, d.flags);
     queue_.enqueueNDRangeKernel(init_, cl::NullRange,
                                 cl::NDRange(round_up(items, kBookkeepingGroup)),
                                 cl::NDRange(kBookkeepingGroup));
@@ -285,27 +256,26 @@ class OpenCLPropagator final : public Propagator {
     queue_.enqueueFillBuffer(canvas_->changed, cl_ushort{0}, 0, canvas_->slots * sizeof(cl_ushort));
   }
 
-  // Flags -> pending bricks -> the list of those near the front of the given colour (`count`);
-  // returns whether any brick is pending.
+  // Flags -> pending bricks -> the list of those of the given colour (`count`); returns whether
+  // any brick is pending.
   bool next_active_list(int colours, int colour, int& count) {
     const DeviceCanvasRef d = *canvas_;
     const cl_int bricks = static_cast<cl_int>(d.bricks);
     const cl::NDRange global(round_up(d.bricks, kBookkeepingGroup)), local(kBookkeepingGroup);
-    queue_.enqueueFillBuffer(d.front, kKeyNone, 0, sizeof(cl_uint));
-    set_args(activate_, bricks, d.origins, d.table, d.grid, d.brick_reach, d.flags, d.changed_min,
-             d.pending_key, d.front);
+    queue_.enqueueFillBuffer(d.any_pending, cl_int{0}, 0, sizeof(cl_int));
+    set_args(activate_, bricks, d.origins, d.table, d.grid, d.brick_reach, d.flags, d.pending,
+             d.any_pending);
     queue_.enqueueNDRangeKernel(activate_, cl::NullRange, global, local);
     queue_.enqueueFillBuffer(d.list_count, cl_int{0}, 0, sizeof(cl_int));
-    set_args(compact_, bricks, d.flags, d.changed_min, d.pending_key, d.front, front_band_,
-             d.origins, static_cast<cl_int>(colours), static_cast<cl_int>(colour), d.list,
+    set_args(compact_, bricks, d.flags, d.pending, d.origins, static_cast<cl_int>(colours), static_cast<cl_int>(colour), d.list,
              d.list_count);
     queue_.enqueueNDRangeKernel(compact_, cl::NullRange, global, local);
     cl_int listed = 0;
-    cl_uint front = kKeyNone;
+    cl_int any_pending = 0;
     queue_.enqueueReadBuffer(d.list_count, CL_FALSE, 0, sizeof(cl_int), &listed);
-    queue_.enqueueReadBuffer(d.front, CL_TRUE, 0, sizeof(cl_uint), &front);
+    queue_.enqueueReadBuffer(d.any_pending, CL_TRUE, 0, sizeof(cl_int), &any_pending);
     count = listed;
-    return front != kKeyNone;
+    return any_pending != 0;
   }
 
   void relax(int count) {
@@ -322,11 +292,6 @@ class OpenCLPropagator final : public Propagator {
       relax_.setArg(15, d.changed);
       relax_.setArg(16, round_base_);
       relax_.setArg(17, stamp_stride_);
-      relax_.setArg(18, d.changed_min);
-      relax_.setArg(19, d.voxel_reach);
-    } else {
-      relax_.setArg(14, d.changed_min);
-      relax_.setArg(15, d.voxel_reach);
     }
     const std::size_t voxels = static_cast<std::size_t>(count) * brick_volume_;
     if (sweep)
@@ -372,7 +337,6 @@ class OpenCLPropagator final : public Propagator {
   std::size_t brick_volume_ = 512;
   static constexpr std::uint64_t kMaxStamp = 65535;  // stamps are cl_ushort on the device
   cl_uint stamp_stride_ = 1, round_base_ = 0;        // brick_sweep evaluation stamps
-  float front_band_ = 0.0f;                          // in distance units, see OpenCLOptions
   cl::Kernel freeze_, init_, relax_, commit_, activate_, compact_;
 };
 
