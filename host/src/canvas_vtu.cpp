@@ -74,13 +74,9 @@ VtuArrays collect_cells(const Canvas& canvas, const VoronoiField& field) {
 void write_canvas_vtu(const std::string& path, const Canvas& canvas, const VoronoiField& field) {
   const VtuArrays arrays = collect_cells(canvas, field);
   vtu::AppendedWriter appended;
-  std::string xml = vtu::grid_header(arrays.points.size() / 3, arrays.types.size());
-  xml += appended.declare("Float32", "", 3, arrays.points);
-  xml += "</Points>\n<Cells>\n";
-  xml += appended.declare("Int64", "connectivity", 1, arrays.connectivity);
-  xml += appended.declare("Int64", "offsets", 1, arrays.offsets);
-  xml += appended.declare("UInt8", "types", 1, arrays.types);
-  xml += "</Cells>\n<CellData Scalars=\"label\">\n";
+  std::string xml = vtu::grid_geometry(appended, arrays.points, arrays.connectivity, arrays.offsets,
+                                       arrays.types);
+  xml += "<CellData Scalars=\"label\">\n";
   xml += appended.declare("Int32", "label", 1, arrays.labels);
   xml += appended.declare("Float32", "distance", 1, arrays.distances);
   xml += "</CellData>\n";

@@ -46,6 +46,21 @@ inline std::string grid_header(std::size_t points, std::size_t cells) {
          std::to_string(points) + "\" NumberOfCells=\"" + std::to_string(cells) + "\">\n<Points>\n";
 }
 
+// The XML from the file header through </Cells>: points (3 floats each) and cells, declared in
+// `appended`. Cell and point data sections follow.
+inline std::string grid_geometry(AppendedWriter& appended, const std::vector<float>& points,
+                                 const std::vector<int64_t>& connectivity,
+                                 const std::vector<int64_t>& offsets,
+                                 const std::vector<uint8_t>& types) {
+  std::string xml = grid_header(points.size() / 3, types.size());
+  xml += appended.declare("Float32", "", 3, points);
+  xml += "</Points>\n<Cells>\n";
+  xml += appended.declare("Int64", "connectivity", 1, connectivity);
+  xml += appended.declare("Int64", "offsets", 1, offsets);
+  xml += appended.declare("UInt8", "types", 1, types);
+  return xml + "</Cells>\n";
+}
+
 // Closes the piece (`xml` ends after the last data section) and writes the file atomically.
 inline void publish(const std::string& path, std::string xml, const AppendedWriter& appended) {
   xml += "</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"raw\">\n_";

@@ -136,13 +136,8 @@ void write_curved_dual_vtu(const std::string& path, const CurvedDual& dual) {
     seed_b.push_back(e.seeds[1]);
   }
   vtu::AppendedWriter appended;
-  std::string xml = vtu::grid_header(points.size() / 3, types.size());
-  xml += appended.declare("Float32", "", 3, points);
-  xml += "</Points>\n<Cells>\n";
-  xml += appended.declare("Int64", "connectivity", 1, connectivity);
-  xml += appended.declare("Int64", "offsets", 1, offsets);
-  xml += appended.declare("UInt8", "types", 1, types);
-  xml += "</Cells>\n<CellData Scalars=\"length\">\n";
+  std::string xml = vtu::grid_geometry(appended, points, connectivity, offsets, types);
+  xml += "<CellData Scalars=\"length\">\n";
   xml += appended.declare("Float64", "length", 1, length);
   xml += appended.declare("UInt8", "reached", 1, reached);
   xml += appended.declare("Int32", "seed_a", 1, seed_a);

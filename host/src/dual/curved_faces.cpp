@@ -149,13 +149,8 @@ void write_curved_faces_vtu(const std::string& path, const CurvedDual& dual) {
     }
   }
   vtu::AppendedWriter appended;
-  std::string xml = vtu::grid_header(points.size() / 3, types.size());
-  xml += appended.declare("Float32", "", 3, points);
-  xml += "</Points>\n<Cells>\n";
-  xml += appended.declare("Int64", "connectivity", 1, connectivity);
-  xml += appended.declare("Int64", "offsets", 1, offsets);
-  xml += appended.declare("UInt8", "types", 1, types);
-  xml += "</Cells>\n<CellData Scalars=\"face\">\n";
+  std::string xml = vtu::grid_geometry(appended, points, connectivity, offsets, types);
+  xml += "<CellData Scalars=\"face\">\n";
   xml += appended.declare("Int32", "face", 1, face_index);
   xml += appended.declare("UInt8", "reached", 1, reached);
   xml += appended.declare("Int32", "seed_a", 1, seed_a);

@@ -81,13 +81,8 @@ int reference_of(uint8_t flags) {
 void write_dual_vtu(const std::string& path, const StraightDual& dual, bool only_flagged) {
   const DualCells c = collect_cells(dual, only_flagged);
   vtu::AppendedWriter appended;
-  std::string xml = vtu::grid_header(dual.vertices.size(), c.types.size());
-  xml += appended.declare("Float32", "", 3, c.points);
-  xml += "</Points>\n<Cells>\n";
-  xml += appended.declare("Int64", "connectivity", 1, c.connectivity);
-  xml += appended.declare("Int64", "offsets", 1, c.offsets);
-  xml += appended.declare("UInt8", "types", 1, c.types);
-  xml += "</Cells>\n<PointData Scalars=\"label\">\n";
+  std::string xml = vtu::grid_geometry(appended, c.points, c.connectivity, c.offsets, c.types);
+  xml += "<PointData Scalars=\"label\">\n";
   xml += appended.declare("Int32", "label", 1, c.labels);
   xml += "</PointData>\n<CellData Scalars=\"quality\">\n";
   xml += appended.declare("Float32", "quality", 1, c.quality);
