@@ -17,6 +17,7 @@
 #include <set>
 
 #include "dual/dual_internal.h"
+#include "rvor/metric.h"
 
 namespace rvor::dual {
 
@@ -29,10 +30,6 @@ struct Sphere {
   Vec3 centre = Vec3::Zero();
   double radius = 0.0;
 };
-
-double g_length(const Mat3& G, const Vec3& v) {
-  return std::sqrt(std::max(0.0, v.dot(G * v)));
-}
 
 // Solves 2 (p_i - p_0)^T G c = |p_i|_G^2 - |p_0|_G^2 for i = 1..d (2D: c_z = p_0z); none when
 // the points are (nearly) flat.
@@ -53,7 +50,7 @@ std::optional<Sphere> circumsphere(const std::vector<Vec3>& seeds, const Top& t,
   if (!(std::abs(det) > 1e-12 * scale)) return std::nullopt;
   Sphere s;
   s.centre = A.inverse() * b;
-  s.radius = g_length(G, s.centre - p0);
+  s.radius = metric_length(G, s.centre - p0);
   return s;
 }
 
@@ -63,7 +60,7 @@ double empty_margin(const std::vector<Vec3>& seeds, const Top& t, int d, const S
   double margin = std::numeric_limits<double>::infinity();
   for (int32_t e : others) {
     if (std::find(t.begin(), t.begin() + d + 1, e) != t.begin() + d + 1) continue;
-    margin = std::min(margin, g_length(G, seeds[e] - s.centre) - s.radius);
+    margin = std::min(margin, metric_length(G, seeds[e] - s.centre) - s.radius);
   }
   return margin;
 }
@@ -130,7 +127,7 @@ class Resolver {
     std::vector<int32_t> near(t.begin(), t.begin() + d_ + 1);
     for (int32_t e : ring)
       if (std::find(near.begin(), near.end(), e) == near.end() &&
-          g_length(G, seeds_[e] - sphere.centre) - sphere.radius < kSearchVoxels * voxel)
+          metric_length(G, seeds_[e] - sphere.centre) - sphere.radius < kSearchVoxels * voxel)
         near.push_back(e);
     std::sort(near.begin(), near.end());               // so that the subsets below come out sorted
     if (!configurations_.insert(near).second) return;  // done from another of its simplices
@@ -144,7 +141,7 @@ class Resolver {
       for (int i = 0; i < n; ++i)
         if (mask & (1u << i)) c[m++] = near[i];
       const std::optional<Sphere> s = circumsphere(seeds_, c, d_, G);
-      if (!s || g_length(G, s->centre - sphere.centre) > 0.5 * sphere.radius) continue;
+      if (!s || metric_length(G, s->centre - sphere.centre) > 0.5 * sphere.radius) continue;
       // Most subsets have a seed of the configuration inside: test those first.
       if (empty_margin(seeds_, c, d_, *s, G, near) < 0.0 || !in_domain(s->centre)) continue;
       const double margin = empty_margin(seeds_, c, d_, *s, G, wide);
