@@ -6,9 +6,10 @@
 #include <CGAL/intersections.h>
 
 #include <algorithm>
-#include <thread>
+#include <cstdint>
 
 #include "dual/dual_internal.h"
+#include "dual/parallel_for.h"
 
 namespace rvor::dual {
 
@@ -161,20 +162,15 @@ std::vector<std::array<std::size_t, 2>> intersecting_pairs(const StraightDual& d
     candidates.push_back({std::min(a.info(), b.info()), std::max(a.info(), b.info())});
   });
   // The exact tests dominate the dual's time (anisotropic elements have large, overlapping
-  // boxes): run them on all cores, each thread on an interleaved share of the candidates.
-  const unsigned threads = std::max(1u, std::min(16u, std::thread::hardware_concurrency()));
-  std::vector<std::vector<std::array<std::size_t, 2>>> found(threads);
+  // boxes): run them on all cores.
+  std::vector<uint8_t> intersects(candidates.size(), 0);
   const PairTest test(dual);
-  auto work = [&](unsigned t) {
-    for (std::size_t i = t; i < candidates.size(); i += threads)
-      if (test.intersect(candidates[i][0], candidates[i][1])) found[t].push_back(candidates[i]);
-  };
-  std::vector<std::thread> pool;
-  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work, t);
-  work(0);
-  for (auto& thread : pool) thread.join();
+  detail::parallel_for(candidates.size(), 256, [&](std::size_t i) {
+    intersects[i] = test.intersect(candidates[i][0], candidates[i][1]) ? 1 : 0;
+  });
   std::vector<std::array<std::size_t, 2>> pairs;
-  for (const auto& f : found) pairs.insert(pairs.end(), f.begin(), f.end());
+  for (std::size_t i = 0; i < candidates.size(); ++i)
+    if (intersects[i]) pairs.push_back(candidates[i]);
   std::sort(pairs.begin(), pairs.end());
   return pairs;
 }
