@@ -109,6 +109,67 @@ TEST(DualChecks, TetrahedraSharingAFacetOnTheSameSideIntersect3D) {
   EXPECT_FALSE(folded.checks.is_triangulation);
 }
 
+// Whether the straight dual of just the simplices a and b (vertices into `seeds`) reports them
+// as an intersecting pair.
+bool reported_intersecting(int dimension, const std::vector<Vec3>& seeds,
+                           const std::vector<int32_t>& a, const std::vector<int32_t>& b) {
+  const StraightDual dual = build_straight_dual(
+      unit_canvas(dimension), hand_made_nerve(dimension, seeds.size(), {a, b}), seeds);
+  return dual.checks.intersecting_pairs == 1;
+}
+
+// Pairs sharing at most one vertex: some are separated by a facet plane of one of them (decided
+// by a few orientations), the others go through the general intersection tests.
+TEST(DualChecks, PairsSharingAtMostOneVertex3D) {
+  const Vec3 c(0.5, 0.5, 0.5);
+  std::vector<Vec3> seeds{c, c + Vec3(0.3, 0, 0), c + Vec3(0, 0.3, 0), c + Vec3(0, 0, 0.3)};
+  auto add = [&](std::vector<Vec3> offsets) {
+    std::vector<int32_t> ids;
+    for (const Vec3& d : offsets) {
+      ids.push_back(static_cast<int32_t>(seeds.size()));
+      seeds.push_back(c + d);
+    }
+    return ids;
+  };
+  const std::vector<int32_t> a{0, 1, 2, 3};
+  auto with_c = [](std::vector<int32_t> ids) {
+    ids.insert(ids.begin(), 0);
+    return ids;
+  };
+  const auto inside = with_c(add({{0.1, 0.05, 0.05}, {0.05, 0.1, 0.05}, {0.05, 0.05, 0.1}}));
+  const auto behind = with_c(add({{-0.3, -0.1, -0.1}, {-0.1, -0.3, -0.1}, {-0.1, -0.1, -0.3}}));
+  const auto touching = with_c(add({{-0.3, 0, 0}, {0, -0.3, 0}, {0, 0, -0.3}}));
+  const auto within =
+      add({{0.05, 0.05, 0.05}, {0.15, 0.05, 0.05}, {0.05, 0.15, 0.05}, {0.05, 0.05, 0.15}});
+  const auto beyond = add({{0.2, 0.2, 0.2}, {0.3, 0.2, 0.2}, {0.2, 0.3, 0.2}, {0.2, 0.2, 0.3}});
+  EXPECT_TRUE(reported_intersecting(3, seeds, a, inside));
+  EXPECT_FALSE(reported_intersecting(3, seeds, a, behind));
+  EXPECT_FALSE(reported_intersecting(3, seeds, a, touching));  // no facet plane separates
+  EXPECT_TRUE(reported_intersecting(3, seeds, a, within));
+  EXPECT_FALSE(reported_intersecting(3, seeds, a, beyond));
+}
+
+TEST(DualChecks, PairsSharingAtMostOneVertex2D) {
+  const Vec3 c(0.5, 0.5, 0);
+  const std::vector<Vec3> seeds{c,
+                                c + Vec3(0.3, 0, 0),
+                                c + Vec3(0, 0.3, 0),
+                                c + Vec3(0.1, 0.05, 0),
+                                c + Vec3(0.05, 0.1, 0),
+                                c + Vec3(-0.3, -0.1, 0),
+                                c + Vec3(-0.1, -0.3, 0),
+                                c + Vec3(-0.3, 0, 0),
+                                c + Vec3(0, -0.3, 0),
+                                c + Vec3(0.02, 0.02, 0),
+                                c + Vec3(0.12, 0.02, 0),
+                                c + Vec3(0.02, 0.12, 0)};
+  const std::vector<int32_t> a{0, 1, 2};
+  EXPECT_TRUE(reported_intersecting(2, seeds, a, {0, 3, 4}));
+  EXPECT_FALSE(reported_intersecting(2, seeds, a, {0, 5, 6}));
+  EXPECT_FALSE(reported_intersecting(2, seeds, a, {0, 7, 8}));
+  EXPECT_TRUE(reported_intersecting(2, seeds, a, {9, 10, 11}));
+}
+
 TEST(DualChecks, RegularTetrahedronHasQualityOne) {
   const double s = 0.3;
   const Vec3 c(0.5, 0.5, 0.5);

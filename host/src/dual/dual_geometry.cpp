@@ -31,9 +31,20 @@ int sign_of(CGAL::Orientation o) {
   return o == CGAL::POSITIVE ? 1 : (o == CGAL::NEGATIVE ? -1 : 0);
 }
 
+// Up to four vertex ids (no heap allocation: this runs for millions of candidate pairs).
+struct Vertices {
+  std::array<int32_t, 4> id{};
+  int count = 0;
+  void push_back(int32_t v) { id[count++] = v; }
+  std::size_t size() const { return static_cast<std::size_t>(count); }
+  int32_t operator[](int i) const { return id[i]; }
+  const int32_t* begin() const { return id.data(); }
+  const int32_t* end() const { return id.data() + count; }
+};
+
 // The vertices of simplices a and b split into shared ones and the rest of each.
 struct Split {
-  std::vector<int32_t> shared, only_a, only_b;
+  Vertices shared, only_a, only_b;
 };
 
 Split split(const std::array<int32_t, 4>& a, const std::array<int32_t, 4>& b, int n) {
@@ -54,11 +65,47 @@ class PairTest {
   bool intersect(std::size_t i, std::size_t j) const {
     const auto a = dual_.top_simplex(i), b = dual_.top_simplex(j);
     const Split s = split(a, b, dual_.dimension + 1);
+    // Most candidate pairs are disjoint but for a shared vertex; a facet plane separating them
+    // proves it with a few statically filtered orientations, where CGAL's general intersection
+    // tests would run in interval arithmetic.
+    if (s.shared.size() <= 1 &&
+        (facet_separates(a, s.shared, s.only_b) || facet_separates(b, s.shared, s.only_a)))
+      return false;
     return dual_.dimension == 3 ? intersect_3(a, b, s) : intersect_2(a, b, s);
   }
 
  private:
   const Vec3& x(int32_t v) const { return dual_.vertices[v]; }
+
+  // Side (-1, 0, +1) of point p relative to the facet of top simplex s without vertex `skip`.
+  int facet_side(const std::array<int32_t, 4>& s, int skip, const Vec3& p) const {
+    std::array<int32_t, 3> f{};
+    int m = 0;
+    for (int v = 0; v <= dual_.dimension; ++v)
+      if (v != skip) f[m++] = s[v];
+    if (dual_.dimension == 2) return sign_of(CGAL::orientation(p2(x(f[0])), p2(x(f[1])), p2(p)));
+    return sign_of(CGAL::orientation(p3(x(f[0])), p3(x(f[1])), p3(x(f[2])), p3(p)));
+  }
+
+  // Whether the plane of a facet of s holding all `shared` vertices has every vertex of `others`
+  // (the other simplex's unshared ones) strictly on the side away from s: the two simplices then
+  // meet at most in their common face.
+  bool facet_separates(const std::array<int32_t, 4>& s, const Vertices& shared,
+                       const Vertices& others) const {
+    for (int skip = 0; skip <= dual_.dimension; ++skip) {
+      if (std::find(shared.begin(), shared.end(), s[skip]) != shared.end()) continue;
+      const int inside = facet_side(s, skip, x(s[skip]));
+      if (inside == 0) continue;
+      bool separated = true;
+      for (int32_t v : others)
+        if (facet_side(s, skip, x(v)) != -inside) {
+          separated = false;
+          break;
+        }
+      if (separated) return true;
+    }
+    return false;
+  }
   Kernel::Triangle_2 triangle_2(const std::array<int32_t, 4>& t) const {
     return {p2(x(t[0])), p2(x(t[1])), p2(x(t[2]))};
   }
