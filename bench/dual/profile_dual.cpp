@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <fstream>
 #include <string>
 
@@ -30,6 +31,13 @@ struct Hash {
     bytes(&v, sizeof v);
   }
 };
+
+// CPU time of the process, all threads (less noisy than wall time on a shared machine).
+double cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
 
 bool load(const std::string& path, rvor::VoronoiField& field, std::size_t slots) {
   std::ifstream in(path, std::ios::binary);
@@ -114,10 +122,14 @@ int main(int argc, char** argv) {
     if (!cache.empty()) save(cache, field);
   }
   for (int r = 0; r < repetitions; ++r) {
+    const double cpu0 = cpu_seconds();
     const rvor::Nerve nerve = rvor::extract_nerve(canvas, field, seeds.size());
+    const double cpu1 = cpu_seconds();
     const rvor::StraightDual dual = rvor::build_straight_dual(canvas, nerve, seeds);
+    const double cpu2 = cpu_seconds();
     const rvor::DualChecks& c = dual.checks;
-    std::printf("nerve_s %.3f dual_s %.3f\n", nerve.seconds, dual.seconds);
+    std::printf("nerve_s %.3f dual_s %.3f (cpu: nerve %.3f dual %.3f)\n", nerve.seconds,
+                dual.seconds, cpu1 - cpu0, cpu2 - cpu1);
     if (r + 1 < repetitions) continue;
     std::printf(
         "nerve: edges %zu triangles %zu tetrahedra %zu degenerate %zu hash %016llx\n"

@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "dual/simplex_map.h"
+#include "dual/witness_cache.h"
 #include "rvor/error.h"
 
 namespace rvor {
@@ -23,19 +24,52 @@ void sort_few(int32_t* first, int count) {
     for (int j = i; j > 0 && first[j - 1] > first[j]; --j) std::swap(first[j - 1], first[j]);
 }
 
-// Labels, distances and slots of a brick's voxels and of the voxels one step beyond it.
+// Labels, distances and slots of a brick's voxels and of the voxels one step beyond it, and the
+// world coordinates of the block's voxel planes along each axis.
 struct Block {
   int edge_z = kBlockEdge;
   std::array<int32_t, kBlockEdge * kBlockEdge * kBlockEdge> label{};
   std::array<float, kBlockEdge * kBlockEdge * kBlockEdge> distance{};
   std::array<int64_t, kBlockEdge * kBlockEdge * kBlockEdge> slot{};
+  std::array<std::array<double, kBlockEdge>, 3> world{};  // world[axis][offset]
   static int index(int a, int b, int c) { return a + kBlockEdge * (b + kBlockEdge * c); }
 };
+
+// Ids of the brick at `o` and of its +x/+y/+z neighbours (-1 where empty or outside), indexed
+// dx + 2 (dy + 2 dz): the bricks a block reaches into.
+std::array<int32_t, 8> neighbour_bricks(const Canvas& canvas, const VoxelIndex& o) {
+  std::array<int32_t, 8> bricks{};
+  const int bi = o.i / Canvas::kBrickEdge, bj = o.j / Canvas::kBrickEdge,
+            bk = o.k / canvas.brick_edge_z();
+  const auto& g = canvas.brick_grid_dims;
+  for (int d = 0; d < 8; ++d) {
+    const int i = bi + (d & 1), j = bj + ((d >> 1) & 1), k = bk + (d >> 2);
+    bricks[d] = i < g[0] && j < g[1] && k < g[2]
+                    ? canvas.brick_table[i + static_cast<std::size_t>(g[0]) *
+                                                 (j + static_cast<std::size_t>(g[1]) * k)]
+                    : -1;
+  }
+  return bricks;
+}
+
+// Canvas::slot_of for block voxel (a, b, c), with the brick look-ups done once per block.
+int64_t block_slot(const Canvas& canvas, const VoxelIndex& o, const std::array<int32_t, 8>& bricks,
+                   int a, int b, int c) {
+  if (o.i + a >= canvas.dims[0] || o.j + b >= canvas.dims[1] || o.k + c >= canvas.dims[2])
+    return -1;
+  constexpr int e = Canvas::kBrickEdge;
+  const int32_t brick = bricks[a / e + 2 * (b / e) + 4 * (c / e)];
+  if (brick < 0) return -1;
+  const int64_t slot =
+      static_cast<int64_t>(brick) * canvas.brick_volume() + a % e + e * (b % e + e * (c % e));
+  return canvas.active[static_cast<std::size_t>(slot)] ? slot : -1;
+}
 
 // Fills the block of brick `brick`; returns false when it holds fewer than two labels.
 bool gather_block(const Canvas& canvas, const VoronoiField& field, std::size_t brick,
                   Block& block) {
   const VoxelIndex o = canvas.brick_origins[brick];
+  const std::array<int32_t, 8> bricks = neighbour_bricks(canvas, o);
   block.edge_z = canvas.dimension == 3 ? kBlockEdge : 1;
   int32_t first = -1;
   bool several = false;
@@ -43,7 +77,7 @@ bool gather_block(const Canvas& canvas, const VoronoiField& field, std::size_t b
     for (int b = 0; b < kBlockEdge; ++b)
       for (int a = 0; a < kBlockEdge; ++a) {
         const int n = Block::index(a, b, c);
-        const int64_t slot = canvas.slot_of(o.i + a, o.j + b, o.k + c);
+        const int64_t slot = block_slot(canvas, o, bricks, a, b, c);
         const int32_t label = slot < 0 ? -1 : field.label[slot];
         block.slot[n] = slot;
         block.label[n] = label;
@@ -52,6 +86,11 @@ bool gather_block(const Canvas& canvas, const VoronoiField& field, std::size_t b
         if (first < 0) first = label;
         several = several || label != first;
       }
+  // Canvas::world_of is component-wise: the voxels on the block's diagonal give every plane.
+  for (int a = 0; a < kBlockEdge; ++a) {
+    const Vec3 p = canvas.world_of(VoxelIndex{o.i + a, o.j + a, o.k + a});
+    for (int axis = 0; axis < 3; ++axis) block.world[axis][a] = p[axis];
+  }
   return several;
 }
 
@@ -74,6 +113,9 @@ struct KuhnPaths {
   }
 };
 
+// Bits set in 0..15 (GCC calls libgcc for __builtin_popcount without -mpopcnt).
+constexpr std::array<int, 16> kBitCount{0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
+
 class BrickScanner {
  public:
   BrickScanner(const Canvas& canvas, const VoronoiField& field, std::size_t seed_count)
@@ -86,10 +128,23 @@ class BrickScanner {
     for (int c = 0; c < cells_z; ++c)
       for (int b = 0; b < Canvas::kBrickEdge; ++b)
         for (int a = 0; a < Canvas::kBrickEdge; ++a) scan_cell(o, a, b, c, out);
+    cache_.flush(out);
   }
 
  private:
+  // Most cells lie inside one Voronoi cell: a single comparison of the corners skips them.
+  bool uniform_cell(int a, int b, int c) const {
+    const int corner_z = canvas_.dimension == 3 ? 2 : 1;
+    const int32_t first = block_.label[Block::index(a, b, c)];
+    for (int dz = 0; dz < corner_z; ++dz)
+      for (int dy = 0; dy < 2; ++dy)
+        for (int dx = 0; dx < 2; ++dx)
+          if (block_.label[Block::index(a + dx, b + dy, c + dz)] != first) return false;
+    return true;
+  }
+
   void scan_cell(const VoxelIndex& o, int a, int b, int c, dual::SimplexMap& out) {
+    if (uniform_cell(a, b, c)) return;
     std::array<int32_t, 8> labels{};
     int n = 0;
     const int corner_z = canvas_.dimension == 3 ? 2 : 1;
@@ -117,6 +172,7 @@ class BrickScanner {
     int32_t label;
     float distance;
     int64_t slot;
+    Vec3 position;
   };
 
   void scan_simplex(const std::array<std::array<int, 3>, 4>& simplex, int a, int b, int c,
@@ -124,9 +180,11 @@ class BrickScanner {
     std::array<Vertex, 4> vertices{};
     int count = 0;
     for (int v = 0; v < kuhn_.vertex_count; ++v) {
-      const int n = Block::index(a + simplex[v][0], b + simplex[v][1], c + simplex[v][2]);
+      const int x = a + simplex[v][0], y = b + simplex[v][1], z = c + simplex[v][2];
+      const int n = Block::index(x, y, z);
       if (block_.label[n] >= 0)
-        vertices[count++] = {block_.label[n], block_.distance[n], block_.slot[n]};
+        vertices[count++] = {block_.label[n], block_.distance[n], block_.slot[n],
+                             Vec3(block_.world[0][x], block_.world[1][y], block_.world[2][z])};
     }
     std::array<int32_t, 4> distinct{};
     int labels = 0;
@@ -136,27 +194,32 @@ class BrickScanner {
         distinct[labels++] = vertices[v].label;
     if (labels < 2) return;
     sort_few(distinct.data(), labels);
+    if (labels == 2) {  // most multi-label simplices: one edge, every vertex a member
+      cache_.add(std::array<int32_t, 4>{distinct[0], distinct[1], -1, -1}, 2,
+                 witness_of(vertices, count, distinct, labels), out);
+      return;
+    }
     // Every subset of the distinct labels is carried by a face of this simplex; its witness is
     // the largest face carrying exactly that subset.
     for (unsigned mask = 1; mask < (1u << labels); ++mask) {
-      if (__builtin_popcount(mask) < 2) continue;
+      if (kBitCount[mask] < 2) continue;
       std::array<int32_t, 4> key{-1, -1, -1, -1};
       int size = 0;
       for (int l = 0; l < labels; ++l)
         if (mask & (1u << l)) key[size++] = distinct[l];
-      out.add(key, size, witness_of(vertices, count, key, size));
+      cache_.add(key, size, witness_of(vertices, count, key, size), out);
     }
   }
 
-  Witness witness_of(const std::array<Vertex, 4>& vertices, int count,
-                     const std::array<int32_t, 4>& key, int size) const {
+  static Witness witness_of(const std::array<Vertex, 4>& vertices, int count,
+                            const std::array<int32_t, 4>& key, int size) {
     Witness w;
     w.distance = -1.0f;
     int members = 0;
     for (int v = 0; v < count; ++v) {
       if (std::find(key.begin(), key.begin() + size, vertices[v].label) == key.begin() + size)
         continue;
-      w.position += canvas_.world_of(static_cast<std::size_t>(vertices[v].slot));
+      w.position += vertices[v].position;
       ++members;
       if (vertices[v].distance > w.distance) {
         w.distance = vertices[v].distance;
@@ -172,6 +235,7 @@ class BrickScanner {
   std::size_t seed_count_;
   KuhnPaths kuhn_;
   Block block_;
+  dual::WitnessCache cache_;
 };
 
 std::vector<NerveSimplex> sorted_simplices(const dual::SimplexMap& map, int vertex_count) {

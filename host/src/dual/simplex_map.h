@@ -33,34 +33,23 @@ class SimplexMap {
  public:
   using Map = std::unordered_map<std::array<int32_t, 4>, NerveSimplex, SeedKeyHash>;
 
-  void add(const std::array<int32_t, 4>& key, int size, const Witness& w) {
-    auto [it, inserted] = map_.try_emplace(key);
-    NerveSimplex& s = it->second;
-    if (inserted) {
-      s.seeds = key;
-      s.vertex_count = size;
-      s.farthest = s.nearest = w;
-    } else {
-      if (witness_less(s.farthest, w)) s.farthest = w;
-      if (witness_less(w, s.nearest)) s.nearest = w;
-    }
-    ++s.witness_count;
-  }
-
   void add_degenerate(DegenerateWitness w) {
     ++degenerate_count_;
     degenerate_.push_back(std::move(w));
   }
 
+  // Merges the witnesses accumulated elsewhere for one simplex.
+  void merge_simplex(const NerveSimplex& s) {
+    auto [it, inserted] = map_.try_emplace(s.seeds, s);
+    if (inserted) return;
+    NerveSimplex& mine = it->second;
+    if (witness_less(mine.farthest, s.farthest)) mine.farthest = s.farthest;
+    if (witness_less(s.nearest, mine.nearest)) mine.nearest = s.nearest;
+    mine.witness_count += s.witness_count;
+  }
+
   void merge(const SimplexMap& other) {
-    for (const auto& [key, s] : other.map_) {
-      auto [it, inserted] = map_.try_emplace(key, s);
-      if (inserted) continue;
-      NerveSimplex& mine = it->second;
-      if (witness_less(mine.farthest, s.farthest)) mine.farthest = s.farthest;
-      if (witness_less(s.nearest, mine.nearest)) mine.nearest = s.nearest;
-      mine.witness_count += s.witness_count;
-    }
+    for (const auto& entry : other.map_) merge_simplex(entry.second);
     degenerate_count_ += other.degenerate_count_;
     degenerate_.insert(degenerate_.end(), other.degenerate_.begin(), other.degenerate_.end());
   }
