@@ -2,8 +2,6 @@
 // quality), then condenses them into DualChecks and per-element flags.
 #include <algorithm>
 #include <chrono>
-#include <map>
-#include <set>
 
 #include "dual/dual_internal.h"
 #include "rvor/error.h"
@@ -24,6 +22,32 @@ std::vector<std::array<int32_t, N>> seed_tuples(const std::vector<NerveSimplex>&
   return out;
 }
 
+template <std::size_t N>
+void sort_unique(std::vector<std::array<int32_t, N>>& v) {
+  std::sort(v.begin(), v.end());
+  v.erase(std::unique(v.begin(), v.end()), v.end());
+}
+
+// The size-N faces of the given simplices (top_size vertices each), sorted and distinct.
+template <std::size_t N, typename Simplices, typename SeedsOf>
+std::vector<std::array<int32_t, N>> faces_of(const Simplices& simplices, int top_size,
+                                             SeedsOf seeds_of) {
+  std::vector<std::array<int32_t, N>> faces;
+  for (const auto& simplex : simplices) {
+    const std::array<int32_t, 4>& t = seeds_of(simplex);
+    for (unsigned mask = 0; mask < (1u << top_size); ++mask) {
+      if (__builtin_popcount(mask) != static_cast<int>(N)) continue;
+      std::array<int32_t, N> f{};
+      int m = 0;
+      for (int v = 0; v < top_size; ++v)
+        if (mask & (1u << v)) f[m++] = t[v];
+      faces.push_back(f);
+    }
+  }
+  sort_unique(faces);
+  return faces;
+}
+
 // The size-N faces of the top simplices, and the nerve's size-N simplices that no witnessed top
 // simplex contains (near the boundary, a simplex is witnessed without its Voronoi vertex).
 template <std::size_t N>
@@ -31,23 +55,14 @@ std::vector<std::array<int32_t, N>> lower_simplices(const std::vector<std::array
                                                     const std::vector<NerveSimplex>& witnessed,
                                                     const std::vector<NerveSimplex>& nerve_tops,
                                                     int top_size) {
-  auto faces_of = [top_size](const std::array<int32_t, 4>& t,
-                             std::set<std::array<int32_t, N>>& out) {
-    for (unsigned mask = 0; mask < (1u << top_size); ++mask) {
-      if (__builtin_popcount(mask) != static_cast<int>(N)) continue;
-      std::array<int32_t, N> f{};
-      int m = 0;
-      for (int v = 0; v < top_size; ++v)
-        if (mask & (1u << v)) f[m++] = t[v];
-      out.insert(f);
-    }
-  };
-  std::set<std::array<int32_t, N>> faces, nerve_faces;
-  for (const auto& t : tops) faces_of(t, faces);
-  for (const NerveSimplex& t : nerve_tops) faces_of(t.seeds, nerve_faces);
+  std::vector<std::array<int32_t, N>> faces = faces_of<N>(
+      tops, top_size, [](const std::array<int32_t, 4>& t) -> const auto& { return t; });
+  const std::vector<std::array<int32_t, N>> nerve_faces = faces_of<N>(
+      nerve_tops, top_size, [](const NerveSimplex& t) -> const auto& { return t.seeds; });
   for (const auto& t : seed_tuples<N>(witnessed))
-    if (!nerve_faces.count(t)) faces.insert(t);
-  return {faces.begin(), faces.end()};
+    if (!std::binary_search(nerve_faces.begin(), nerve_faces.end(), t)) faces.push_back(t);
+  sort_unique(faces);
+  return faces;
 }
 
 void set_simplices(const Nerve& nerve, const dual::LocalDelaunay& local, StraightDual& dual) {
@@ -85,7 +100,8 @@ std::vector<Mat3> seed_metrics(const Canvas& canvas, const std::vector<Vec3>& se
 // Inverted: orientation (consistent across manifold facets) against its component's majority.
 void mark_inverted(const dual::Topology& topo, const std::vector<int>& orientation,
                    StraightDual& dual) {
-  std::map<int32_t, long> balance;  // per component: positive minus negative elements
+  // Per component: positive minus negative elements.
+  std::vector<long> balance(orientation.size(), 0);
   for (std::size_t t = 0; t < orientation.size(); ++t)
     balance[topo.component[t]] += orientation[t] * topo.parity[t];
   for (std::size_t t = 0; t < orientation.size(); ++t) {
