@@ -12,11 +12,13 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <optional>
 #include <set>
 
 #include "dual/dual_internal.h"
+#include "dual/parallel_for.h"
 #include "rvor/metric.h"
 
 namespace rvor::dual {
@@ -70,6 +72,27 @@ unsigned next_subset(unsigned mask) {
   return (((ripple ^ mask) >> 2) / low) | ripple;
 }
 
+template <typename T>
+void sort_unique(std::vector<T>& v) {
+  std::sort(v.begin(), v.end());
+  v.erase(std::unique(v.begin(), v.end()), v.end());
+}
+
+// What the empty-sphere test says about one witnessed top simplex.
+struct Decision {
+  bool kept = true;
+  bool near_degenerate = false;
+  // Set when seeds lie within kSearchVoxels of its circumsphere: the sorted configuration, and
+  // the sphere, metric and voxel diameter its Delaunay simplices are decided with.
+  std::vector<int32_t> configuration;
+  Sphere sphere;
+  Mat3 G = Mat3::Identity();
+  double voxel = 0.0;
+};
+
+// The Delaunay simplices of one configuration, each with its near-degenerate mark.
+using Found = std::vector<std::pair<Top, bool>>;
+
 class Resolver {
  public:
   Resolver(const Canvas& canvas, const Nerve& nerve, const std::vector<Vec3>& seeds)
@@ -80,75 +103,112 @@ class Resolver {
     }
   }
 
+  // Decisions and configurations are independent per simplex: both run on all cores, and are
+  // combined in the nerve's order (a configuration is decided from the first of its simplices),
+  // so the result does not depend on the thread schedule.
   LocalDelaunay run(const std::vector<NerveSimplex>& tops) {
+    std::vector<Decision> decisions(tops.size());
+    detail::parallel_for(tops.size(), 64, [&](std::size_t i) { decisions[i] = decide(tops[i]); });
     LocalDelaunay out;
-    std::set<Top> kept, added;
-    for (const NerveSimplex& s : tops) decide(s, kept, added, out);
-    std::set<Top> all = kept;
-    all.insert(added.begin(), added.end());
-    out.added = 0;
-    for (const Top& t : added) out.added += kept.count(t) == 0;
-    for (const Top& t : all) {
-      out.top.push_back(t);
-      out.near_degenerate.push_back(near_degenerate_.count(t) > 0);
+    std::vector<Top> kept, near_degenerate;
+    std::vector<const Decision*> jobs;
+    std::set<std::vector<int32_t>> configurations;
+    for (std::size_t i = 0; i < tops.size(); ++i) {
+      const Decision& d = decisions[i];
+      if (d.kept)
+        kept.push_back(tops[i].seeds);
+      else
+        ++out.removed;
+      if (d.near_degenerate) near_degenerate.push_back(tops[i].seeds);
+      // Done from another of its simplices, or too large to enumerate.
+      if (d.configuration.empty() || !configurations.insert(d.configuration).second ||
+          static_cast<int>(d.configuration.size()) > kMaxConfiguration)
+        continue;
+      jobs.push_back(&d);
     }
+    std::vector<Found> found(jobs.size());
+    detail::parallel_for(jobs.size(), 16, [&](std::size_t j) { found[j] = configure(*jobs[j]); });
+    std::vector<Top> added;
+    for (const Found& f : found)
+      for (const auto& [c, near] : f) {
+        added.push_back(c);
+        if (near) near_degenerate.push_back(c);
+      }
+    assemble(std::move(kept), std::move(added), std::move(near_degenerate), out);
     return out;
   }
 
  private:
-  // Keeps s unless some seed near it lies inside its circumsphere in the witness's metric; near-
-  // degenerate configurations also contribute their other Delaunay simplices.
-  void decide(const NerveSimplex& s, std::set<Top>& kept, std::set<Top>& added,
-              LocalDelaunay& out) {
-    const Top t = s.seeds;
-    if (s.farthest.slot < 0) {  // no witness voxel, no metric to decide with: taken as given
-      kept.insert(t);
-      return;
-    }
-    const Mat3 G = canvas_.metric_at(static_cast<std::size_t>(s.farthest.slot));
-    const double voxel = voxel_diameter(G);
-    const std::vector<int32_t> ring = ring_of(t.begin(), t.begin() + d_ + 1);
-    const std::optional<Sphere> sphere = circumsphere(seeds_, t, d_, G);
-    const double margin = sphere ? empty_margin(seeds_, t, d_, *sphere, G, ring)
-                                 : -std::numeric_limits<double>::infinity();
-    if (margin < kFlagVoxels * voxel) near_degenerate_.insert(t);
-    if (margin >= 0.0)
-      kept.insert(t);
-    else
-      ++out.removed;
-    if (sphere && margin < kSearchVoxels * voxel)
-      add_configuration(t, *sphere, G, voxel, ring, added);
+  static void assemble(std::vector<Top> kept, std::vector<Top> added,
+                       std::vector<Top> near_degenerate, LocalDelaunay& out) {
+    sort_unique(kept);
+    sort_unique(added);
+    sort_unique(near_degenerate);
+    out.added = 0;
+    for (const Top& t : added) out.added += !std::binary_search(kept.begin(), kept.end(), t);
+    std::set_union(kept.begin(), kept.end(), added.begin(), added.end(),
+                   std::back_inserter(out.top));
+    for (const Top& t : out.top)
+      out.near_degenerate.push_back(
+          std::binary_search(near_degenerate.begin(), near_degenerate.end(), t));
   }
 
-  // The Delaunay simplices (in G) on the seeds nearly cospherical with t, whose Voronoi vertex
-  // lies in the domain near t's.
-  void add_configuration(const Top& t, const Sphere& sphere, const Mat3& G, double voxel,
-                         const std::vector<int32_t>& ring, std::set<Top>& added) {
+  // Keeps s unless some seed near it lies inside its circumsphere in the witness's metric; near-
+  // degenerate configurations also contribute their other Delaunay simplices.
+  Decision decide(const NerveSimplex& s) const {
+    Decision d;
+    const Top t = s.seeds;
+    if (s.farthest.slot < 0) return d;  // no witness voxel, no metric to decide with: as given
+    d.G = canvas_.metric_at(static_cast<std::size_t>(s.farthest.slot));
+    d.voxel = voxel_diameter(d.G);
+    const std::vector<int32_t> ring = ring_of(t.begin(), t.begin() + d_ + 1);
+    const std::optional<Sphere> sphere = circumsphere(seeds_, t, d_, d.G);
+    const double margin = sphere ? empty_margin(seeds_, t, d_, *sphere, d.G, ring)
+                                 : -std::numeric_limits<double>::infinity();
+    d.near_degenerate = margin < kFlagVoxels * d.voxel;
+    d.kept = margin >= 0.0;
+    if (sphere && margin < kSearchVoxels * d.voxel) {
+      d.sphere = *sphere;
+      d.configuration = configuration(t, *sphere, d.G, d.voxel, ring);
+    }
+    return d;
+  }
+
+  // The seeds of t and those of its ring within kSearchVoxels of its circumsphere, sorted (so
+  // that the subsets below come out sorted).
+  std::vector<int32_t> configuration(const Top& t, const Sphere& sphere, const Mat3& G,
+                                     double voxel, const std::vector<int32_t>& ring) const {
     std::vector<int32_t> near(t.begin(), t.begin() + d_ + 1);
     for (int32_t e : ring)
       if (std::find(near.begin(), near.end(), e) == near.end() &&
           metric_length(G, seeds_[e] - sphere.centre) - sphere.radius < kSearchVoxels * voxel)
         near.push_back(e);
-    std::sort(near.begin(), near.end());               // so that the subsets below come out sorted
-    if (!configurations_.insert(near).second) return;  // done from another of its simplices
+    std::sort(near.begin(), near.end());
+    return near;
+  }
+
+  // The Delaunay simplices (in G) on the seeds nearly cospherical with the decided simplex,
+  // whose Voronoi vertex lies in the domain near its own.
+  Found configure(const Decision& d) const {
+    const std::vector<int32_t>& near = d.configuration;
     const std::vector<int32_t> wide = ring_of(near.begin(), near.end());
     const int n = static_cast<int>(near.size());
-    if (n > kMaxConfiguration) return;
+    Found found;
     // The (d+1)-subsets of the configuration, as bit masks in increasing order (Gosper's hack).
     for (unsigned mask = (1u << (d_ + 1)) - 1; mask < (1u << n); mask = next_subset(mask)) {
       Top c{-1, -1, -1, -1};
       int m = 0;
       for (int i = 0; i < n; ++i)
         if (mask & (1u << i)) c[m++] = near[i];
-      const std::optional<Sphere> s = circumsphere(seeds_, c, d_, G);
-      if (!s || metric_length(G, s->centre - sphere.centre) > 0.5 * sphere.radius) continue;
+      const std::optional<Sphere> s = circumsphere(seeds_, c, d_, d.G);
+      if (!s || metric_length(d.G, s->centre - d.sphere.centre) > 0.5 * d.sphere.radius) continue;
       // Most subsets have a seed of the configuration inside: test those first.
-      if (empty_margin(seeds_, c, d_, *s, G, near) < 0.0 || !in_domain(s->centre)) continue;
-      const double margin = empty_margin(seeds_, c, d_, *s, G, wide);
+      if (empty_margin(seeds_, c, d_, *s, d.G, near) < 0.0 || !in_domain(s->centre)) continue;
+      const double margin = empty_margin(seeds_, c, d_, *s, d.G, wide);
       if (margin < 0.0) continue;
-      added.insert(c);
-      if (margin < kFlagVoxels * voxel) near_degenerate_.insert(c);
+      found.emplace_back(c, margin < kFlagVoxels * d.voxel);
     }
+    return found;
   }
 
   // The seeds given and their nerve neighbours, sorted, distinct.
@@ -191,8 +251,6 @@ class Resolver {
   const std::vector<Vec3>& seeds_;
   int d_;
   std::vector<std::vector<int32_t>> neighbours_;
-  std::set<Top> near_degenerate_;
-  std::set<std::vector<int32_t>> configurations_;
 };
 
 }  // namespace
