@@ -97,6 +97,8 @@ bool gather_block(const Canvas& canvas, const VoronoiField& field, std::size_t b
 // The Kuhn simplices of one cell: vertex offsets along the monotone paths 000 -> 111.
 struct KuhnPaths {
   std::vector<std::array<std::array<int, 3>, 4>> simplices;
+  // The same vertices as cell corner numbers dx + 2 dy + 4 dz.
+  std::vector<std::array<int, 4>> corners;
   int vertex_count = 4;
   explicit KuhnPaths(int dimension) {
     std::array<int, 3> axes{0, 1, 2};
@@ -109,6 +111,9 @@ struct KuhnPaths {
         s[v][axes[v - 1]] += 1;
       }
       simplices.push_back(s);
+      std::array<int, 4> c{};
+      for (int v = 0; v < 4; ++v) c[v] = s[v][0] + 2 * s[v][1] + 4 * s[v][2];
+      corners.push_back(c);
     } while (std::next_permutation(axes.begin(), axes.begin() + axis_count));
   }
 };
@@ -128,8 +133,10 @@ class BrickScanner {
     for (int c = 0; c < cells_z; ++c)
       for (int b = 0; b < Canvas::kBrickEdge; ++b)
         for (int a = 0; a < Canvas::kBrickEdge; ++a) scan_cell(o, a, b, c, out);
-    cache_.flush(out);
   }
+
+  // Merges what the cache still holds (call after the last brick).
+  void finish(dual::SimplexMap& out) { cache_.flush(out); }
 
  private:
   // Most cells lie inside one Voronoi cell: a single comparison of the corners skips them.
@@ -165,7 +172,59 @@ class BrickScanner {
       out.add_degenerate({VoxelIndex{o.i + a, o.j + b, o.k + c},
                           std::vector<int32_t>(labels.begin(), labels.begin() + n)});
     }
-    for (const auto& simplex : kuhn_.simplices) scan_simplex(simplex, a, b, c, out);
+    if (n == 2) {
+      scan_two_label_cell(std::min(labels[0], labels[1]), std::max(labels[0], labels[1]), a, b, c,
+                          out);
+      return;
+    }
+    cell_simplices_.clear();
+    for (const auto& simplex : kuhn_.simplices) scan_simplex(simplex, a, b, c);
+    for (const NerveSimplex& s : cell_simplices_) cache_.merge(s, out);
+  }
+
+  // Most multi-label cells carry two labels: each of their simplices carrying both witnesses the
+  // one edge, with all its active vertices as members (as scan_simplex would find). The cell's
+  // witnesses are combined here and merged into the cache once.
+  void scan_two_label_cell(int32_t first, int32_t second, int a, int b, int c,
+                           dual::SimplexMap& out) {
+    std::array<int, 8> corner_index{};
+    std::array<Vec3, 8> position;
+    const int corner_count = canvas_.dimension == 3 ? 8 : 4;
+    for (int k = 0; k < corner_count; ++k) {
+      const int x = a + (k & 1), y = b + ((k >> 1) & 1), z = c + (k >> 2);
+      corner_index[k] = Block::index(x, y, z);
+      position[k] = Vec3(block_.world[0][x], block_.world[1][y], block_.world[2][z]);
+    }
+    NerveSimplex edge;
+    edge.seeds = {first, second, -1, -1};
+    edge.vertex_count = 2;
+    for (const auto& simplex : kuhn_.corners) {
+      Witness w;
+      w.distance = -1.0f;
+      int members = 0;
+      bool has_first = false, has_second = false;
+      for (int v = 0; v < kuhn_.vertex_count; ++v) {
+        const int n = corner_index[simplex[v]];
+        const int32_t label = block_.label[n];
+        if (label < 0) continue;
+        (label == first ? has_first : has_second) = true;
+        w.position += position[simplex[v]];
+        ++members;
+        if (block_.distance[n] > w.distance) {
+          w.distance = block_.distance[n];
+          w.slot = block_.slot[n];
+        }
+      }
+      if (!has_first || !has_second) continue;
+      w.position /= members;
+      if (edge.witness_count++ == 0) {
+        edge.farthest = edge.nearest = w;
+        continue;
+      }
+      if (dual::witness_less(edge.farthest, w)) edge.farthest = w;
+      if (dual::witness_less(w, edge.nearest)) edge.nearest = w;
+    }
+    if (edge.witness_count > 0) cache_.merge(edge, out);
   }
 
   struct Vertex {
@@ -173,10 +232,10 @@ class BrickScanner {
     float distance;
     int64_t slot;
     Vec3 position;
+    unsigned bit;  // 1 << (index of its label among the simplex's sorted distinct labels)
   };
 
-  void scan_simplex(const std::array<std::array<int, 3>, 4>& simplex, int a, int b, int c,
-                    dual::SimplexMap& out) {
+  void scan_simplex(const std::array<std::array<int, 3>, 4>& simplex, int a, int b, int c) {
     std::array<Vertex, 4> vertices{};
     int count = 0;
     for (int v = 0; v < kuhn_.vertex_count; ++v) {
@@ -184,7 +243,7 @@ class BrickScanner {
       const int n = Block::index(x, y, z);
       if (block_.label[n] >= 0)
         vertices[count++] = {block_.label[n], block_.distance[n], block_.slot[n],
-                             Vec3(block_.world[0][x], block_.world[1][y], block_.world[2][z])};
+                             Vec3(block_.world[0][x], block_.world[1][y], block_.world[2][z]), 0};
     }
     std::array<int32_t, 4> distinct{};
     int labels = 0;
@@ -194,11 +253,10 @@ class BrickScanner {
         distinct[labels++] = vertices[v].label;
     if (labels < 2) return;
     sort_few(distinct.data(), labels);
-    if (labels == 2) {  // most multi-label simplices: one edge, every vertex a member
-      cache_.add(std::array<int32_t, 4>{distinct[0], distinct[1], -1, -1}, 2,
-                 witness_of(vertices, count, distinct, labels), out);
-      return;
-    }
+    for (int v = 0; v < count; ++v)
+      vertices[v].bit =
+          1u << (std::find(distinct.begin(), distinct.begin() + labels, vertices[v].label) -
+                 distinct.begin());
     // Every subset of the distinct labels is carried by a face of this simplex; its witness is
     // the largest face carrying exactly that subset.
     for (unsigned mask = 1; mask < (1u << labels); ++mask) {
@@ -207,18 +265,17 @@ class BrickScanner {
       int size = 0;
       for (int l = 0; l < labels; ++l)
         if (mask & (1u << l)) key[size++] = distinct[l];
-      cache_.add(key, size, witness_of(vertices, count, key, size), out);
+      note(key, size, witness_of(vertices, count, mask));
     }
   }
 
-  static Witness witness_of(const std::array<Vertex, 4>& vertices, int count,
-                            const std::array<int32_t, 4>& key, int size) {
+  // The witness of the face made of the vertices whose label is in `mask`.
+  static Witness witness_of(const std::array<Vertex, 4>& vertices, int count, unsigned mask) {
     Witness w;
     w.distance = -1.0f;
     int members = 0;
     for (int v = 0; v < count; ++v) {
-      if (std::find(key.begin(), key.begin() + size, vertices[v].label) == key.begin() + size)
-        continue;
+      if (!(vertices[v].bit & mask)) continue;
       w.position += vertices[v].position;
       ++members;
       if (vertices[v].distance > w.distance) {
@@ -230,12 +287,30 @@ class BrickScanner {
     return w;
   }
 
+  // Collects the current cell's witnesses per Delaunay simplex (a handful of them), so that the
+  // cache sees each simplex once per cell.
+  void note(const std::array<int32_t, 4>& key, int size, const Witness& w) {
+    for (NerveSimplex& s : cell_simplices_)
+      if (dual::same_seeds(s.seeds, key)) {
+        if (dual::witness_less(s.farthest, w)) s.farthest = w;
+        if (dual::witness_less(w, s.nearest)) s.nearest = w;
+        ++s.witness_count;
+        return;
+      }
+    NerveSimplex& s = cell_simplices_.emplace_back();
+    s.seeds = key;
+    s.vertex_count = size;
+    s.farthest = s.nearest = w;
+    s.witness_count = 1;
+  }
+
   const Canvas& canvas_;
   const VoronoiField& field_;
   std::size_t seed_count_;
   KuhnPaths kuhn_;
   Block block_;
   dual::WitnessCache cache_;
+  std::vector<NerveSimplex> cell_simplices_;
 };
 
 std::vector<NerveSimplex> sorted_simplices(const dual::SimplexMap& map, int vertex_count) {
@@ -274,6 +349,7 @@ Nerve extract_nerve(const Canvas& canvas, const VoronoiField& field, std::size_t
       BrickScanner scanner(canvas, field, seed_count);
       for (std::size_t b; (b = next_brick.fetch_add(1)) < canvas.brick_count();)
         scanner.scan(b, maps[t]);
+      scanner.finish(maps[t]);
     } catch (...) {
       errors[t] = std::current_exception();
     }

@@ -21,6 +21,18 @@ struct SeedKeyHash {
   }
 };
 
+// Key equality without memcmp (std::array's operator== calls it; keys are compared millions of
+// times).
+inline bool same_seeds(const std::array<int32_t, 4>& a, const std::array<int32_t, 4>& b) {
+  return ((a[0] ^ b[0]) | (a[1] ^ b[1]) | (a[2] ^ b[2]) | (a[3] ^ b[3])) == 0;
+}
+
+struct SeedKeyEqual {
+  bool operator()(const std::array<int32_t, 4>& a, const std::array<int32_t, 4>& b) const {
+    return same_seeds(a, b);
+  }
+};
+
 // Strict order on witnesses: distance, then slot, then position (deterministic merges).
 inline bool witness_less(const Witness& a, const Witness& b) {
   if (a.distance != b.distance) return a.distance < b.distance;
@@ -31,7 +43,7 @@ inline bool witness_less(const Witness& a, const Witness& b) {
 
 class SimplexMap {
  public:
-  using Map = std::unordered_map<std::array<int32_t, 4>, NerveSimplex, SeedKeyHash>;
+  using Map = std::unordered_map<std::array<int32_t, 4>, NerveSimplex, SeedKeyHash, SeedKeyEqual>;
 
   void add_degenerate(DegenerateWitness w) {
     ++degenerate_count_;
