@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "dual/dual_internal.h"
+#include "dual/parallel_for.h"
 
 namespace rvor::dual {
 
@@ -64,12 +65,14 @@ double edge_length(const StraightDual& dual, int32_t a, int32_t b) {
          (metric_length(dual.vertex_metrics[a], d) + metric_length(dual.vertex_metrics[b], d));
 }
 
-ElementQuality element_quality(const StraightDual& dual, const std::vector<int32_t>& v) {
+// `sqrt_metrics`: metric_sqrt of each vertex's metric (computed once, not once per element).
+ElementQuality element_quality(const StraightDual& dual, const std::vector<Mat3>& sqrt_metrics,
+                               const std::vector<int32_t>& v) {
   ElementQuality q;
   q.quality = std::numeric_limits<double>::infinity();
   Mat3 mean = Mat3::Zero();
   for (int32_t owner : v) {  // shape in each vertex's metric; the worst is kept
-    const Mat3 F = metric_sqrt(dual.vertex_metrics[owner]);
+    const Mat3& F = sqrt_metrics[owner];
     std::vector<Vec3> mapped;
     for (int32_t w : v) mapped.push_back(F * dual.vertices[w]);
     q.quality = std::min(q.quality, shape_quality(mapped));
@@ -119,12 +122,17 @@ QualitySummary summarise(const StraightDual& dual) {
 }  // namespace
 
 void measure_quality(StraightDual& dual) {
+  // Elements are independent: measured on all cores; the summary stays sequential (same sums).
+  std::vector<Mat3> sqrt_metrics(dual.vertex_metrics.size());
+  detail::parallel_for(sqrt_metrics.size(), 256, [&](std::size_t i) {
+    sqrt_metrics[i] = metric_sqrt(dual.vertex_metrics[i]);
+  });
   dual.quality.resize(dual.top_count());
-  for (std::size_t t = 0; t < dual.top_count(); ++t) {
+  detail::parallel_for(dual.top_count(), 256, [&](std::size_t t) {
     const auto s = dual.top_simplex(t);
-    dual.quality[t] =
-        element_quality(dual, std::vector<int32_t>(s.begin(), s.begin() + dual.dimension + 1));
-  }
+    dual.quality[t] = element_quality(
+        dual, sqrt_metrics, std::vector<int32_t>(s.begin(), s.begin() + dual.dimension + 1));
+  });
   dual.quality_summary = summarise(dual);
 }
 
