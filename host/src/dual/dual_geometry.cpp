@@ -187,6 +187,54 @@ std::vector<Box> element_boxes(const StraightDual& dual, const std::vector<int>&
   return boxes;
 }
 
+using Pairs = std::vector<std::array<std::size_t, 2>>;
+
+// Appends the pair of elements (smaller index first).
+struct PairSink {
+  Pairs& out;
+  void operator()(const Box& a, const Box& b) const {
+    out.push_back({std::min(a.info(), b.info()), std::max(a.info(), b.info())});
+  }
+};
+
+// The pairs of elements whose (closed) boxes overlap, in no particular order. Large inputs are cut
+// at the median x of the box centres into boxes left of the cut, right of it, and straddling it;
+// left/right pairs cannot overlap, so two threads find left+straddling pairs and right+right,
+// right+straddling ones.
+Pairs overlapping_boxes(std::vector<Box> boxes) {
+  Pairs pairs;
+  if (boxes.size() < 4096) {
+    CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), PairSink{pairs});
+    return pairs;
+  }
+  std::vector<double> centres;
+  for (const Box& b : boxes) centres.push_back(0.5 * (b.min_coord(0) + b.max_coord(0)));
+  std::nth_element(centres.begin(), centres.begin() + centres.size() / 2, centres.end());
+  const double cut = centres[centres.size() / 2];
+  std::vector<Box> left_and_straddling, right, straddling;
+  for (const Box& b : boxes) {
+    if (b.min_coord(0) > cut)
+      right.push_back(b);
+    else
+      left_and_straddling.push_back(b);
+    if (b.min_coord(0) <= cut && b.max_coord(0) >= cut) straddling.push_back(b);
+  }
+  std::array<Pairs, 2> found;
+  detail::parallel_for(2, 1, [&](std::size_t part) {
+    PairSink sink{found[part]};
+    if (part == 0) {
+      CGAL::box_self_intersection_d(left_and_straddling.begin(), left_and_straddling.end(), sink);
+      return;
+    }
+    CGAL::box_self_intersection_d(right.begin(), right.end(), sink);
+    CGAL::box_intersection_d(right.begin(), right.end(), straddling.begin(), straddling.end(),
+                             sink);
+  });
+  pairs = std::move(found[0]);
+  pairs.insert(pairs.end(), found[1].begin(), found[1].end());
+  return pairs;
+}
+
 }  // namespace
 
 std::vector<int> orientation_signs(const StraightDual& dual) {
@@ -203,11 +251,8 @@ std::vector<int> orientation_signs(const StraightDual& dual) {
 
 std::vector<std::array<std::size_t, 2>> intersecting_pairs(const StraightDual& dual,
                                                            const std::vector<int>& orientation) {
-  std::vector<Box> boxes = element_boxes(dual, orientation);
-  std::vector<std::array<std::size_t, 2>> candidates;
-  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {
-    candidates.push_back({std::min(a.info(), b.info()), std::max(a.info(), b.info())});
-  });
+  const std::vector<std::array<std::size_t, 2>> candidates =
+      overlapping_boxes(element_boxes(dual, orientation));
   // The exact tests dominate the dual's time (anisotropic elements have large, overlapping
   // boxes): run them on all cores.
   std::vector<uint8_t> intersects(candidates.size(), 0);
