@@ -62,6 +62,7 @@ void NerveAndDual(benchmark::State& state) {
 
 BENCHMARK(NerveAndDual)
     ->Args({64, 500})
+    ->Args({128, 2000})
     ->Args({256, 10000})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(3);
