@@ -130,21 +130,82 @@ __kernel void initialise_seeds(int first_seed, int seed_count, __global const fl
   }
 
 // ---------------------------------------------------------------------------------------------
-// CPU-friendly variant: one work-item sweeps its brick Gauss-Seidel, alternating the sweep
-// direction, until a sweep changes nothing significant (or max_sweeps).
+// CPU-friendly variant: one work-item sweeps its brick Gauss-Seidel, starting from its upwind
+// corner, until a sweep changes nothing significant (or max_sweeps; later sweeps flip direction).
 //
 // Work avoidance: T(x) depends only on the states of x's stencil neighbours, so a voxel none of
 // whose neighbours changed significantly (docs/scheme.md, "Convergence") since its last evaluation
 // is skipped, just as a brick is not re-activated by insignificant changes. Per slot, `evaluated`
 // holds the stamp of the last evaluation and `changed` the stamp of the last significant change
-// (0: never / unknown, so the host fills both with 0 before a solve), as 16-bit numbers that the
-// host restarts before they could wrap. A stamp is
-// round_base + tick, tick in [1, stride) counting evaluations of this brick within the round.
-// A neighbour inside the brick was seen iff it changed before x's evaluation; one outside was
-// read from the round's snapshot, so x saw it iff it changed in an earlier round than x's last
-// evaluation. Any bit change is committed (FLAG_WRITTEN), so stamps always describe `state`.
+// (0: never / unknown, so the host fills both with 0 before a solve), as 32-bit numbers that grow
+// over the whole solve. A stamp is round_base + tick, tick in [1, stride) counting evaluations of
+// this brick within the round. A neighbour inside the brick was seen iff it changed before x's
+// evaluation; one outside was read from the round's snapshot, so x saw it iff it changed in an
+// earlier round than x's last evaluation. Any bit change is committed (FLAG_WRITTEN), so stamps
+// always describe `state`.
 
 #define FLAG_WRITTEN 4u /* the brick's working copy differs from the state: commit it */
+
+// NEAR_STENCIL (build option): every stencil offset is at most one brick edge long, so a
+// neighbour lies in one of the 3^DIM bricks around the brick being relaxed; their indices are
+// looked up once per brick instead of once per neighbour.
+#ifdef NEAR_STENCIL
+#define NEAR_BRICKS 27
+inline void load_near_bricks(int3 origin, int4 grid, __global const int* table, int* near) {
+  const int3 b = brick_of_voxel(origin);
+  for (int n = 0; n < NEAR_BRICKS; ++n) {
+    const int3 d = (int3)(n % 3, (n / 3) % 3, n / 9) - (int3)(1, 1, 1);
+    near[n] = DIM == 2 && d.z != 0 ? -1 : brick_at(b + d, grid, table);
+  }
+}
+inline long neighbour_slot(int3 y, int3 origin, int4 dims, int4 grid, __global const int* table,
+                           const int* near) {
+  const int3 d = (y - origin + (int3)(EDGE, EDGE, EDGE_Z)) / (int3)(EDGE, EDGE, EDGE_Z);
+  const int brick = near[d.x + 3 * (d.y + 3 * d.z)];
+  return brick < 0 ? -1 : (long)brick * BRICK_VOLUME + local_index(y);
+}
+#else
+#define NEAR_BRICKS 1
+inline void load_near_bricks(int3 origin, int4 grid, __global const int* table, int* near) {}
+inline long neighbour_slot(int3 y, int3 origin, int4 dims, int4 grid, __global const int* table,
+                           const int* near) {
+  return slot_at(y, dims, grid, table);
+}
+#endif
+
+// The corner a sweep starts from, as the direction bits of the sweep (bit a: axis a descending):
+// per axis, the side whose face layer of the brick, or of the neighbour beyond it, holds the
+// smaller value. Information flows from small values to large ones, so starting there lets one
+// sweep carry an incoming front through the whole brick.
+inline int upwind_corner(__global const ulong* work, __global const ulong* state, int3 origin,
+                         int4 dims, int4 grid, __global const int* table, const int* near) {
+  const int edge[3] = {EDGE, EDGE, EDGE_Z};
+  int corner = 0;
+  for (int a = 0; a < DIM; ++a) {
+    float low = INFINITY, high = INFINITY;
+    for (int m = 0; m < EDGE * EDGE_Z; ++m) {  // the layers c_a = -1, 0, edge - 1, edge
+      const int p = m % EDGE, q = m / EDGE;
+      for (int layer = 0; layer < 4; ++layer) {
+        const int at = layer < 2 ? layer - 1 : edge[a] + layer - 3;
+        const int3 c = a == 0 ? (int3)(at, p, q) : a == 1 ? (int3)(p, at, q) : (int3)(p, q, at);
+        float u;
+        if (layer == 1 || layer == 2) {
+          u = state_distance(work[c.x + EDGE * (c.y + EDGE * c.z)]);
+        } else {
+          const long slot = neighbour_slot(origin + c, origin, dims, grid, table, near);
+          if (slot < 0) continue;
+          u = state_distance(state[slot]);
+        }
+        if (layer < 2)
+          low = min(low, u);
+        else
+          high = min(high, u);
+      }
+    }
+    if (high < low) corner |= 1 << a;
+  }
+  return corner;
+}
 
 __kernel void relax_brick_sweep(__global const int* list, int count, __global const ulong* state,
                                 __global ulong* scratch, __global const float* weights,
@@ -152,7 +213,7 @@ __kernel void relax_brick_sweep(__global const int* list, int count, __global co
                                 __global const int4* brick_origins, int4 dims, int4 grid,
                                 __global const float* seeds, __global uchar* flags,
                                 __global ulong* update_counter, int max_sweeps,
-                                __global ushort* evaluated, __global ushort* changed,
+                                __global uint* evaluated, __global uint* changed,
                                 uint round_base, uint stride) {
   const int position = get_global_id(0);
   if (position >= count) return;
@@ -161,11 +222,19 @@ __kernel void relax_brick_sweep(__global const int* list, int count, __global co
   const size_t brick_slot = (size_t)brick * BRICK_VOLUME;
   for (int l = 0; l < BRICK_VOLUME; ++l) work[l] = state[brick_slot + l];
   const int3 origin = brick_origins[brick].xyz;
+  int near[NEAR_BRICKS];
+  load_near_bricks(origin, grid, table, near);
+  const int corner = upwind_corner(work, state, origin, dims, grid, table, near);
   uint brick_flags = FLAG_UNCONVERGED;
   ulong updates = 0;
   uint tick = 0;
+#ifdef UNIFORM_METRIC  // one stencil for every active voxel: loaded at the first one
+  float weight[STENCIL_TERMS];
+  int3 offset[STENCIL_TERMS];
+  int uniform_terms = -1;
+#endif
   for (int sweep = 0; sweep < max_sweeps; ++sweep) {
-    const int direction = sweep % (DIM == 3 ? 8 : 4);
+    const int direction = corner ^ (sweep % (DIM == 3 ? 8 : 4));
     bool sweep_changed = false;
     for (int n = 0; n < BRICK_VOLUME; ++n) {
       ++tick;
@@ -177,10 +246,16 @@ __kernel void relax_brick_sweep(__global const int* list, int count, __global co
       const size_t slot = brick_slot + l;
       const ulong current = work[l];
       if (state_frozen(current)) continue;
+#ifdef UNIFORM_METRIC
+      if (weights[slot * STENCIL_TERMS] <= 0.0f) continue;
+      if (uniform_terms < 0) uniform_terms = load_stencil(weights, offsets, slot, weight, offset);
+      const int terms = uniform_terms;
+#else
       float weight[STENCIL_TERMS];
       int3 offset[STENCIL_TERMS];
       const int terms = load_stencil(weights, offsets, slot, weight, offset);
       if (terms == 0) continue;
+#endif
       const int3 v = origin + c;
       const uint last = evaluated[slot];
       const uint last_round = last - last % stride;
@@ -195,7 +270,7 @@ __kernel void relax_brick_sweep(__global const int* list, int count, __global co
             value = work[m];
             dirty = dirty || changed[brick_slot + m] > last;
           } else {
-            const long other = slot_at(y, dims, grid, table);
+            const long other = neighbour_slot(y, origin, dims, grid, table, near);
             if (other >= 0) {
               value = state[other];
               dirty = dirty || changed[other] >= last_round;
@@ -206,14 +281,14 @@ __kernel void relax_brick_sweep(__global const int* list, int count, __global co
       }
       if (!dirty) continue;
       const uint stamp = round_base + tick;
-      evaluated[slot] = (ushort)stamp;
+      evaluated[slot] = stamp;
       const ulong best = best_candidate(nb, weight, offset, terms, convert_float3(v), seeds);
       ++updates;
       if (best != current) {  // T(x) replaces the state, larger or not
         work[l] = best;
         brick_flags |= FLAG_WRITTEN;
         if (significant_change(current, best)) {
-          changed[slot] = (ushort)stamp;
+          changed[slot] = stamp;
           sweep_changed = true;
         }
       }

@@ -27,6 +27,7 @@ struct BenchOptions {
   std::string device = "auto";
   RelaxationVariant variant = RelaxationVariant::automatic;
   int repetitions = 1;
+  std::size_t inserted_seeds = 0;
   bool no_reference = false;
   bool no_fastsweeping = false;
   bool json = false;
@@ -60,6 +61,7 @@ std::vector<BenchCase> chosen_cases(const BenchOptions& o) {
     c.device = o.device;
     c.variant = o.variant;
     c.repetitions = o.repetitions;
+    c.inserted_seeds = o.inserted_seeds;
     c.reference = !o.no_reference;
     c.fastsweeping = !o.no_fastsweeping;
   }
@@ -93,6 +95,10 @@ std::string optional_ratio(const std::optional<double>& ratio) {
   return ratio ? fixed(*ratio, 2) + "x" : "-";
 }
 
+std::string optional_percent(const std::optional<double>& fraction) {
+  return fraction ? fixed(100.0 * *fraction, 2) + "%" : "-";
+}
+
 std::string case_name(const BenchResult& r) {
   return r.bench_case.metric + "@" + std::to_string(r.bench_case.resolution);
 }
@@ -100,8 +106,8 @@ std::string case_name(const BenchResult& r) {
 void print_table(std::ostream& out, const std::vector<BenchResult>& results) {
   const std::vector<std::string> header = {"case",     "voxels",    "seeds",   "seconds",
                                            "voxels/s", "upd/voxel", "B/voxel", "FS vox/s",
-                                           "vs FS",    "ref vox/s", "vs ref"};
-  const std::vector<int> widths = {24, 9, 6, 8, 9, 9, 8, 9, 7, 9, 7};
+                                           "vs FS",    "ref vox/s", "vs ref",  "insert"};
+  const std::vector<int> widths = {24, 9, 6, 8, 9, 9, 8, 9, 7, 9, 7, 7};
   auto row = [&](const std::vector<std::string>& cells) {
     for (std::size_t n = 0; n < cells.size(); ++n) {
       const std::string& cell = cells[n];
@@ -117,7 +123,7 @@ void print_table(std::ostream& out, const std::vector<BenchResult>& results) {
          fixed(r.seconds, 3), short_number(r.voxels_per_second), fixed(r.updates_per_voxel, 2),
          fixed(r.bytes_per_voxel, 1), optional_rate(r.fastsweeping_voxels_per_second),
          optional_ratio(r.fastsweeping_ratio), optional_rate(r.cpu_reference_voxels_per_second),
-         optional_ratio(r.reference_ratio)});
+         optional_ratio(r.reference_ratio), optional_percent(r.insert_fraction)});
   for (const BenchResult& r : results)
     out << case_name(r) << ": " << r.device_description << "; " << r.metric_description << " on "
         << r.domain_description << ", max anisotropy " << fixed(r.max_anisotropy, 1) << "\n";
@@ -146,6 +152,10 @@ nlohmann::json case_json(const BenchResult& r) {
           {"updates_per_voxel", r.updates_per_voxel},
           {"device_bytes", r.device_bytes},
           {"bytes_per_voxel", r.bytes_per_voxel},
+          {"inserted_seeds", r.bench_case.inserted_seeds},
+          {"insert_mean_seconds", or_null(r.insert_mean_seconds)},
+          {"insert_max_seconds", or_null(r.insert_max_seconds)},
+          {"insert_fraction", or_null(r.insert_fraction)},
           {"fastsweeping_seconds", or_null(r.fastsweeping_seconds)},
           {"fastsweeping_init_seconds", or_null(r.fastsweeping_init_seconds)},
           {"fastsweeping_voxels_per_second", or_null(r.fastsweeping_voxels_per_second)},
@@ -184,7 +194,7 @@ void add_bench_command(CLI::App& app) {
       "Without --domain/--metric the standard cases run: euclidean on box:-1,-1,-1,1,1,1 and\n"
       "radial_shock_3d on box:1,1,1,11,11,11, 256^3, 1000 seeds (rng seed 1).\n"
       "Examples:\n"
-      "  rvor bench --resolution 128 --no-reference\n"
+      "  rvor bench --resolution 128 --no-reference --insert 3\n"
       "  rvor bench --metric swirl --domain box:-1,-1,-1,1,1,1 --resolution 96 --json");
   cmd->add_option("--domain", options->domain,
                   "box:X0,Y0,Z0,X1,Y1,Z1 | mesh:FILE | implicit:NAME (default: the metric's "
@@ -211,6 +221,10 @@ void add_bench_command(CLI::App& app) {
                   "Solves per case with the same engine; the fastest counts (the first includes "
                   "the canvas upload)")
       ->check(CLI::Range(1, 100))
+      ->capture_default_str();
+  cmd->add_option("--insert", options->inserted_seeds,
+                  "Then insert N more seeds one at a time into the solved canvas; the table's "
+                  "`insert` column is the mean insert time as a percentage of the solve")
       ->capture_default_str();
   cmd->add_flag("--no-reference", options->no_reference, "Skip the CPU reference (slow at 256^3)");
   cmd->add_flag("--no-fastsweeping", options->no_fastsweeping, "Skip OpenVDB FastSweeping");

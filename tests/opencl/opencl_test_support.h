@@ -16,14 +16,22 @@ namespace rvor::test {
 constexpr double kRelativeTolerance = 1e-4;
 constexpr int kTieReach = 3;  // voxels: how far a tie-broken label changes neighbouring values
 
-// Declares `engine` on PoCL, or skips the test (with the reason) when PoCL is not there.
-#define REQUIRE_POCL(variant)                                              \
-  std::unique_ptr<Propagator> engine;                                      \
-  try {                                                                    \
-    engine = make_opencl_propagator("pocl", OpenCLOptions{variant, 4, 8}); \
-  } catch (const Error& e) {                                               \
-    GTEST_SKIP() << "no usable OpenCL device: " << e.what();               \
+// Declares `engine` on PoCL with the default options but `variant`, or skips the test (with
+// the reason) when PoCL is not there.
+#define REQUIRE_POCL(variant) REQUIRE_POCL_WITH(test::with_variant(variant))
+#define REQUIRE_POCL_WITH(options)                                 \
+  std::unique_ptr<Propagator> engine;                              \
+  try {                                                            \
+    engine = make_opencl_propagator("pocl", options);              \
+  } catch (const Error& e) {                                       \
+    GTEST_SKIP() << "no usable OpenCL device: " << e.what();       \
   }
+
+inline OpenCLOptions with_variant(RelaxationVariant variant) {
+  OpenCLOptions options;
+  options.variant = variant;
+  return options;
+}
 
 // Uniformly random points in the box shrunk by 5% per side (z = 0 in 2D).
 std::vector<Vec3> random_points(const Vec3& lo, const Vec3& hi, int dimension, int count,

@@ -91,6 +91,7 @@ TEST(RunBenchmarkCase, SmallCaseGivesConsistentPositiveNumbers) {
   BenchCase c;
   c.resolution = 32;
   c.seeds = 20;
+  c.inserted_seeds = 2;
   const BenchResult r = run_benchmark_case(c);
   EXPECT_EQ(r.active_voxels, 32u * 32 * 32);
   EXPECT_NEAR(r.max_anisotropy, 1.0, 1e-9);
@@ -98,9 +99,14 @@ TEST(RunBenchmarkCase, SmallCaseGivesConsistentPositiveNumbers) {
   EXPECT_NEAR(r.voxels_per_second * r.seconds, double(r.active_voxels), 1e-6 * r.active_voxels);
   EXPECT_GE(r.updates_per_voxel, 1.0);
   EXPECT_NEAR(r.updates_per_voxel, double(r.voxel_updates) / double(r.active_voxels), 1e-12);
-  // state 8 + scratch 8 + stencil 42 B per slot, plus small tables (device_canvas.h).
+  // state 8 + stamps 8 + stencil 42 B per slot, a scratch of one brick colour class (8 B / 8),
+  // plus small tables (device_canvas.h).
   EXPECT_GE(r.bytes_per_voxel, 58.0);
   EXPECT_LT(r.bytes_per_voxel, 64.0);
+  ASSERT_TRUE(r.insert_mean_seconds && r.insert_max_seconds && r.insert_fraction);
+  EXPECT_GT(*r.insert_mean_seconds, 0);
+  EXPECT_GE(*r.insert_max_seconds, *r.insert_mean_seconds);
+  EXPECT_NEAR(*r.insert_fraction, *r.insert_mean_seconds / r.seconds, 1e-9 * *r.insert_fraction);
   ASSERT_TRUE(r.fastsweeping_voxels_per_second && r.fastsweeping_ratio);
   EXPECT_GT(*r.fastsweeping_voxels_per_second, 0);
   EXPECT_NEAR(*r.fastsweeping_ratio, r.voxels_per_second / *r.fastsweeping_voxels_per_second,
@@ -127,8 +133,8 @@ TEST(RunBenchmarkCase, OptionalBaselinesCanBeSkipped) {
 
 TEST(BenchCommand, JsonHasTheRequiredKeysPerCase) {
   REQUIRE_OPENCL_DEVICE();
-  const test::CommandResult result =
-      test::run_command(test::rvor_binary() + " bench --resolution 24 --seeds 10 --json --quiet");
+  const test::CommandResult result = test::run_command(
+      test::rvor_binary() + " bench --resolution 24 --seeds 10 --insert 1 --json --quiet");
   ASSERT_EQ(result.exit_code, 0) << result.err;
   const nlohmann::json report = nlohmann::json::parse(result.out);
   ASSERT_EQ(report.at("cases").size(), 2u);
@@ -148,6 +154,8 @@ TEST(BenchCommand, JsonHasTheRequiredKeysPerCase) {
     EXPECT_GT(c.at("voxels_per_second").get<double>(), 0);
     EXPECT_GT(c.at("fastsweeping_voxels_per_second").get<double>(), 0);
     EXPECT_GT(c.at("cpu_reference_voxels_per_second").get<double>(), 0);
+    EXPECT_EQ(c.at("inserted_seeds"), 1);
+    EXPECT_GT(c.at("insert_fraction").get<double>(), 0);
   }
   EXPECT_EQ(report["cases"][1].at("metric"), "radial_shock_3d");
   EXPECT_GE(report["cases"][1].at("max_anisotropy").get<double>(), 10.0);

@@ -73,6 +73,44 @@ INSTANTIATE_TEST_SUITE_P(Variants, BothVariants,
                                                                                : "VoxelJacobi";
                          });
 
+// Scheduling choices change the order of updates, never the fixed point (docs/scheme.md).
+struct Schedule {
+  const char* name;
+  int max_sweeps;
+  bool brick_colouring;
+};
+
+class Schedules : public ::testing::TestWithParam<Schedule> {
+ protected:
+  OpenCLOptions options() const {
+    OpenCLOptions o = test::with_variant(RelaxationVariant::brick_sweep);
+    o.max_sweeps = GetParam().max_sweeps;
+    o.brick_colouring = GetParam().brick_colouring;
+    return o;
+  }
+};
+
+TEST_P(Schedules, AnisotropicManySeeds3D) {
+  REQUIRE_POCL_WITH(options());
+  const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 32, rotated_metric(3, 6.0));
+  test::expect_matches_reference(*engine, canvas, test::random_points(kLo, kHi, 3, 40, 7));
+}
+
+TEST_P(Schedules, VaryingMetric2D) {
+  REQUIRE_POCL_WITH(options());
+  const Canvas canvas = test::make_box_canvas(2, kLo, kHi, 64, [](const Vec3& p) {
+    return metric_from_frame(2, Vec3(std::cos(3 * p.y()), std::sin(3 * p.y()), 0), 4.0 + p.x(),
+                             Vec3(-std::sin(3 * p.y()), std::cos(3 * p.y()), 0), 1.0, 1.0);
+  });
+  test::expect_matches_reference(*engine, canvas, test::random_points(kLo, kHi, 2, 25, 9));
+}
+
+INSTANTIATE_TEST_SUITE_P(Engine, Schedules,
+                         ::testing::Values(Schedule{"OneSweep", 1, true},
+                                           Schedule{"EightSweeps", 8, true},
+                                           Schedule{"NoColouring", 2, false}),
+                         [](const auto& info) { return std::string(info.param.name); });
+
 TEST(OpenCLInsertion, OneByOneEqualsAllAtOnce) {
   REQUIRE_POCL(RelaxationVariant::automatic);
   const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 32, rotated_metric(3, 4.0));

@@ -24,6 +24,9 @@ struct BenchCase {
   bool reference = true;     // also time the CPU reference (slow at 256^3)
   bool fastsweeping = true;  // also time OpenVDB FastSweeping (3D canvases)
   int repetitions = 1;       // solves with the same propagator; the fastest counts
+  // After the solve, insert this many further seeds (the next draws of the same generator) one
+  // at a time into the solved canvas, timing each Propagator::insert.
+  std::size_t inserted_seeds = 0;
 };
 
 // The cases `rvor bench` runs without case options: euclidean on [-1,1]^3 and radial_shock_3d on
@@ -44,6 +47,10 @@ struct BenchResult {
   double updates_per_voxel = 0.0;
   std::uint64_t device_bytes = 0;  // OpenCL: the device canvas's buffers; cpu: 0
   double bytes_per_voxel = 0.0;    // device_bytes / active voxels
+
+  // Incremental insertion (inserted_seeds > 0): mean and largest seconds of one insert() call
+  // (including the field's upload and download), and the mean as a fraction of the solve.
+  std::optional<double> insert_mean_seconds, insert_max_seconds, insert_fraction;
 
   // OpenVDB FastSweeping: only sweep() is timed (initExt separately), 1 iteration of 8 sweeps.
   std::optional<double> fastsweeping_seconds, fastsweeping_init_seconds;

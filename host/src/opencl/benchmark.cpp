@@ -67,15 +67,33 @@ std::uint64_t device_canvas_bytes(const std::string& device_name, const Canvas& 
   try {
     const opencl::Device device = opencl::select_device(device_name);
     const cl::Context context = opencl::context_for(device);
-    const cl::CommandQueue queue(context, device.device);
-    return opencl::upload_canvas(context, queue, canvas).bytes;
+    const int colours = opencl::brick_colours(canvas, OpenCLOptions().brick_colouring);
+    return opencl::upload_canvas(context, canvas, colours).bytes;
   } catch (const cl::Error& e) {
     opencl::throw_opencl_error(e, "measuring the device canvas");
   }
 }
 
-void time_engine(const BenchCase& c, const Canvas& canvas, const std::vector<Vec3>& seeds,
+// Inserts the seeds after the first r.bench_case.seeds one at a time into the solved field.
+void time_insertion(Propagator& engine, const Canvas& canvas, const std::vector<Vec3>& all_seeds,
+                    VoronoiField& field, BenchResult& r) {
+  const std::size_t solved = r.bench_case.seeds;
+  if (all_seeds.size() <= solved) return;
+  double total = 0.0, largest = 0.0;
+  for (std::size_t next = solved; next < all_seeds.size(); ++next) {
+    const std::vector<Vec3> seeds(all_seeds.begin(), all_seeds.begin() + next + 1);
+    const double seconds = engine.insert(canvas, seeds, next, field).seconds;
+    total += seconds;
+    largest = std::max(largest, seconds);
+  }
+  r.insert_mean_seconds = total / static_cast<double>(all_seeds.size() - solved);
+  r.insert_max_seconds = largest;
+  r.insert_fraction = *r.insert_mean_seconds / r.seconds;
+}
+
+void time_engine(const BenchCase& c, const Canvas& canvas, const std::vector<Vec3>& all_seeds,
                  VoronoiField& field, BenchResult& r) {
+  const std::vector<Vec3> seeds(all_seeds.begin(), all_seeds.begin() + c.seeds);
   std::unique_ptr<Propagator> engine = make_engine(c);
   r.device_description = engine->device_description();
   for (int repetition = 0; repetition < std::max(1, c.repetitions); ++repetition) {
@@ -85,6 +103,8 @@ void time_engine(const BenchCase& c, const Canvas& canvas, const std::vector<Vec
     r.iterations = stats.iterations;
     r.voxel_updates = stats.voxel_updates;
   }
+  VoronoiField extended = field;  // `field` stays the solve's, for the comparisons
+  time_insertion(*engine, canvas, all_seeds, extended, r);
   r.voxels_per_second = per_second(r.active_voxels, r.seconds);
   r.updates_per_voxel = static_cast<double>(r.voxel_updates) / static_cast<double>(r.active_voxels);
   r.device_bytes = device_canvas_bytes(c.device, canvas);
@@ -157,7 +177,9 @@ BenchResult run_benchmark_case(const BenchCase& c,
   r.metric_description = metric->description();
   r.active_voxels = canvas.active_voxel_count;
   r.max_anisotropy = sampled_anisotropy(canvas);
-  const std::vector<Vec3> seeds = random_seeds(canvas, c.seeds, c.rng_seed);
+  // Random draws are sequential, so the first c.seeds do not depend on c.inserted_seeds.
+  const std::vector<Vec3> all_seeds = random_seeds(canvas, c.seeds + c.inserted_seeds, c.rng_seed);
+  const std::vector<Vec3> seeds(all_seeds.begin(), all_seeds.begin() + c.seeds);
   report(progress,
          "canvas " + canvas.description + ": " + std::to_string(r.active_voxels) +
              " active voxels, " + std::to_string(seeds.size()) + " seeds (" +
@@ -166,8 +188,12 @@ BenchResult run_benchmark_case(const BenchCase& c,
              ")");
 
   VoronoiField field;
-  time_engine(c, canvas, seeds, field, r);
+  time_engine(c, canvas, all_seeds, field, r);
   report(progress, r.device_description + ": " + seconds_text(r.seconds));
+  if (r.insert_mean_seconds)
+    report(progress, "insert " + std::to_string(c.inserted_seeds) + " seeds one by one: mean " +
+                         seconds_text(*r.insert_mean_seconds) + ", largest " +
+                         seconds_text(*r.insert_max_seconds));
   if (c.fastsweeping && canvas.dimension == 3) {
     time_fastsweeping(canvas, seeds, field, r);
     report(progress, "OpenVDB FastSweeping: sweep " + seconds_text(*r.fastsweeping_seconds) +

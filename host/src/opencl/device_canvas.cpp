@@ -113,9 +113,28 @@ cl::Buffer make_scratch(const cl::Context& context, std::size_t size, std::uint6
 
 }  // namespace
 
-DeviceCanvas upload_canvas(const cl::Context& context, const cl::CommandQueue& queue,
-                           const Canvas& canvas) {
-  (void)queue;
+namespace {
+
+// The most bricks one round can list: the largest colour class (colour = parities of the brick
+// coordinates, as brick_colour in kernels/propagation.cl), or every brick without colouring.
+std::size_t largest_colour_class(const Canvas& canvas, int colours) {
+  if (colours <= 1) return canvas.brick_count();
+  std::vector<std::size_t> members(static_cast<std::size_t>(colours), 0);
+  for (const VoxelIndex& o : canvas.brick_origins) {
+    const int i = o.i / Canvas::kBrickEdge, j = o.j / Canvas::kBrickEdge;
+    const int k = canvas.dimension == 3 ? o.k / canvas.brick_edge_z() : 0;
+    ++members[static_cast<std::size_t>(((i & 1) | (j & 1) << 1 | (k & 1) << 2) % colours)];
+  }
+  return *std::max_element(members.begin(), members.end());
+}
+
+}  // namespace
+
+int brick_colours(const Canvas& canvas, bool colouring) {
+  return colouring ? (canvas.dimension == 3 ? 8 : 4) : 1;
+}
+
+DeviceCanvas upload_canvas(const cl::Context& context, const Canvas& canvas, int colours) {
   DeviceCanvas d;
   d.slots = canvas.slot_count();
   d.bricks = canvas.brick_count();
@@ -138,11 +157,12 @@ DeviceCanvas upload_canvas(const cl::Context& context, const cl::CommandQueue& q
   d.table = make_buffer(context, canvas.brick_table, d.bytes);
   d.origins = make_buffer(context, origins, d.bytes);
   d.state = make_scratch(context, d.slots * sizeof(cl_ulong), d.bytes);
-  d.scratch = make_scratch(context, d.slots * sizeof(cl_ulong), d.bytes);
-  // 16-bit stamps keep the device canvas under 64 B per voxel; the host restarts them before they
-  // wrap (every ~31 rounds with 4 sweeps of 8^3 bricks), at the cost of one full re-evaluation.
-  d.evaluated = make_scratch(context, d.slots * sizeof(cl_ushort), d.bytes);
-  d.changed = make_scratch(context, d.slots * sizeof(cl_ushort), d.bytes);
+  // A round relaxes one colour class, so the scratch holds 1/8 of the bricks (1/4 in 2D): this
+  // pays for 32-bit stamps, which never need restarting within a solve, under 64 B per voxel.
+  d.scratch = make_scratch(
+      context, largest_colour_class(canvas, colours) * canvas.brick_volume() * sizeof(cl_ulong), d.bytes);
+  d.evaluated = make_scratch(context, d.slots * sizeof(cl_uint), d.bytes);
+  d.changed = make_scratch(context, d.slots * sizeof(cl_uint), d.bytes);
   d.flags = make_scratch(context, d.bricks, d.bytes);
   d.pending = make_scratch(context, d.bricks, d.bytes);
   d.any_pending = make_scratch(context, sizeof(cl_int), d.bytes);

@@ -1,7 +1,8 @@
 #pragma once
 // The canvas packed for an OpenCL device (internal). Per slot: the state word (distance bits,
-// label), a scratch copy for the brick being relaxed, the Selling stencil precomputed on the host
-// (6 float weights rho_i / h^2, 6x3 int8 offsets). Per brick: origin, flags, activation, list.
+// label), two 32-bit evaluation stamps, the Selling stencil precomputed on the host (6 float
+// weights rho_i / h^2, 6x3 int8 offsets). A scratch copy of each brick being relaxed: one colour
+// class of bricks at a time. Per brick: origin, flags, activation, list.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -36,8 +37,11 @@ struct DeviceCanvas {
   std::uint64_t bytes = 0;  // device memory allocated for this canvas
 };
 
-DeviceCanvas upload_canvas(const cl::Context& context, const cl::CommandQueue& queue,
-                           const Canvas& canvas);
+// How many brick colours are relaxed in turn: 2^dimension with colouring (OpenCLOptions), else 1.
+int brick_colours(const Canvas& canvas, bool colouring);
+
+// colours: the brick colours relaxed in turn (1, 4 or 8); the scratch holds the largest class.
+DeviceCanvas upload_canvas(const cl::Context& context, const Canvas& canvas, int colours);
 
 // A cheap identity of a canvas's contents, to reuse an uploaded canvas across calls.
 std::uint64_t canvas_fingerprint(const Canvas& canvas);

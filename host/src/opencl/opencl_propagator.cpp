@@ -143,7 +143,7 @@ class OpenCLPropagator final : public Propagator {
     if (!canvas_ || canvas_identity_ != &canvas || fingerprint_ != fingerprint) {
       canvas_.reset();
       canvas_ =
-          std::make_unique<opencl::DeviceCanvas>(opencl::upload_canvas(context_, queue_, canvas));
+          std::make_unique<opencl::DeviceCanvas>(opencl::upload_canvas(context_, canvas, colours(canvas)));
       canvas_identity_ = &canvas;
       fingerprint_ = fingerprint;
       build_kernels(canvas);
@@ -157,10 +157,18 @@ class OpenCLPropagator final : public Propagator {
                               records.data());
   }
 
+  // Brick colours relaxed in turn (kernels/propagation.cl, compact_active); 1: all every round.
+  int colours(const Canvas& canvas) const {
+    return opencl::brick_colours(canvas, options_.brick_colouring);
+  }
+
   void build_kernels(const Canvas& canvas) {
     const int dimension = canvas.dimension;
     std::string options = "-DDIM=" + std::to_string(dimension);
     if (has_uniform_metric(canvas)) options += " -DUNIFORM_METRIC";
+    if (canvas_->brick_reach.s[0] <= 1 && canvas_->brick_reach.s[1] <= 1 &&
+        canvas_->brick_reach.s[2] <= 1)
+      options += " -DNEAR_STENCIL";
     const cl::Program program =
         opencl::build_program(context_, device_.device, propagation_source(), options);
     brick_volume_ = dimension == 3 ? 512 : 64;
@@ -195,9 +203,10 @@ class OpenCLPropagator final : public Propagator {
     prepare_seed_blocks(first_seed, seed_count, false);
     initialise_seeds(first_seed, seed_count);
     PropagationStats stats;
-    const int colours = options_.brick_colouring ? (canvas.dimension == 3 ? 8 : 4) : 1;
+    const int colour_count = colours(canvas);
     int colour = 0;
-    for (int count = 0; next_active_list(colours, colour, count); colour = (colour + 1) % colours) {
+    for (int count = 0; next_active_list(colour_count, colour, count);
+         colour = (colour + 1) % colour_count) {
       if (count == 0) continue;
       relax(count);
       if (++stats.iterations > kMaxRounds)
@@ -245,15 +254,10 @@ class OpenCLPropagator final : public Propagator {
     stamp_stride_ = static_cast<cl_uint>(std::max(1, options_.max_sweeps)) *
                         static_cast<cl_uint>(brick_volume_) +
                     1;
-    if (2 * static_cast<std::uint64_t>(stamp_stride_) > kMaxStamp)
-      throw Error("OpenCL brick sweep: max_sweeps " + std::to_string(options_.max_sweeps) +
-                  " is too large for 16-bit evaluation stamps (at most " +
-                  std::to_string(kMaxStamp / 2 / brick_volume_ - 1) + ")");
     round_base_ = 0;
     if (variant_ != RelaxationVariant::brick_sweep) return;
-    queue_.enqueueFillBuffer(canvas_->evaluated, cl_ushort{0}, 0,
-                             canvas_->slots * sizeof(cl_ushort));
-    queue_.enqueueFillBuffer(canvas_->changed, cl_ushort{0}, 0, canvas_->slots * sizeof(cl_ushort));
+    queue_.enqueueFillBuffer(canvas_->evaluated, cl_uint{0}, 0, canvas_->slots * sizeof(cl_uint));
+    queue_.enqueueFillBuffer(canvas_->changed, cl_uint{0}, 0, canvas_->slots * sizeof(cl_uint));
   }
 
   // Flags -> pending bricks -> the list of those of the given colour (`count`); returns whether
@@ -285,7 +289,7 @@ class OpenCLPropagator final : public Propagator {
              d.table, d.origins, d.dims, d.grid, d.seeds, d.flags, d.update_counter,
              static_cast<cl_int>(sweep ? options_.max_sweeps : options_.jacobi_iterations));
     if (sweep) {
-      // Stamps are 16-bit: before one could wrap, forget the evaluations and start again.
+      // 32-bit stamps wrap after ~8 million rounds of 1 sweep: forget the evaluations before.
       if (static_cast<std::uint64_t>(round_base_) + 2 * stamp_stride_ > kMaxStamp) reset_stamps();
       round_base_ += stamp_stride_;
       relax_.setArg(14, d.evaluated);
@@ -335,7 +339,7 @@ class OpenCLPropagator final : public Propagator {
   const Canvas* canvas_identity_ = nullptr;
   std::uint64_t fingerprint_ = 0;
   std::size_t brick_volume_ = 512;
-  static constexpr std::uint64_t kMaxStamp = 65535;  // stamps are cl_ushort on the device
+  static constexpr std::uint64_t kMaxStamp = 0xFFFFFFFFu;  // stamps are cl_uint on the device
   cl_uint stamp_stride_ = 1, round_base_ = 0;        // brick_sweep evaluation stamps
   cl::Kernel freeze_, init_, relax_, commit_, activate_, compact_;
 };
