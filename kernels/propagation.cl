@@ -1,7 +1,7 @@
 // Block Fast Iterative Method on packed 8^3 bricks (8x8x1 in 2D) for the scheme of
-// docs/scheme.md. One round: relax every listed brick into `scratch` reading other bricks from
-// the `state` snapshot (so results do not depend on scheduling), commit, mark the bricks within
-// stencil reach of a changed brick pending, and list the pending bricks of the round's colour.
+// docs/scheme.md. One round: list the pending bricks of the round's colour, relax each into
+// `scratch` reading other bricks from the `state` snapshot (so results do not depend on
+// scheduling), commit, and mark the bricks within stencil reach of a changed brick pending.
 // The host loops while any brick is pending. Build options: -DDIM=2|3; eikonal_scheme.clh is
 // prepended by the host.
 
@@ -377,12 +377,12 @@ __kernel void commit_bricks(__global const int* list, int count, __global const 
   state[(size_t)brick * BRICK_VOLUME + item % BRICK_VOLUME] = scratch[item];
 }
 
-// A brick becomes pending when it is unconverged or a brick within stencil reach changed
-// (gathered per brick, so there are no write races); it stays pending until its colour's round.
+// At the start of a solve or insertion: a brick becomes pending when it is unconverged or a brick
+// within stencil reach changed (gathered per brick, so there are no write races). The host then
+// clears the flags.
 __kernel void activate_bricks(int brick_count, __global const int4* brick_origins,
                               __global const int* table, int4 grid, int4 reach,
-                              __global const uchar* flags, __global uchar* pending,
-                              __global int* any_pending) {
+                              __global const uchar* flags, __global uchar* pending) {
   const int brick = get_global_id(0);
   if (brick >= brick_count) return;
   bool activate = pending[brick] != 0 || (flags[brick] & FLAG_UNCONVERGED) != 0;
@@ -393,9 +393,31 @@ __kernel void activate_bricks(int brick_count, __global const int4* brick_origin
         const int other = brick_at(b + (int3)(dx, dy, dz), grid, table);
         activate = other >= 0 && (flags[other] & FLAG_CHANGED) != 0;
       }
-  if (!activate) return;
-  pending[brick] = 1;
-  any_pending[0] = 1;
+  if (activate) pending[brick] = 1;
+}
+
+// After a round (a work-item per listed brick, after commit_bricks): an unconverged brick stays
+// pending, and a brick that changed makes every brick within stencil reach pending; its flags are
+// cleared. Only the round's bricks are visited, so a round costs what it relaxes, not the canvas.
+// Concurrent work-items may set the same pending byte, always to 1.
+__kernel void spread_activation(__global const int* list, int count,
+                                __global const int4* brick_origins, __global const int* table,
+                                int4 grid, int4 reach, __global uchar* flags,
+                                __global uchar* pending) {
+  const int position = get_global_id(0);
+  if (position >= count) return;
+  const int brick = list[position];
+  const uint f = flags[brick];
+  flags[brick] = 0;
+  if (f & FLAG_UNCONVERGED) pending[brick] = 1;
+  if (!(f & FLAG_CHANGED)) return;
+  const int3 b = brick_of_voxel(brick_origins[brick].xyz);
+  for (int dz = -reach.z; dz <= reach.z; ++dz)
+    for (int dy = -reach.y; dy <= reach.y; ++dy)
+      for (int dx = -reach.x; dx <= reach.x; ++dx) {
+        const int other = brick_at(b + (int3)(dx, dy, dz), grid, table);
+        if (other >= 0) pending[other] = 1;
+      }
 }
 
 // Bricks of one colour (parities of the brick coordinates) share no face, edge or corner, so
@@ -406,14 +428,14 @@ inline int brick_colour(int3 b) {
 }
 
 // Lists the pending bricks of the round's colour (order is irrelevant: a brick's result depends
-// only on the snapshot) and clears the round's flags.
-__kernel void compact_active(int brick_count, __global uchar* flags, __global uchar* pending,
+// only on the snapshot); any_pending tells whether any brick of any colour was pending.
+__kernel void compact_active(int brick_count, __global uchar* pending,
                              __global const int4* brick_origins, int colours, int colour,
-                             __global int* list, __global int* count) {
+                             __global int* list, __global int* count, __global int* any_pending) {
   const int brick = get_global_id(0);
   if (brick >= brick_count) return;
-  flags[brick] = 0;
   if (!pending[brick]) return;
+  any_pending[0] = 1;
   if (colours > 1 && brick_colour(brick_of_voxel(brick_origins[brick].xyz)) != colour) return;
   pending[brick] = 0;
   list[atomic_inc(count)] = brick;

@@ -182,6 +182,7 @@ class OpenCLPropagator final : public Propagator {
     commit_ = cl::Kernel(program, "commit_bricks");
     activate_ = cl::Kernel(program, "activate_bricks");
     compact_ = cl::Kernel(program, "compact_active");
+    spread_ = cl::Kernel(program, "spread_activation");
   }
 
   void upload_field(const VoronoiField& field) {
@@ -202,6 +203,7 @@ class OpenCLPropagator final : public Propagator {
     if (first_seed > 0) prepare_seed_blocks(0, first_seed, true);
     prepare_seed_blocks(first_seed, seed_count, false);
     initialise_seeds(first_seed, seed_count);
+    activate_initial_bricks();
     PropagationStats stats;
     const int colour_count = colours(canvas);
     int colour = 0;
@@ -260,20 +262,28 @@ class OpenCLPropagator final : public Propagator {
     queue_.enqueueFillBuffer(canvas_->changed, cl_uint{0}, 0, canvas_->slots * sizeof(cl_uint));
   }
 
-  // Flags -> pending bricks -> the list of those of the given colour (`count`); returns whether
-  // any brick is pending.
+  // The bricks the seed initialisation touched, and those within stencil reach, become pending.
+  void activate_initial_bricks() {
+    const DeviceCanvasRef d = *canvas_;
+    set_args(activate_, static_cast<cl_int>(d.bricks), d.origins, d.table, d.grid, d.brick_reach,
+             d.flags, d.pending);
+    queue_.enqueueNDRangeKernel(activate_, cl::NullRange,
+                                cl::NDRange(round_up(d.bricks, kBookkeepingGroup)),
+                                cl::NDRange(kBookkeepingGroup));
+    queue_.enqueueFillBuffer(d.flags, cl_uchar{0}, 0, d.bricks);
+  }
+
+  // Lists the pending bricks of the given colour (`count`); returns whether any brick is pending.
   bool next_active_list(int colours, int colour, int& count) {
     const DeviceCanvasRef d = *canvas_;
-    const cl_int bricks = static_cast<cl_int>(d.bricks);
-    const cl::NDRange global(round_up(d.bricks, kBookkeepingGroup)), local(kBookkeepingGroup);
     queue_.enqueueFillBuffer(d.any_pending, cl_int{0}, 0, sizeof(cl_int));
-    set_args(activate_, bricks, d.origins, d.table, d.grid, d.brick_reach, d.flags, d.pending,
-             d.any_pending);
-    queue_.enqueueNDRangeKernel(activate_, cl::NullRange, global, local);
     queue_.enqueueFillBuffer(d.list_count, cl_int{0}, 0, sizeof(cl_int));
-    set_args(compact_, bricks, d.flags, d.pending, d.origins, static_cast<cl_int>(colours), static_cast<cl_int>(colour), d.list,
-             d.list_count);
-    queue_.enqueueNDRangeKernel(compact_, cl::NullRange, global, local);
+    set_args(compact_, static_cast<cl_int>(d.bricks), d.pending, d.origins,
+             static_cast<cl_int>(colours), static_cast<cl_int>(colour), d.list, d.list_count,
+             d.any_pending);
+    queue_.enqueueNDRangeKernel(compact_, cl::NullRange,
+                                cl::NDRange(round_up(d.bricks, kBookkeepingGroup)),
+                                cl::NDRange(kBookkeepingGroup));
     cl_int listed = 0;
     cl_int any_pending = 0;
     queue_.enqueueReadBuffer(d.list_count, CL_FALSE, 0, sizeof(cl_int), &listed);
@@ -305,6 +315,11 @@ class OpenCLPropagator final : public Propagator {
                                   cl::NDRange(brick_volume_));
     set_args(commit_, d.list, static_cast<cl_int>(count), d.scratch, d.state, d.flags);
     queue_.enqueueNDRangeKernel(commit_, cl::NullRange, cl::NDRange(voxels),
+                                cl::NDRange(kBookkeepingGroup));
+    set_args(spread_, d.list, static_cast<cl_int>(count), d.origins, d.table, d.grid,
+             d.brick_reach, d.flags, d.pending);
+    queue_.enqueueNDRangeKernel(spread_, cl::NullRange,
+                                cl::NDRange(round_up(count, kBookkeepingGroup)),
                                 cl::NDRange(kBookkeepingGroup));
   }
 
@@ -341,7 +356,7 @@ class OpenCLPropagator final : public Propagator {
   std::size_t brick_volume_ = 512;
   static constexpr std::uint64_t kMaxStamp = 0xFFFFFFFFu;  // stamps are cl_uint on the device
   cl_uint stamp_stride_ = 1, round_base_ = 0;        // brick_sweep evaluation stamps
-  cl::Kernel freeze_, init_, relax_, commit_, activate_, compact_;
+  cl::Kernel freeze_, init_, relax_, commit_, activate_, compact_, spread_;
 };
 
 }  // namespace
