@@ -76,27 +76,30 @@ inline long seed_block_slot(int item, int first_seed, __global const float* seed
 // Marks the blocks of seeds [first_seed, first_seed + seed_count) frozen before their values are
 // assigned: `existing` seeds (insertion) keep their values; new seeds' block voxels that were not
 // boundary data are reset to +inf, so they take the exact value even if larger (docs/scheme.md).
+// A value written here is stamped `stamp` in `changed`, so that the sweep's work avoidance sees it.
 __kernel void freeze_seed_blocks(int first_seed, int seed_count, int existing,
                                  __global const float* seeds, __global ulong* state,
                                  __global const float* weights, __global const int* table,
-                                 int4 dims, int4 grid) {
+                                 int4 dims, int4 grid, __global uint* changed, uint stamp) {
   const int item = get_global_id(0);
   if (item >= seed_count * INIT_BLOCK) return;
   int3 v;
   const long slot = seed_block_slot(item, first_seed, seeds, weights, table, dims, grid, &v);
   if (slot < 0) return;
   const ulong s = state[slot];
-  if (existing)
+  if (existing) {
     state[slot] = s | FROZEN_BIT;
-  else if (!state_frozen(s))
+  } else if (!state_frozen(s)) {
     state[slot] = INF_STATE | FROZEN_BIT;
+    changed[slot] = stamp;
+  }
 }
 
 // Exact values u0_s(x) = |F_s (x - s)| on the new seeds' blocks: the smallest (value, label).
 __kernel void initialise_seeds(int first_seed, int seed_count, __global const float* seeds,
                                __global ulong* state, __global const float* weights,
                                __global const int* table, int4 dims, int4 grid,
-                               __global uchar* flags) {
+                               __global uchar* flags, __global uint* changed, uint stamp) {
   const int item = get_global_id(0);
   if (item >= seed_count * INIT_BLOCK) return;
   int3 v;
@@ -108,7 +111,10 @@ __kernel void initialise_seeds(int first_seed, int seed_count, __global const fl
   const float u0 = sqrt(max(0.0f, dot(q, seed_metric_apply(seed + 8, q))));
   const ulong candidate = make_state(u0, label) | FROZEN_BIT;
   const ulong previous = atom_min(&state[slot], candidate);
-  if (candidate < previous) flags[slot / BRICK_VOLUME] = FLAG_CHANGED | FLAG_UNCONVERGED;
+  if (candidate < previous) {
+    flags[slot / BRICK_VOLUME] = FLAG_CHANGED | FLAG_UNCONVERGED;
+    changed[slot] = stamp;
+  }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -138,7 +144,7 @@ __kernel void initialise_seeds(int first_seed, int seed_count, __global const fl
 // is skipped, just as a brick is not re-activated by insignificant changes. Per slot, `evaluated`
 // holds the stamp of the last evaluation and `changed` the stamp of the last significant change
 // (0: never / unknown, so the host fills both with 0 before a solve), as 32-bit numbers that grow
-// over the whole solve. A stamp is round_base + tick, tick in [1, stride) counting evaluations of
+// over a solve and the insertions that follow it (seed initialisation stamps what it writes). A stamp is round_base + tick, tick in [1, stride) counting evaluations of
 // this brick within the round. A neighbour inside the brick was seen iff it changed before x's
 // evaluation; one outside was read from the round's snapshot, so x saw it iff it changed in an
 // earlier round than x's last evaluation. Any bit change is committed (FLAG_WRITTEN), so stamps

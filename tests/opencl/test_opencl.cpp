@@ -120,6 +120,29 @@ TEST(OpenCLInsertion, OneByOneEqualsAllAtOnce) {
   test::expect_same_field(canvas, all, test::insert_one_by_one(*engine, canvas, seeds));
 }
 
+// The engine keeps the field it returned on the device; a field it did not return (here the CPU
+// reference's), or one the caller replaced, must be uploaded, not assumed.
+TEST(OpenCLInsertion, IntoAFieldTheEngineDidNotReturn) {
+  REQUIRE_POCL(RelaxationVariant::automatic);
+  const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 32, rotated_metric(3, 4.0));
+  const std::vector<Vec3> seeds = test::random_points(kLo, kHi, 3, 12, 21);
+  const std::vector<Vec3> first(seeds.begin(), seeds.end() - 2);
+  std::vector<Vec3> skip_one = first, all_but_last = first;
+  skip_one.push_back(seeds.back());
+  all_but_last.push_back(seeds[seeds.size() - 2]);
+  VoronoiField expected_skip_one, expected_all_but_last, all, field;
+  engine->solve(canvas, skip_one, expected_skip_one);
+  engine->solve(canvas, all_but_last, expected_all_but_last);
+  engine->solve(canvas, seeds, all);  // the device now holds the field of all seeds
+  make_reference_propagator()->solve(canvas, first, field);
+  engine->insert(canvas, skip_one, first.size(), field);
+  test::expect_same_field(canvas, expected_skip_one, field);
+  make_reference_propagator()->solve(canvas, first, field);  // the caller replaces the contents
+  engine->insert(canvas, all_but_last, first.size(), field);
+  test::expect_same_field(canvas, expected_all_but_last, field);
+  EXPECT_NE(field.label, all.label);
+}
+
 TEST(OpenCLInsertion, TouchesLessThanASolve) {
   REQUIRE_POCL(RelaxationVariant::automatic);
   const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 48, Mat3::Identity());

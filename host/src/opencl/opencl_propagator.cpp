@@ -9,6 +9,7 @@
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <optional>
 
 #include "device_canvas.h"
 #include "opencl_runtime.h"
@@ -68,6 +69,19 @@ std::vector<float> seed_records(const Canvas& canvas, const std::vector<Vec3>& s
   return records;
 }
 
+// Identifies a field's contents (distance bits and labels, in slot order).
+std::uint64_t field_hash(const VoronoiField& field) {
+  std::uint64_t hash = 0x9E3779B97F4A7C15ull ^ field.distance.size();
+  for (std::size_t n = 0; n < field.distance.size(); ++n) {
+    std::uint32_t bits;
+    std::memcpy(&bits, &field.distance[n], sizeof bits);
+    const std::uint64_t word = (std::uint64_t{bits} << 32) | static_cast<std::uint32_t>(field.label[n]);
+    hash = (hash ^ word) * 0x100000001B3ull;
+    hash ^= hash >> 29;
+  }
+  return hash;
+}
+
 // Whether every active voxel carries the same metric (bit for bit).
 bool has_uniform_metric(const Canvas& canvas) {
   const float* first = nullptr;
@@ -101,8 +115,10 @@ class OpenCLPropagator final : public Propagator {
     return guarded("solving", [&] {
       const auto start = std::chrono::steady_clock::now();
       prepare(canvas, seeds);
+      device_field_hash_.reset();
       queue_.enqueueFillBuffer(canvas_->state, kInfiniteState, 0,
                                canvas_->slots * sizeof(cl_ulong));
+      reset_stamps();
       return finish(canvas, 0, seeds.size(), field, start);
     });
   }
@@ -115,7 +131,14 @@ class OpenCLPropagator final : public Propagator {
         throw Error("insert(): the field does not match the canvas (solve first)");
       if (first_new > seeds.size()) throw Error("insert(): first_new is past the last seed");
       prepare(canvas, seeds);
-      upload_field(field);
+      // The device still holds the field it returned last (and stamps that describe it) unless
+      // the caller passes another one: then upload it and forget the evaluations.
+      const std::uint64_t hash = field_hash(field);
+      if (device_field_hash_ != hash) {
+        upload_field(field);
+        reset_stamps();
+      }
+      device_field_hash_.reset();
       return finish(canvas, first_new, seeds.size(), field, start);
     });
   }
@@ -146,6 +169,7 @@ class OpenCLPropagator final : public Propagator {
           std::make_unique<opencl::DeviceCanvas>(opencl::upload_canvas(context_, canvas, colours(canvas)));
       canvas_identity_ = &canvas;
       fingerprint_ = fingerprint;
+      device_field_hash_.reset();
       build_kernels(canvas);
     }
     if (canvas_->seed_capacity < seeds.size()) {
@@ -199,10 +223,10 @@ class OpenCLPropagator final : public Propagator {
     queue_.enqueueFillBuffer(canvas_->update_counter, cl_ulong{0}, 0, sizeof(cl_ulong));
     queue_.enqueueFillBuffer(canvas_->flags, cl_uchar{0}, 0, canvas_->bricks);
     queue_.enqueueFillBuffer(canvas_->pending, cl_uchar{0}, 0, canvas_->bricks);
-    reset_stamps();
-    if (first_seed > 0) prepare_seed_blocks(0, first_seed, true);
-    prepare_seed_blocks(first_seed, seed_count, false);
-    initialise_seeds(first_seed, seed_count);
+    const cl_uint seed_stamp = next_round_base();
+    if (first_seed > 0) prepare_seed_blocks(0, first_seed, true, seed_stamp);
+    prepare_seed_blocks(first_seed, seed_count, false, seed_stamp);
+    initialise_seeds(first_seed, seed_count, seed_stamp);
     activate_initial_bricks();
     PropagationStats stats;
     const int colour_count = colours(canvas);
@@ -218,6 +242,7 @@ class OpenCLPropagator final : public Propagator {
     queue_.enqueueReadBuffer(canvas_->update_counter, CL_TRUE, 0, sizeof(cl_ulong),
                              &stats.voxel_updates);
     download_field(canvas, field);
+    device_field_hash_ = field_hash(field);
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return stats;
   }
@@ -228,24 +253,25 @@ class OpenCLPropagator final : public Propagator {
 
   // Seeds [first_seed, seed_count): `existing` re-marks solved seeds' blocks frozen; otherwise
   // new seeds' block voxels are reset so they take their exact values.
-  void prepare_seed_blocks(std::size_t first_seed, std::size_t seed_count, bool existing) {
+  void prepare_seed_blocks(std::size_t first_seed, std::size_t seed_count, bool existing,
+                           cl_uint stamp) {
     const std::size_t items = seed_block_items(first_seed, seed_count);
     if (items == 0) return;
     const DeviceCanvasRef d = *canvas_;
     set_args(freeze_, static_cast<cl_int>(first_seed), static_cast<cl_int>(seed_count - first_seed),
              static_cast<cl_int>(existing ? 1 : 0), d.seeds, d.state, d.weights, d.table, d.dims,
-             d.grid);
+             d.grid, d.changed, stamp);
     queue_.enqueueNDRangeKernel(freeze_, cl::NullRange,
                                 cl::NDRange(round_up(items, kBookkeepingGroup)),
                                 cl::NDRange(kBookkeepingGroup));
   }
 
-  void initialise_seeds(std::size_t first_seed, std::size_t seed_count) {
+  void initialise_seeds(std::size_t first_seed, std::size_t seed_count, cl_uint stamp) {
     const std::size_t items = seed_block_items(first_seed, seed_count);
     if (items == 0) return;
     const DeviceCanvasRef d = *canvas_;
     set_args(init_, static_cast<cl_int>(first_seed), static_cast<cl_int>(seed_count - first_seed),
-             d.seeds, d.state, d.weights, d.table, d.dims, d.grid, d.flags);
+             d.seeds, d.state, d.weights, d.table, d.dims, d.grid, d.flags, d.changed, stamp);
     queue_.enqueueNDRangeKernel(init_, cl::NullRange,
                                 cl::NDRange(round_up(items, kBookkeepingGroup)),
                                 cl::NDRange(kBookkeepingGroup));
@@ -260,6 +286,14 @@ class OpenCLPropagator final : public Propagator {
     if (variant_ != RelaxationVariant::brick_sweep) return;
     queue_.enqueueFillBuffer(canvas_->evaluated, cl_uint{0}, 0, canvas_->slots * sizeof(cl_uint));
     queue_.enqueueFillBuffer(canvas_->changed, cl_uint{0}, 0, canvas_->slots * sizeof(cl_uint));
+  }
+
+  // The first stamp of a new round. 32-bit stamps wrap after ~4 million rounds of 2 sweeps: before
+  // they would, forget the evaluations (only costs re-evaluating voxels once).
+  cl_uint next_round_base() {
+    if (static_cast<std::uint64_t>(round_base_) + 2 * stamp_stride_ > kMaxStamp) reset_stamps();
+    round_base_ += stamp_stride_;
+    return round_base_;
   }
 
   // The bricks the seed initialisation touched, and those within stencil reach, become pending.
@@ -299,12 +333,9 @@ class OpenCLPropagator final : public Propagator {
              d.table, d.origins, d.dims, d.grid, d.seeds, d.flags, d.update_counter,
              static_cast<cl_int>(sweep ? options_.max_sweeps : options_.jacobi_iterations));
     if (sweep) {
-      // 32-bit stamps wrap after ~8 million rounds of 1 sweep: forget the evaluations before.
-      if (static_cast<std::uint64_t>(round_base_) + 2 * stamp_stride_ > kMaxStamp) reset_stamps();
-      round_base_ += stamp_stride_;
       relax_.setArg(14, d.evaluated);
       relax_.setArg(15, d.changed);
-      relax_.setArg(16, round_base_);
+      relax_.setArg(16, next_round_base());
       relax_.setArg(17, stamp_stride_);
     }
     const std::size_t voxels = static_cast<std::size_t>(count) * brick_volume_;
@@ -356,6 +387,8 @@ class OpenCLPropagator final : public Propagator {
   std::size_t brick_volume_ = 512;
   static constexpr std::uint64_t kMaxStamp = 0xFFFFFFFFu;  // stamps are cl_uint on the device
   cl_uint stamp_stride_ = 1, round_base_ = 0;        // brick_sweep evaluation stamps
+  // field_hash of the field finish() returned last, while the device state is still that field.
+  std::optional<std::uint64_t> device_field_hash_;
   cl::Kernel freeze_, init_, relax_, commit_, activate_, compact_, spread_;
 };
 
