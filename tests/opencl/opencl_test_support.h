@@ -19,12 +19,12 @@ constexpr int kTieReach = 3;  // voxels: how far a tie-broken label changes neig
 // Declares `engine` on PoCL with the default options but `variant`, or skips the test (with
 // the reason) when PoCL is not there.
 #define REQUIRE_POCL(variant) REQUIRE_POCL_WITH(test::with_variant(variant))
-#define REQUIRE_POCL_WITH(options)                                 \
-  std::unique_ptr<Propagator> engine;                              \
-  try {                                                            \
-    engine = make_opencl_propagator("pocl", options);              \
-  } catch (const Error& e) {                                       \
-    GTEST_SKIP() << "no usable OpenCL device: " << e.what();       \
+#define REQUIRE_POCL_WITH(options)                           \
+  std::unique_ptr<Propagator> engine;                        \
+  try {                                                      \
+    engine = make_opencl_propagator("pocl", options);        \
+  } catch (const Error& e) {                                 \
+    GTEST_SKIP() << "no usable OpenCL device: " << e.what(); \
   }
 
 inline OpenCLOptions with_variant(RelaxationVariant variant) {

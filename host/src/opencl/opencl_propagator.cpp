@@ -75,7 +75,8 @@ std::uint64_t field_hash(const VoronoiField& field) {
   for (std::size_t n = 0; n < field.distance.size(); ++n) {
     std::uint32_t bits;
     std::memcpy(&bits, &field.distance[n], sizeof bits);
-    const std::uint64_t word = (std::uint64_t{bits} << 32) | static_cast<std::uint32_t>(field.label[n]);
+    const std::uint64_t word =
+        (std::uint64_t{bits} << 32) | static_cast<std::uint32_t>(field.label[n]);
     hash = (hash ^ word) * 0x100000001B3ull;
     hash ^= hash >> 29;
   }
@@ -165,8 +166,8 @@ class OpenCLPropagator final : public Propagator {
     const std::uint64_t fingerprint = opencl::canvas_fingerprint(canvas);
     if (!canvas_ || canvas_identity_ != &canvas || fingerprint_ != fingerprint) {
       canvas_.reset();
-      canvas_ =
-          std::make_unique<opencl::DeviceCanvas>(opencl::upload_canvas(context_, canvas, colours(canvas)));
+      canvas_ = std::make_unique<opencl::DeviceCanvas>(
+          opencl::upload_canvas(context_, canvas, colours(canvas)));
       canvas_identity_ = &canvas;
       fingerprint_ = fingerprint;
       device_field_hash_.reset();
@@ -347,8 +348,8 @@ class OpenCLPropagator final : public Propagator {
     set_args(commit_, d.list, static_cast<cl_int>(count), d.scratch, d.state, d.flags);
     queue_.enqueueNDRangeKernel(commit_, cl::NullRange, cl::NDRange(voxels),
                                 cl::NDRange(kBookkeepingGroup));
-    set_args(spread_, d.list, static_cast<cl_int>(count), d.origins, d.table, d.grid,
-             d.brick_reach, d.flags, d.pending);
+    set_args(spread_, d.list, static_cast<cl_int>(count), d.origins, d.table, d.grid, d.brick_reach,
+             d.flags, d.pending);
     queue_.enqueueNDRangeKernel(spread_, cl::NullRange,
                                 cl::NDRange(round_up(count, kBookkeepingGroup)),
                                 cl::NDRange(kBookkeepingGroup));
@@ -386,7 +387,7 @@ class OpenCLPropagator final : public Propagator {
   std::uint64_t fingerprint_ = 0;
   std::size_t brick_volume_ = 512;
   static constexpr std::uint64_t kMaxStamp = 0xFFFFFFFFu;  // stamps are cl_uint on the device
-  cl_uint stamp_stride_ = 1, round_base_ = 0;        // brick_sweep evaluation stamps
+  cl_uint stamp_stride_ = 1, round_base_ = 0;              // brick_sweep evaluation stamps
   // field_hash of the field finish() returned last, while the device state is still that field.
   std::optional<std::uint64_t> device_field_hash_;
   cl::Kernel freeze_, init_, relax_, commit_, activate_, compact_, spread_;
