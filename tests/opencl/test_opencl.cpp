@@ -34,28 +34,45 @@ Mat3 rotated_metric(int dimension, double anisotropy) {
 
 const Vec3 kLo(-1, -1, -1), kHi(1, 1, 1);
 
-class BothVariants : public ::testing::TestWithParam<RelaxationVariant> {};
+// Both relaxation variants, and scheduling choices of the brick sweep, which change the order of
+// updates, never the fixed point (docs/scheme.md).
+struct EngineConfig {
+  const char* name;
+  RelaxationVariant variant;
+  int max_sweeps;
+  bool brick_colouring;
+};
 
-TEST_P(BothVariants, IsotropicOneSeed3D) {
-  REQUIRE_POCL(GetParam());
+class EngineConfigs : public ::testing::TestWithParam<EngineConfig> {
+ protected:
+  OpenCLOptions options() const {
+    OpenCLOptions o = test::with_variant(GetParam().variant);
+    o.max_sweeps = GetParam().max_sweeps;
+    o.brick_colouring = GetParam().brick_colouring;
+    return o;
+  }
+};
+
+TEST_P(EngineConfigs, IsotropicOneSeed3D) {
+  REQUIRE_POCL_WITH(options());
   const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 32, Mat3::Identity());
   test::expect_matches_reference(*engine, canvas, {Vec3(0.1, -0.2, 0.3)});
 }
 
-TEST_P(BothVariants, AnisotropicManySeeds3D) {
-  REQUIRE_POCL(GetParam());
+TEST_P(EngineConfigs, AnisotropicManySeeds3D) {
+  REQUIRE_POCL_WITH(options());
   const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 32, rotated_metric(3, 6.0));
   test::expect_matches_reference(*engine, canvas, test::random_points(kLo, kHi, 3, 40, 7));
 }
 
-TEST_P(BothVariants, AnisotropicManySeeds2D) {
-  REQUIRE_POCL(GetParam());
+TEST_P(EngineConfigs, AnisotropicManySeeds2D) {
+  REQUIRE_POCL_WITH(options());
   const Canvas canvas = test::make_uniform_box_canvas(2, kLo, kHi, 64, rotated_metric(2, 10.0));
   test::expect_matches_reference(*engine, canvas, test::random_points(kLo, kHi, 2, 30, 11));
 }
 
-TEST_P(BothVariants, VaryingMetric2D) {
-  REQUIRE_POCL(GetParam());
+TEST_P(EngineConfigs, VaryingMetric2D) {
+  REQUIRE_POCL_WITH(options());
   // A smooth field whose anisotropy and direction vary: exercises per-voxel stencils.
   const Canvas canvas = test::make_box_canvas(2, kLo, kHi, 64, [](const Vec3& p) {
     return metric_from_frame(2, Vec3(std::cos(2 * p.x()), std::sin(2 * p.x()), 0),
@@ -65,51 +82,15 @@ TEST_P(BothVariants, VaryingMetric2D) {
   test::expect_matches_reference(*engine, canvas, test::random_points(kLo, kHi, 2, 12, 3));
 }
 
-INSTANTIATE_TEST_SUITE_P(Variants, BothVariants,
-                         ::testing::Values(RelaxationVariant::brick_sweep,
-                                           RelaxationVariant::voxel_jacobi),
-                         [](const auto& info) {
-                           return info.param == RelaxationVariant::brick_sweep ? "BrickSweep"
-                                                                               : "VoxelJacobi";
-                         });
-
-// Scheduling choices change the order of updates, never the fixed point (docs/scheme.md).
-struct Schedule {
-  const char* name;
-  int max_sweeps;
-  bool brick_colouring;
-};
-
-class Schedules : public ::testing::TestWithParam<Schedule> {
- protected:
-  OpenCLOptions options() const {
-    OpenCLOptions o = test::with_variant(RelaxationVariant::brick_sweep);
-    o.max_sweeps = GetParam().max_sweeps;
-    o.brick_colouring = GetParam().brick_colouring;
-    return o;
-  }
-};
-
-TEST_P(Schedules, AnisotropicManySeeds3D) {
-  REQUIRE_POCL_WITH(options());
-  const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 32, rotated_metric(3, 6.0));
-  test::expect_matches_reference(*engine, canvas, test::random_points(kLo, kHi, 3, 40, 7));
-}
-
-TEST_P(Schedules, VaryingMetric2D) {
-  REQUIRE_POCL_WITH(options());
-  const Canvas canvas = test::make_box_canvas(2, kLo, kHi, 64, [](const Vec3& p) {
-    return metric_from_frame(2, Vec3(std::cos(3 * p.y()), std::sin(3 * p.y()), 0), 4.0 + p.x(),
-                             Vec3(-std::sin(3 * p.y()), std::cos(3 * p.y()), 0), 1.0, 1.0);
-  });
-  test::expect_matches_reference(*engine, canvas, test::random_points(kLo, kHi, 2, 25, 9));
-}
-
-INSTANTIATE_TEST_SUITE_P(Engine, Schedules,
-                         ::testing::Values(Schedule{"OneSweep", 1, true},
-                                           Schedule{"EightSweeps", 8, true},
-                                           Schedule{"NoColouring", 2, false}),
-                         [](const auto& info) { return std::string(info.param.name); });
+INSTANTIATE_TEST_SUITE_P(
+    Variants, EngineConfigs,
+    ::testing::Values(
+        EngineConfig{"BrickSweep", RelaxationVariant::brick_sweep, 2, true},
+        EngineConfig{"VoxelJacobi", RelaxationVariant::voxel_jacobi, 2, true},
+        EngineConfig{"BrickSweepOneSweep", RelaxationVariant::brick_sweep, 1, true},
+        EngineConfig{"BrickSweepEightSweeps", RelaxationVariant::brick_sweep, 8, true},
+        EngineConfig{"BrickSweepNoColouring", RelaxationVariant::brick_sweep, 2, false}),
+    [](const auto& info) { return std::string(info.param.name); });
 
 TEST(OpenCLInsertion, OneByOneEqualsAllAtOnce) {
   REQUIRE_POCL(RelaxationVariant::automatic);
