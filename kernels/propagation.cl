@@ -152,10 +152,8 @@ __kernel void initialise_seeds(int first_seed, int seed_count, __global const fl
 
 #define FLAG_WRITTEN 4u /* the brick's working copy differs from the state: commit it */
 
-// NEAR_STENCIL (build option): every stencil offset is at most one brick edge long, so a
-// neighbour lies in one of the 3^DIM bricks around the brick being relaxed; their indices are
-// looked up once per brick instead of once per neighbour.
-#ifdef NEAR_STENCIL
+// Most stencil neighbours lie in the 3^DIM bricks around the brick being relaxed: their indices
+// are looked up once per brick; a longer offset (strong anisotropy) goes through the table.
 #define NEAR_BRICKS 27
 inline void load_near_bricks(int3 origin, int4 grid, __global const int* table, int* near) {
   const int3 b = brick_of_voxel(origin);
@@ -164,20 +162,17 @@ inline void load_near_bricks(int3 origin, int4 grid, __global const int* table, 
     near[n] = DIM == 2 && d.z != 0 ? -1 : brick_at(b + d, grid, table);
   }
 }
+
 inline long neighbour_slot(int3 y, int3 origin, int4 dims, int4 grid, __global const int* table,
                            const int* near) {
-  const int3 d = (y - origin + (int3)(EDGE, EDGE, EDGE_Z)) / (int3)(EDGE, EDGE, EDGE_Z);
-  const int brick = near[d.x + 3 * (d.y + 3 * d.z)];
+  const int3 edge = (int3)(EDGE, EDGE, EDGE_Z);
+  const int3 d = y - origin + edge;  // in [0, 3 edge) inside the bricks around
+  if (d.x < 0 || d.y < 0 || d.z < 0 || d.x >= 3 * EDGE || d.y >= 3 * EDGE || d.z >= 3 * EDGE_Z)
+    return slot_at(y, dims, grid, table);
+  const int3 b = d / edge;
+  const int brick = near[b.x + 3 * (b.y + 3 * b.z)];
   return brick < 0 ? -1 : (long)brick * BRICK_VOLUME + local_index(y);
 }
-#else
-#define NEAR_BRICKS 1
-inline void load_near_bricks(int3 origin, int4 grid, __global const int* table, int* near) {}
-inline long neighbour_slot(int3 y, int3 origin, int4 dims, int4 grid, __global const int* table,
-                           const int* near) {
-  return slot_at(y, dims, grid, table);
-}
-#endif
 
 // The corner a sweep starts from, as the direction bits of the sweep (bit a: axis a descending):
 // per axis, the side whose face layer of the brick, or of the neighbour beyond it, holds the

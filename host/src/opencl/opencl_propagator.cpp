@@ -191,9 +191,6 @@ class OpenCLPropagator final : public Propagator {
     const int dimension = canvas.dimension;
     std::string options = "-DDIM=" + std::to_string(dimension);
     if (has_uniform_metric(canvas)) options += " -DUNIFORM_METRIC";
-    if (canvas_->brick_reach.s[0] <= 1 && canvas_->brick_reach.s[1] <= 1 &&
-        canvas_->brick_reach.s[2] <= 1)
-      options += " -DNEAR_STENCIL";
     const cl::Program program =
         opencl::build_program(context_, device_.device, propagation_source(), options);
     brick_volume_ = dimension == 3 ? 512 : 64;
