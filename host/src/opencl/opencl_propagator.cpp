@@ -69,16 +69,24 @@ std::vector<float> seed_records(const Canvas& canvas, const std::vector<Vec3>& s
   return records;
 }
 
-// Identifies a field's contents (distance bits and labels, in slot order).
+// Identifies a field's contents: field_hash_step over every slot's distance bits and label, in
+// slot order, from kFieldHashStart. Each step is a bijection of the running hash, so a field that
+// differs in any one slot always hashes differently.
+constexpr std::uint64_t kFieldHashStart = 0x9E3779B97F4A7C15ull;
+
+std::uint64_t field_hash_step(std::uint64_t hash, std::uint32_t distance_bits, int32_t label) {
+  const std::uint64_t word =
+      (std::uint64_t{distance_bits} << 32) | static_cast<std::uint32_t>(label);
+  hash = (hash ^ word) * 0x100000001B3ull;
+  return hash ^ (hash >> 29);
+}
+
 std::uint64_t field_hash(const VoronoiField& field) {
-  std::uint64_t hash = 0x9E3779B97F4A7C15ull ^ field.distance.size();
+  std::uint64_t hash = kFieldHashStart;
   for (std::size_t n = 0; n < field.distance.size(); ++n) {
     std::uint32_t bits;
     std::memcpy(&bits, &field.distance[n], sizeof bits);
-    const std::uint64_t word =
-        (std::uint64_t{bits} << 32) | static_cast<std::uint32_t>(field.label[n]);
-    hash = (hash ^ word) * 0x100000001B3ull;
-    hash ^= hash >> 29;
+    hash = field_hash_step(hash, bits, field.label[n]);
   }
   return hash;
 }
@@ -239,8 +247,7 @@ class OpenCLPropagator final : public Propagator {
     }
     queue_.enqueueReadBuffer(canvas_->update_counter, CL_TRUE, 0, sizeof(cl_ulong),
                              &stats.voxel_updates);
-    download_field(canvas, field);
-    device_field_hash_ = field_hash(field);
+    device_field_hash_ = download_field(canvas, field);
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return stats;
   }
@@ -352,18 +359,22 @@ class OpenCLPropagator final : public Propagator {
                                 cl::NDRange(kBookkeepingGroup));
   }
 
-  void download_field(const Canvas& canvas, VoronoiField& field) {
+  // Returns the field's field_hash, computed on the way.
+  std::uint64_t download_field(const Canvas& canvas, VoronoiField& field) {
     std::vector<cl_ulong> state(canvas_->slots);
     queue_.enqueueReadBuffer(canvas_->state, CL_TRUE, 0, state.size() * sizeof(cl_ulong),
                              state.data());
     field.distance.resize(canvas.slot_count());
     field.label.resize(canvas.slot_count());
+    std::uint64_t hash = kFieldHashStart;
     for (std::size_t n = 0; n < state.size(); ++n) {
       const std::uint32_t bits = static_cast<std::uint32_t>(state[n] >> 32);
       std::memcpy(&field.distance[n], &bits, sizeof bits);
       const std::uint32_t label = static_cast<std::uint32_t>(state[n]) & kLabelNone;
       field.label[n] = label == kLabelNone ? -1 : static_cast<int32_t>(label);
+      hash = field_hash_step(hash, bits, field.label[n]);
     }
+    return hash;
   }
 
   using DeviceCanvasRef = const opencl::DeviceCanvas&;
