@@ -2,49 +2,11 @@
 // docs/scheme.md. One round: list the pending bricks of the round's colour, relax each into
 // `scratch` reading other bricks from the `state` snapshot (so results do not depend on
 // scheduling), commit, and mark the bricks within stencil reach of a changed brick pending.
-// The host loops while any brick is pending. Build options: -DDIM=2|3; eikonal_scheme.clh is
-// prepended by the host.
-
-#define EDGE 8
-#if DIM == 3
-#define EDGE_Z 8
-#else
-#define EDGE_Z 1
-#endif
-#define BRICK_VOLUME (EDGE * EDGE * EDGE_Z)
+// The host loops while any brick is pending. Build options: -DDIM=2|3; eikonal_scheme.clh and
+// brick_layout.clh are prepended by the host.
 
 #define FLAG_CHANGED 1u     /* a value changed: bricks within reach must be relaxed */
 #define FLAG_UNCONVERGED 2u /* the brick itself is not locally converged yet */
-
-inline int local_index(int3 v) {
-  return (v.x & 7) + EDGE * ((v.y & 7) + EDGE * (DIM == 3 ? (v.z & 7) : 0));
-}
-
-inline int3 local_coordinates(int l) {
-  return (int3)(l % EDGE, (l / EDGE) % EDGE, l / (EDGE * EDGE));
-}
-
-inline int brick_at(int3 b, int4 grid, __global const int* table) {
-  if (b.x < 0 || b.y < 0 || b.z < 0 || b.x >= grid.x || b.y >= grid.y || b.z >= grid.z) return -1;
-  return table[b.x + grid.x * (b.y + grid.y * b.z)];
-}
-
-inline int3 brick_of_voxel(int3 v) {
-  return (int3)(v.x >> 3, v.y >> 3, DIM == 3 ? v.z >> 3 : 0);
-}
-
-// Slot of voxel v, or -1 outside the index box or in an empty brick (inactive slots hold
-// INF_STATE).
-inline long slot_at(int3 v, int4 dims, int4 grid, __global const int* table) {
-  if (v.x < 0 || v.y < 0 || v.z < 0 || v.x >= dims.x || v.y >= dims.y || v.z >= dims.z) return -1;
-  const int brick = brick_at(brick_of_voxel(v), grid, table);
-  return brick < 0 ? -1 : (long)brick * BRICK_VOLUME + local_index(v);
-}
-
-inline bool inside_brick(int3 v, int3 origin) {
-  const int3 d = v - origin;
-  return d.x >= 0 && d.y >= 0 && d.z >= 0 && d.x < EDGE && d.y < EDGE && d.z < EDGE_Z;
-}
 
 // ---------------------------------------------------------------------------------------------
 // Seed initialisation: work-item = (seed, voxel of the (2r+1)^d block around the seed's voxel).

@@ -169,7 +169,8 @@ void run_voronoi(const VoronoiOptions& o) {
   std::optional<CurvedDual> curved;
   if (!o.dual.empty()) {
     progress.begin("building the " + o.dual + " dual");
-    const Nerve nerve = extract_nerve(canvas, field, seeds.size());
+    const Nerve nerve =
+        extract_nerve(canvas, field, seeds.size(), propagator->multi_label_bricks(canvas, field));
     std::string detail;
     if (o.dual != "curved") {
       dual = build_straight_dual(canvas, nerve, seeds);

@@ -7,6 +7,7 @@
 
 #include "rvor/error.h"
 #include "rvor/nerve.h"
+#include "rvor/propagation.h"
 #include "support/box_canvas.h"
 
 namespace rvor {
@@ -85,6 +86,28 @@ TEST(Nerve, FourCocircularSeedsIn2DAreReportedAsDegenerate) {
   ASSERT_EQ(nerve.degenerate_witnesses.size(), 1u);
   EXPECT_EQ(nerve.degenerate_witnesses[0].labels, (std::vector<int32_t>{0, 1, 2, 3}));
   EXPECT_EQ(nerve.triangles.size(), 2u);  // one of the two diagonals, picked by the subdivision
+}
+
+// A brick is flagged exactly when the nerve of that brick alone is not empty: flagged bricks are
+// the ones the nerve needs, and only them.
+TEST(Nerve, MultiLabelBricksAreTheBricksThatWitnessSimplices) {
+  const Canvas canvas =
+      test::make_uniform_box_canvas(3, Vec3(0, 0, 0), Vec3(1, 1, 1), 40, Mat3::Identity());
+  const std::vector<Vec3> seeds{
+      {0.2, 0.2, 0.2}, {0.8, 0.25, 0.3}, {0.3, 0.75, 0.25}, {0.35, 0.3, 0.8}};
+  const VoronoiField field = nearest_seed_field(canvas, seeds);
+  const std::vector<std::uint8_t> flags = find_multi_label_bricks(canvas, field);
+  ASSERT_EQ(flags.size(), canvas.brick_count());
+  std::size_t flagged = 0;
+  for (std::size_t b = 0; b < flags.size(); ++b) {
+    std::vector<std::uint8_t> only(flags.size(), 0);
+    only[b] = 1;
+    const Nerve nerve = extract_nerve(canvas, field, seeds.size(), only);
+    EXPECT_EQ(flags[b] != 0, !nerve.edges.empty()) << "brick " << b;
+    flagged += flags[b];
+  }
+  EXPECT_GT(flagged, 0u);
+  EXPECT_LT(flagged, flags.size());
 }
 
 TEST(Nerve, RejectsFieldsThatDoNotMatch) {

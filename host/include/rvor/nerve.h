@@ -65,5 +65,10 @@ struct Nerve {
 // skipped; bricks are scanned in parallel). `seed_count` bounds the labels (labels outside
 // [0, seed_count) are an error). Throws rvor::Error when the field does not match the canvas.
 Nerve extract_nerve(const Canvas& canvas, const VoronoiField& field, std::size_t seed_count);
+// The same, visiting only the bricks flagged in `bricks_to_scan` (one entry per brick, as
+// Propagator::multi_label_bricks returns them): the result is that of the full scan when every
+// brick holding a multi-label cell is flagged. Throws rvor::Error when the flags do not match.
+Nerve extract_nerve(const Canvas& canvas, const VoronoiField& field, std::size_t seed_count,
+                    const std::vector<std::uint8_t>& bricks_to_scan);
 
 }  // namespace rvor

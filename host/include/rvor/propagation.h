@@ -14,15 +14,17 @@
 
 namespace rvor {
 
-// Per canvas slot: distance (+inf where unreached or inactive) and label (seed index, -1 where none).
+// Per canvas slot: distance (+inf where unreached or inactive) and label (seed index, -1 where
+// none).
 struct VoronoiField {
   std::vector<float> distance;
   std::vector<int32_t> label;
 };
 
 struct PropagationStats {
-  std::uint64_t iterations = 0;     // outer iterations (reference: queue pops / active-list rounds)
-  std::uint64_t voxel_updates = 0;  // local solves performed, all labels counted once per voxel visit
+  std::uint64_t iterations = 0;  // outer iterations (reference: queue pops / active-list rounds)
+  std::uint64_t voxel_updates =
+      0;  // local solves performed, all labels counted once per voxel visit
   double seconds = 0.0;
 };
 
@@ -38,7 +40,19 @@ class Propagator {
   // change is recomputed, and the result equals solve() with all seeds (docs/scheme.md).
   virtual PropagationStats insert(const Canvas& canvas, const std::vector<Vec3>& seeds,
                                   std::size_t first_new, VoronoiField& field) = 0;
+  // Per canvas brick, 1 where the brick holds a multi-label grid cell (find_multi_label_bricks),
+  // else 0: the bricks extract_nerve has to visit. `field` is one this propagator returned. The
+  // OpenCL engine finds them with a kernel on the state it still holds (it uploads `field` when
+  // the device holds another one); the default scans on the host.
+  virtual std::vector<std::uint8_t> multi_label_bricks(const Canvas& canvas,
+                                                       const VoronoiField& field);
 };
+
+// Per canvas brick, 1 where some grid cell based at one of its voxels (the cube, in 2D the square,
+// whose corners are that voxel and its +x/+y/+z neighbours) has active corners carrying two or
+// more labels: only such cells witness Delaunay simplices (nerve.h). Sequential, on the host.
+// Throws rvor::Error when the field does not match the canvas.
+std::vector<std::uint8_t> find_multi_label_bricks(const Canvas& canvas, const VoronoiField& field);
 
 // The sequential CPU reference solver: clear on purpose, the ground truth for every kernel.
 std::unique_ptr<Propagator> make_reference_propagator();

@@ -337,18 +337,30 @@ const NerveSimplex* Nerve::find(std::vector<int32_t> seeds) const {
 }
 
 Nerve extract_nerve(const Canvas& canvas, const VoronoiField& field, std::size_t seed_count) {
+  return extract_nerve(canvas, field, seed_count,
+                       std::vector<std::uint8_t>(canvas.brick_count(), std::uint8_t{1}));
+}
+
+Nerve extract_nerve(const Canvas& canvas, const VoronoiField& field, std::size_t seed_count,
+                    const std::vector<std::uint8_t>& bricks_to_scan) {
   const auto start = std::chrono::steady_clock::now();
   if (field.label.size() != canvas.slot_count() || field.distance.size() != canvas.slot_count())
     throw Error("nerve: the field does not match the canvas (slot counts differ)");
+  if (bricks_to_scan.size() != canvas.brick_count())
+    throw Error("nerve: " + std::to_string(bricks_to_scan.size()) + " brick flags for " +
+                std::to_string(canvas.brick_count()) + " bricks");
+  std::vector<std::uint32_t> bricks;
+  for (std::size_t b = 0; b < bricks_to_scan.size(); ++b)
+    if (bricks_to_scan[b]) bricks.push_back(static_cast<std::uint32_t>(b));
   const unsigned threads = std::max(1u, std::min(16u, std::thread::hardware_concurrency()));
   std::vector<dual::SimplexMap> maps(threads);
-  std::atomic<std::size_t> next_brick{0};
+  std::atomic<std::size_t> next{0};
   std::vector<std::exception_ptr> errors(threads);
   auto work = [&](unsigned t) {
     try {
       BrickScanner scanner(canvas, field, seed_count);
-      for (std::size_t b; (b = next_brick.fetch_add(1)) < canvas.brick_count();)
-        scanner.scan(b, maps[t]);
+      for (std::size_t n; (n = next.fetch_add(1)) < bricks.size();)
+        scanner.scan(bricks[n], maps[t]);
       scanner.finish(maps[t]);
     } catch (...) {
       errors[t] = std::current_exception();

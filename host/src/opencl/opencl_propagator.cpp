@@ -31,9 +31,19 @@ std::size_t round_up(std::size_t n, std::size_t multiple) {
   return (n + multiple - 1) / multiple * multiple;
 }
 
+std::string kernel_source(const std::vector<std::string>& files) {
+  std::string source;
+  for (const std::string& file : files) source += embedded_kernel_source(file) + "\n";
+  return source;
+}
+
 std::string propagation_source() {
-  return embedded_kernel_source("eikonal_scheme.clh") + "\n" +
-         embedded_kernel_source("propagation.cl");
+  return kernel_source(
+      {"state_word.clh", "brick_layout.clh", "eikonal_scheme.clh", "propagation.cl"});
+}
+
+std::string nerve_source() {
+  return kernel_source({"state_word.clh", "brick_layout.clh", "nerve.cl"});
 }
 
 cl_ulong pack_state(float distance, int32_t label) {
@@ -140,15 +150,20 @@ class OpenCLPropagator final : public Propagator {
         throw Error("insert(): the field does not match the canvas (solve first)");
       if (first_new > seeds.size()) throw Error("insert(): first_new is past the last seed");
       prepare(canvas, seeds);
-      // The device still holds the field it returned last (and stamps that describe it) unless
-      // the caller passes another one: then upload it and forget the evaluations.
-      const std::uint64_t hash = field_hash(field);
-      if (device_field_hash_ != hash) {
-        upload_field(field);
-        reset_stamps();
-      }
+      hold_field(field);
       device_field_hash_.reset();
       return finish(canvas, first_new, seeds.size(), field, start);
+    });
+  }
+
+  std::vector<std::uint8_t> multi_label_bricks(const Canvas& canvas,
+                                               const VoronoiField& field) override {
+    return guarded("finding multi-label bricks", [&] {
+      if (field.distance.size() != canvas.slot_count() || field.label.size() != canvas.slot_count())
+        throw Error("multi_label_bricks(): the field does not match the canvas");
+      hold_canvas(canvas);
+      hold_field(field);
+      return flag_multi_label_bricks();
     });
   }
 
@@ -156,7 +171,7 @@ class OpenCLPropagator final : public Propagator {
 
  private:
   template <typename F>
-  PropagationStats guarded(const std::string& doing, F&& body) {
+  auto guarded(const std::string& doing, F&& body) -> decltype(body()) {
     try {
       return body();
     } catch (const cl::Error& e) {
@@ -171,6 +186,18 @@ class OpenCLPropagator final : public Propagator {
 
   void prepare(const Canvas& canvas, const std::vector<Vec3>& seeds) {
     const std::vector<float> records = seed_records(canvas, seeds);
+    hold_canvas(canvas);
+    if (canvas_->seed_capacity < seeds.size()) {
+      canvas_->seed_capacity = std::max<std::size_t>(seeds.size(), 2 * canvas_->seed_capacity);
+      canvas_->seeds = cl::Buffer(context_, CL_MEM_READ_ONLY,
+                                  canvas_->seed_capacity * kSeedRecord * sizeof(float));
+    }
+    queue_.enqueueWriteBuffer(canvas_->seeds, CL_TRUE, 0, records.size() * sizeof(float),
+                              records.data());
+  }
+
+  // Uploads the canvas unless the device holds it already.
+  void hold_canvas(const Canvas& canvas) {
     const std::uint64_t fingerprint = opencl::canvas_fingerprint(canvas);
     if (!canvas_ || canvas_identity_ != &canvas || fingerprint_ != fingerprint) {
       canvas_.reset();
@@ -181,13 +208,30 @@ class OpenCLPropagator final : public Propagator {
       device_field_hash_.reset();
       build_kernels(canvas);
     }
-    if (canvas_->seed_capacity < seeds.size()) {
-      canvas_->seed_capacity = std::max<std::size_t>(seeds.size(), 2 * canvas_->seed_capacity);
-      canvas_->seeds = cl::Buffer(context_, CL_MEM_READ_ONLY,
-                                  canvas_->seed_capacity * kSeedRecord * sizeof(float));
-    }
-    queue_.enqueueWriteBuffer(canvas_->seeds, CL_TRUE, 0, records.size() * sizeof(float),
-                              records.data());
+  }
+
+  // Makes the device state hold `field`: unless it is the field returned last (the device still
+  // holds it, with stamps that describe it), upload it and forget the evaluations.
+  void hold_field(const VoronoiField& field) {
+    const std::uint64_t hash = field_hash(field);
+    if (device_field_hash_ == hash) return;
+    upload_field(field);
+    reset_stamps();
+    device_field_hash_ = hash;
+  }
+
+  std::vector<std::uint8_t> flag_multi_label_bricks() {
+    const DeviceCanvasRef d = *canvas_;
+    if (d.bricks == 0) return {};
+    const cl::Buffer flags(context_, CL_MEM_WRITE_ONLY, d.bricks);
+    set_args(flag_multi_label_, static_cast<cl_int>(d.bricks), d.origins, d.table, d.dims, d.grid,
+             d.state, flags);
+    queue_.enqueueNDRangeKernel(flag_multi_label_, cl::NullRange,
+                                cl::NDRange(round_up(d.bricks, kBookkeepingGroup)),
+                                cl::NDRange(kBookkeepingGroup));
+    std::vector<std::uint8_t> result(d.bricks);
+    queue_.enqueueReadBuffer(flags, CL_TRUE, 0, result.size(), result.data());
+    return result;
   }
 
   // Brick colours relaxed in turn (kernels/propagation.cl, compact_active); 1: all every round.
@@ -213,6 +257,9 @@ class OpenCLPropagator final : public Propagator {
     activate_ = cl::Kernel(program, "activate_bricks");
     compact_ = cl::Kernel(program, "compact_active");
     spread_ = cl::Kernel(program, "spread_activation");
+    const cl::Program nerve = opencl::build_program(context_, device_.device, nerve_source(),
+                                                    "-DDIM=" + std::to_string(dimension));
+    flag_multi_label_ = cl::Kernel(nerve, "flag_multi_label_bricks");
   }
 
   void upload_field(const VoronoiField& field) {
@@ -398,7 +445,7 @@ class OpenCLPropagator final : public Propagator {
   cl_uint stamp_stride_ = 1, round_base_ = 0;              // brick_sweep evaluation stamps
   // field_hash of the field finish() returned last, while the device state is still that field.
   std::optional<std::uint64_t> device_field_hash_;
-  cl::Kernel freeze_, init_, relax_, commit_, activate_, compact_, spread_;
+  cl::Kernel freeze_, init_, relax_, commit_, activate_, compact_, spread_, flag_multi_label_;
 };
 
 }  // namespace
