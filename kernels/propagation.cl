@@ -35,13 +35,6 @@ inline long seed_block_slot(int item, int first_seed, __global const float* seed
   return slot < 0 || weights[slot * STENCIL_TERMS] <= 0.0f ? -1 : slot;
 }
 
-// A brick whose voxels the seed initialisation wrote is not settled (relax_brick_sweep), and it
-// changed in the seed round `stamp`. Concurrent work-items write the same values.
-inline void unsettle(long brick, uint stamp, __global uchar* settled, __global uint* last_change) {
-  settled[brick] = 0;
-  last_change[brick] = stamp;
-}
-
 // Marks the blocks of seeds [first_seed, first_seed + seed_count) frozen before their values are
 // assigned: `existing` seeds (insertion) keep their values; new seeds' block voxels that were not
 // boundary data are reset to +inf, so they take the exact value even if larger (docs/scheme.md).
@@ -49,8 +42,7 @@ inline void unsettle(long brick, uint stamp, __global uchar* settled, __global u
 __kernel void freeze_seed_blocks(int first_seed, int seed_count, int existing,
                                  __global const float* seeds, __global ulong* state,
                                  __global const float* weights, __global const int* table,
-                                 int4 dims, int4 grid, __global uint* changed, uint stamp,
-                                 __global uchar* settled, __global uint* last_change) {
+                                 int4 dims, int4 grid, __global uint* changed, uint stamp) {
   const int item = get_global_id(0);
   if (item >= seed_count * INIT_BLOCK) return;
   int3 v;
@@ -62,7 +54,6 @@ __kernel void freeze_seed_blocks(int first_seed, int seed_count, int existing,
   } else if (!state_frozen(s)) {
     state[slot] = INF_STATE | FROZEN_BIT;
     changed[slot] = stamp;
-    unsettle(slot / BRICK_VOLUME, stamp, settled, last_change);
   }
 }
 
@@ -70,8 +61,7 @@ __kernel void freeze_seed_blocks(int first_seed, int seed_count, int existing,
 __kernel void initialise_seeds(int first_seed, int seed_count, __global const float* seeds,
                                __global ulong* state, __global const float* weights,
                                __global const int* table, int4 dims, int4 grid,
-                               __global uchar* flags, __global uint* changed, uint stamp,
-                               __global uchar* settled, __global uint* last_change) {
+                               __global uchar* flags, __global uint* changed, uint stamp) {
   const int item = get_global_id(0);
   if (item >= seed_count * INIT_BLOCK) return;
   int3 v;
@@ -86,7 +76,6 @@ __kernel void initialise_seeds(int first_seed, int seed_count, __global const fl
   if (candidate < previous) {
     flags[slot / BRICK_VOLUME] = FLAG_CHANGED | FLAG_UNCONVERGED;
     changed[slot] = stamp;
-    unsettle(slot / BRICK_VOLUME, stamp, settled, last_change);
   }
 }
 
@@ -117,11 +106,10 @@ __kernel void initialise_seeds(int first_seed, int seed_count, __global const fl
 // is skipped, just as a brick is not re-activated by insignificant changes. Per slot, `evaluated`
 // holds the stamp of the last evaluation and `changed` the stamp of the last significant change
 // (0: never / unknown, so the host fills both with 0 before a solve), as 32-bit numbers that grow
-// over a solve and the insertions that follow it (seed initialisation stamps what it writes).
-// A stamp is round_base + tick, tick in [1, stride) counting evaluations of this brick within
-// the round. A neighbour inside the brick was seen iff it changed before x's evaluation; one
-// outside was read from the round's snapshot, so x saw it iff it changed in an earlier round
-// than x's last evaluation. Any bit change is committed (FLAG_WRITTEN), so stamps
+// over a solve and the insertions that follow it (seed initialisation stamps what it writes). A stamp is round_base + tick, tick in [1, stride) counting evaluations of
+// this brick within the round. A neighbour inside the brick was seen iff it changed before x's
+// evaluation; one outside was read from the round's snapshot, so x saw it iff it changed in an
+// earlier round than x's last evaluation. Any bit change is committed (FLAG_WRITTEN), so stamps
 // always describe `state`.
 
 #define FLAG_WRITTEN 4u /* the brick's working copy differs from the state: commit it */
@@ -146,43 +134,6 @@ inline long neighbour_slot(int3 y, int3 origin, int4 dims, int4 grid, __global c
   const int3 b = d / edge;
   const int brick = near[b.x + 3 * (b.y + 3 * b.z)];
   return brick < 0 ? -1 : (long)brick * BRICK_VOLUME + local_index(y);
-}
-
-// Work avoidance across relaxations: a brick is settled when its last relaxation ended with a
-// sweep that changed nothing significant; then every voxel of it had seen every change of its
-// brick, and every change of the bricks around made in a round before that relaxation (rounds
-// read the state as it was when they began). So when it is relaxed again, a voxel can only be
-// dirty if its stencil reaches a neighbour brick whose last change came in that round or later,
-// and the others are skipped without looking at their neighbours, until a voxel of the brick
-// changes. This is what re-checking a brick after its downwind neighbour changed costs: the
-// face towards that neighbour. Seed initialisation unsettles the bricks it writes (and counts as
-// their change); the host clears `settled` with the stamps. It needs every stencil neighbour in
-// the 3^DIM bricks around (reach at most a brick edge).
-
-inline bool reach_within_near(int4 voxel_reach) {
-  return voxel_reach.x <= EDGE && voxel_reach.y <= EDGE && voxel_reach.z <= EDGE_Z;
-}
-
-// Bit n (the index of `near`) set for each neighbour brick that changed in round `since` or later.
-inline uint changed_near_bricks(const int* near, __global const uint* last_change, uint since) {
-  uint mask = 0;
-  for (int n = 0; n < NEAR_BRICKS; ++n)
-    if (n != NEAR_BRICKS / 2 && near[n] >= 0 && last_change[near[n]] >= since) mask |= 1u << n;
-  return mask;
-}
-
-// Whether the stencil of the voxel at local coordinates c (reaching r voxels per axis) reaches
-// one of the neighbour bricks in `mask`.
-inline bool reaches_bricks(int3 c, int4 r, uint mask) {
-  if (mask == 0) return false;
-  const int3 low = (int3)(c.x < r.x ? -1 : 0, c.y < r.y ? -1 : 0, c.z < r.z ? -1 : 0);
-  const int3 high = (int3)(c.x >= EDGE - r.x ? 1 : 0, c.y >= EDGE - r.y ? 1 : 0,
-                           DIM == 3 && c.z >= EDGE_Z - r.z ? 1 : 0);
-  for (int dz = low.z; dz <= high.z; ++dz)
-    for (int dy = low.y; dy <= high.y; ++dy)
-      for (int dx = low.x; dx <= high.x; ++dx)
-        if (mask & (1u << ((dx + 1) + 3 * ((dy + 1) + 3 * (dz + 1))))) return true;
-  return false;
 }
 
 // The corner a sweep starts from, as the direction bits of the sweep (bit a: axis a descending):
@@ -226,9 +177,7 @@ __kernel void relax_brick_sweep(__global const int* list, int count, __global co
                                 __global const float* seeds, __global uchar* flags,
                                 __global ulong* update_counter, int max_sweeps,
                                 __global uint* evaluated, __global uint* changed,
-                                uint round_base, uint stride, int4 voxel_reach,
-                                __global uchar* settled, __global uint* last_relaxed,
-                                __global uint* last_change) {
+                                uint round_base, uint stride) {
   const int position = get_global_id(0);
   if (position >= count) return;
   const int brick = list[position];
@@ -239,12 +188,6 @@ __kernel void relax_brick_sweep(__global const int* list, int count, __global co
   int near[NEAR_BRICKS];
   load_near_bricks(origin, grid, table, near);
   const int corner = upwind_corner(work, state, origin, dims, grid, table, near);
-  // Settled: only voxels reaching a neighbour brick that changed since can be dirty, until a
-  // voxel of this brick changes.
-  const bool was_settled = settled[brick] != 0;
-  const uint changed_near =
-      was_settled ? changed_near_bricks(near, last_change, last_relaxed[brick]) : 0u;
-  bool changed_here = false;
   uint brick_flags = FLAG_UNCONVERGED;
   ulong updates = 0;
   uint tick = 0;
@@ -276,7 +219,6 @@ __kernel void relax_brick_sweep(__global const int* list, int count, __global co
       const int terms = load_stencil(weights, offsets, slot, weight, offset);
       if (terms == 0) continue;
 #endif
-      if (was_settled && !changed_here && !reaches_bricks(c, voxel_reach, changed_near)) continue;
       const int3 v = origin + c;
       const uint last = evaluated[slot];
       const uint last_round = last - last % stride;
@@ -311,7 +253,6 @@ __kernel void relax_brick_sweep(__global const int* list, int count, __global co
         if (significant_change(current, best)) {
           changed[slot] = stamp;
           sweep_changed = true;
-          changed_here = true;
         }
       }
     }
@@ -323,9 +264,6 @@ __kernel void relax_brick_sweep(__global const int* list, int count, __global co
     }
   }
   flags[brick] = (uchar)brick_flags;
-  settled[brick] = (brick_flags & FLAG_UNCONVERGED) == 0 && reach_within_near(voxel_reach);
-  last_relaxed[brick] = round_base;
-  if (brick_flags & FLAG_CHANGED) last_change[brick] = round_base;
   atom_add(update_counter, updates);
 }
 

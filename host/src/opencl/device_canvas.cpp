@@ -144,7 +144,6 @@ DeviceCanvas upload_canvas(const cl::Context& context, const Canvas& canvas, int
   for (int a = 0; a < 3; ++a) {
     d.dims.s[a] = canvas.dims[a];
     d.grid.s[a] = canvas.brick_grid_dims[a];
-    d.voxel_reach.s[a] = canvas.dimension == 2 && a == 2 ? 0 : stencils.reach[a];
     d.brick_reach.s[a] =
         canvas.dimension == 2 && a == 2 ? 0 : (stencils.reach[a] + edges[a] - 1) / edges[a];
   }
@@ -165,9 +164,6 @@ DeviceCanvas upload_canvas(const cl::Context& context, const Canvas& canvas, int
       d.bytes);
   d.evaluated = make_scratch(context, d.slots * sizeof(cl_uint), d.bytes);
   d.changed = make_scratch(context, d.slots * sizeof(cl_uint), d.bytes);
-  d.settled = make_scratch(context, d.bricks, d.bytes);
-  d.last_relaxed = make_scratch(context, d.bricks * sizeof(cl_uint), d.bytes);
-  d.last_change = make_scratch(context, d.bricks * sizeof(cl_uint), d.bytes);
   d.flags = make_scratch(context, d.bricks, d.bytes);
   d.pending = make_scratch(context, d.bricks, d.bytes);
   d.any_pending = make_scratch(context, sizeof(cl_int), d.bytes);

@@ -26,17 +26,13 @@ PackedStencils pack_stencils(const Canvas& canvas);
 
 struct DeviceCanvas {
   std::size_t slots = 0, bricks = 0;
-  // brick_reach: bricks within stencil reach per axis; voxel_reach: the same in voxels.
-  cl_int4 dims{}, grid{}, brick_reach{}, voxel_reach{};
+  cl_int4 dims{}, grid{}, brick_reach{};  // brick_reach: bricks within stencil reach per axis
   cl::Buffer state, scratch, weights, offsets, table, origins;
   cl::Buffer flags, list, list_count, update_counter, seeds;
   // Per brick: waiting for its colour's round (kernels/propagation.cl); whether any brick waits.
   cl::Buffer pending, any_pending;
   // brick_sweep work avoidance: per slot, stamps of the last evaluation and the last change.
   cl::Buffer evaluated, changed;
-  // Per brick, for the same: whether its last relaxation ended converged (settled), the round
-  // base of that relaxation and that of its last significant change (kernels/propagation.cl).
-  cl::Buffer settled, last_relaxed, last_change;
   std::size_t seed_capacity = 0;
   std::uint64_t bytes = 0;  // device memory allocated for this canvas
 };

@@ -312,7 +312,7 @@ class OpenCLPropagator final : public Propagator {
     const DeviceCanvasRef d = *canvas_;
     set_args(freeze_, static_cast<cl_int>(first_seed), static_cast<cl_int>(seed_count - first_seed),
              static_cast<cl_int>(existing ? 1 : 0), d.seeds, d.state, d.weights, d.table, d.dims,
-             d.grid, d.changed, stamp, d.settled, d.last_change);
+             d.grid, d.changed, stamp);
     queue_.enqueueNDRangeKernel(freeze_, cl::NullRange,
                                 cl::NDRange(round_up(items, kBookkeepingGroup)),
                                 cl::NDRange(kBookkeepingGroup));
@@ -323,8 +323,7 @@ class OpenCLPropagator final : public Propagator {
     if (items == 0) return;
     const DeviceCanvasRef d = *canvas_;
     set_args(init_, static_cast<cl_int>(first_seed), static_cast<cl_int>(seed_count - first_seed),
-             d.seeds, d.state, d.weights, d.table, d.dims, d.grid, d.flags, d.changed, stamp,
-             d.settled, d.last_change);
+             d.seeds, d.state, d.weights, d.table, d.dims, d.grid, d.flags, d.changed, stamp);
     queue_.enqueueNDRangeKernel(init_, cl::NullRange,
                                 cl::NDRange(round_up(items, kBookkeepingGroup)),
                                 cl::NDRange(kBookkeepingGroup));
@@ -339,7 +338,6 @@ class OpenCLPropagator final : public Propagator {
     if (variant_ != RelaxationVariant::brick_sweep) return;
     queue_.enqueueFillBuffer(canvas_->evaluated, cl_uint{0}, 0, canvas_->slots * sizeof(cl_uint));
     queue_.enqueueFillBuffer(canvas_->changed, cl_uint{0}, 0, canvas_->slots * sizeof(cl_uint));
-    queue_.enqueueFillBuffer(canvas_->settled, cl_uchar{0}, 0, canvas_->bricks);
   }
 
   // The first stamp of a new round. 32-bit stamps wrap after ~4 million rounds of 2 sweeps: before
@@ -391,10 +389,6 @@ class OpenCLPropagator final : public Propagator {
       relax_.setArg(15, d.changed);
       relax_.setArg(16, next_round_base());
       relax_.setArg(17, stamp_stride_);
-      relax_.setArg(18, d.voxel_reach);
-      relax_.setArg(19, d.settled);
-      relax_.setArg(20, d.last_relaxed);
-      relax_.setArg(21, d.last_change);
     }
     const std::size_t voxels = static_cast<std::size_t>(count) * brick_volume_;
     if (sweep)
