@@ -69,10 +69,11 @@ void print_voronoi_summary(std::ostream& out, const std::string& out_dir,
   if (summary.unreached_voxels > 0)
     out << "  warning: " << summary.unreached_voxels
         << " voxels were reached by no seed (a domain component without seeds)\n";
+  const double rate = propagation_seconds > 0 ? active_voxels / propagation_seconds : 0.0;
+  const bool millions = rate >= 1e6;  // small canvases: thousands, not "0.0 M"
   out << "  propagation " << std::fixed << std::setprecision(2) << propagation_seconds << " s ("
-      << std::setprecision(1)
-      << (propagation_seconds > 0 ? active_voxels / propagation_seconds / 1e6 : 0.0)
-      << " M voxels/s), total " << std::setprecision(2) << total_seconds << " s\n"
+      << std::setprecision(1) << rate / (millions ? 1e6 : 1e3) << (millions ? " M" : " k")
+      << " voxels/s), total " << std::setprecision(2) << total_seconds << " s\n"
       << std::defaultfloat;
   out << "  outputs in " << out_dir << "/: " << join(outputs) << "\n";
 }
