@@ -22,9 +22,10 @@ struct VoronoiField {
 };
 
 struct PropagationStats {
-  std::uint64_t iterations = 0;  // outer iterations (reference: queue pops / active-list rounds)
-  std::uint64_t voxel_updates =
-      0;  // local solves performed, all labels counted once per voxel visit
+  // Outer iterations (reference: queue pops; OpenCL: active-list rounds).
+  std::uint64_t iterations = 0;
+  // Local solves performed, all labels counted once per voxel visit.
+  std::uint64_t voxel_updates = 0;
   double seconds = 0.0;
 };
 

@@ -163,7 +163,7 @@ class OpenCLPropagator final : public Propagator {
         throw Error("multi_label_bricks(): the field does not match the canvas");
       hold_canvas(canvas);
       hold_field(field);
-      return flag_multi_label_bricks();
+      return flag_multi_label_bricks(canvas.dimension);
     });
   }
 
@@ -220,9 +220,14 @@ class OpenCLPropagator final : public Propagator {
     device_field_hash_ = hash;
   }
 
-  std::vector<std::uint8_t> flag_multi_label_bricks() {
+  std::vector<std::uint8_t> flag_multi_label_bricks(int dimension) {
     const DeviceCanvasRef d = *canvas_;
     if (d.bricks == 0) return {};
+    if (!flag_multi_label_()) {
+      const cl::Program nerve = opencl::build_program(context_, device_.device, nerve_source(),
+                                                      "-DDIM=" + std::to_string(dimension));
+      flag_multi_label_ = cl::Kernel(nerve, "flag_multi_label_bricks");
+    }
     const cl::Buffer flags(context_, CL_MEM_WRITE_ONLY, d.bricks);
     set_args(flag_multi_label_, static_cast<cl_int>(d.bricks), d.origins, d.table, d.dims, d.grid,
              d.state, flags);
@@ -257,9 +262,7 @@ class OpenCLPropagator final : public Propagator {
     activate_ = cl::Kernel(program, "activate_bricks");
     compact_ = cl::Kernel(program, "compact_active");
     spread_ = cl::Kernel(program, "spread_activation");
-    const cl::Program nerve = opencl::build_program(context_, device_.device, nerve_source(),
-                                                    "-DDIM=" + std::to_string(dimension));
-    flag_multi_label_ = cl::Kernel(nerve, "flag_multi_label_bricks");
+    flag_multi_label_ = cl::Kernel();  // built when first used (only the nerve needs it)
   }
 
   void upload_field(const VoronoiField& field) {
