@@ -1,7 +1,5 @@
 // The host determination of the multi-label bricks: straightforward on purpose (Canvas::slot_of
 // per corner), the truth the OpenCL kernel (kernels/nerve.cl) is tested against.
-#include <array>
-
 #include "rvor/error.h"
 #include "rvor/propagation.h"
 
