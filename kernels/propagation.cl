@@ -106,11 +106,18 @@ __kernel void initialise_seeds(int first_seed, int seed_count, __global const fl
 // is skipped, just as a brick is not re-activated by insignificant changes. Per slot, `evaluated`
 // holds the stamp of the last evaluation and `changed` the stamp of the last significant change
 // (0: never / unknown, so the host fills both with 0 before a solve), as 32-bit numbers that grow
-// over a solve and the insertions that follow it (seed initialisation stamps what it writes). A stamp is round_base + tick, tick in [1, stride) counting evaluations of
-// this brick within the round. A neighbour inside the brick was seen iff it changed before x's
+// over a solve and the insertions that follow it (seed initialisation stamps what it writes). A
+// stamp is round_base + tick, tick in [1, stride) counting evaluations of this brick within the
+// round (stride: a power of two). A neighbour inside the brick was seen iff it changed before x's
 // evaluation; one outside was read from the round's snapshot, so x saw it iff it changed in an
 // earlier round than x's last evaluation. Any bit change is committed (FLAG_WRITTEN), so stamps
 // always describe `state`.
+//
+// The brick is relaxed in a tile (brick_layout.clh) holding its states and, around it, the
+// snapshot's: neighbours one voxel away (every neighbour for Euclidean-like stencils) are read at
+// flat offsets without tests. The tile's change stamps are comparable with `>` for both kinds of
+// neighbour: inside, the stamps; outside, the round base after the change's round (0 for never):
+// it exceeds x's last evaluation exactly when the change's round is not earlier than that one.
 
 #define FLAG_WRITTEN 4u /* the brick's working copy differs from the state: commit it */
 
@@ -136,12 +143,42 @@ inline long neighbour_slot(int3 y, int3 origin, int4 dims, int4 grid, __global c
   return brick < 0 ? -1 : (long)brick * BRICK_VOLUME + local_index(y);
 }
 
+// A change stamp of another brick as the tile holds it (see above).
+inline uint outside_stamp(uint stamp, uint stride) {
+  return stamp == 0 ? 0u : (stamp & ~(stride - 1)) + stride;
+}
+
+// Fills the tile row by row: a row of the tile crosses at most three of the bricks around.
+inline void load_tile(ulong* tile, uint* tile_stamp, __global const ulong* state,
+                      __global const uint* changed, const int* near, uint stride) {
+  int p = 0;
+  for (int z = -TILE_PAD_Z; z < EDGE_Z + TILE_PAD_Z; ++z) {
+    const int bz = DIM == 3 ? (z < 0 ? 0 : z < EDGE_Z ? 1 : 2) : 1;
+    for (int y = -1; y <= EDGE; ++y) {
+      const int by = y < 0 ? 0 : y < EDGE ? 1 : 2;
+      const int row = EDGE * ((y & (EDGE - 1)) + EDGE * (DIM == 3 ? z & (EDGE - 1) : 0));
+      for (int x = -1; x <= EDGE; ++x, ++p) {
+        const int bx = x < 0 ? 0 : x < EDGE ? 1 : 2;
+        const int brick = near[bx + 3 * (by + 3 * bz)];
+        if (brick < 0) {
+          tile[p] = INF_STATE;
+          tile_stamp[p] = 0;
+          continue;
+        }
+        const size_t slot = (size_t)brick * BRICK_VOLUME + row + (x & (EDGE - 1));
+        tile[p] = state[slot];
+        const bool inside = bx == 1 && by == 1 && bz == 1;
+        tile_stamp[p] = inside ? changed[slot] : outside_stamp(changed[slot], stride);
+      }
+    }
+  }
+}
+
 // The corner a sweep starts from, as the direction bits of the sweep (bit a: axis a descending):
 // per axis, the side whose face layer of the brick, or of the neighbour beyond it, holds the
 // smaller value. Information flows from small values to large ones, so starting there lets one
 // sweep carry an incoming front through the whole brick.
-inline int upwind_corner(__global const ulong* work, __global const ulong* state, int3 origin,
-                         int4 dims, int4 grid, __global const int* table, const int* near) {
+inline int upwind_corner(const ulong* tile) {
   const int edge[3] = {EDGE, EDGE, EDGE_Z};
   int corner = 0;
   for (int a = 0; a < DIM; ++a) {
@@ -151,14 +188,7 @@ inline int upwind_corner(__global const ulong* work, __global const ulong* state
       for (int layer = 0; layer < 4; ++layer) {
         const int at = layer < 2 ? layer - 1 : edge[a] + layer - 3;
         const int3 c = a == 0 ? (int3)(at, p, q) : a == 1 ? (int3)(p, at, q) : (int3)(p, q, at);
-        float u;
-        if (layer == 1 || layer == 2) {
-          u = state_distance(work[c.x + EDGE * (c.y + EDGE * c.z)]);
-        } else {
-          const long slot = neighbour_slot(origin + c, origin, dims, grid, table, near);
-          if (slot < 0) continue;
-          u = state_distance(state[slot]);
-        }
+        const float u = state_distance(tile[tile_index(c)]);
         if (layer < 2)
           low = min(low, u);
         else
@@ -170,31 +200,44 @@ inline int upwind_corner(__global const ulong* work, __global const ulong* state
   return corner;
 }
 
+// Whether every offset stays within one voxel per axis (inside the tile from any brick voxel).
+inline bool within_one_voxel(const int3* offset, int terms) {
+  bool near = true;
+  for (int i = 0; i < terms; ++i) near = near && all(abs(offset[i]) <= (uint3)(1, 1, 1));
+  return near;
+}
+
 __kernel void relax_brick_sweep(__global const int* list, int count, __global const ulong* state,
                                 __global ulong* scratch, __global const float* weights,
                                 __global const char* offsets, __global const int* table,
                                 __global const int4* brick_origins, int4 dims, int4 grid,
                                 __global const float* seeds, __global uchar* flags,
                                 __global ulong* update_counter, int max_sweeps,
-                                __global uint* evaluated, __global uint* changed,
-                                uint round_base, uint stride) {
+                                __global uint* evaluated, __global uint* changed, uint round_base,
+                                uint stride, __global const uint* activity) {
   const int position = get_global_id(0);
   if (position >= count) return;
   const int brick = list[position];
-  __global ulong* work = scratch + (size_t)position * BRICK_VOLUME;
+  // Private: this variant is for CPUs, where the tile stays in the core's cache between visits.
+  ulong tile[TILE_VOLUME];
+  uint tile_stamp[TILE_VOLUME];
   const size_t brick_slot = (size_t)brick * BRICK_VOLUME;
-  for (int l = 0; l < BRICK_VOLUME; ++l) work[l] = state[brick_slot + l];
   const int3 origin = brick_origins[brick].xyz;
   int near[NEAR_BRICKS];
   load_near_bricks(origin, grid, table, near);
-  const int corner = upwind_corner(work, state, origin, dims, grid, table, near);
+  load_tile(tile, tile_stamp, state, changed, near, stride);
+  const int corner = upwind_corner(tile);
+  uint active[BRICK_VOLUME / 32];  // the brick's activity bits: no stencil read for inactive voxels
+  for (int w = 0; w < BRICK_VOLUME / 32; ++w) active[w] = activity[brick_slot / 32 + w];
   uint brick_flags = FLAG_UNCONVERGED;
   ulong updates = 0;
   uint tick = 0;
 #ifdef UNIFORM_METRIC  // one stencil for every active voxel: loaded at the first one
   float weight[STENCIL_TERMS];
   int3 offset[STENCIL_TERMS];
+  int flat[STENCIL_TERMS];
   int uniform_terms = -1;
+  bool near_stencil = false;
 #endif
   for (int sweep = 0; sweep < max_sweeps; ++sweep) {
     const int direction = corner ^ (sweep % (DIM == 3 ? 8 : 4));
@@ -205,53 +248,70 @@ __kernel void relax_brick_sweep(__global const int* list, int count, __global co
       if (direction & 1) c.x = EDGE - 1 - c.x;
       if (direction & 2) c.y = EDGE - 1 - c.y;
       if (direction & 4) c.z = EDGE_Z - 1 - c.z;
+      const int p = tile_index(c);
       const int l = c.x + EDGE * (c.y + EDGE * c.z);
+      if (!(active[l / 32] & (1u << (l % 32)))) continue;
       const size_t slot = brick_slot + l;
-      const ulong current = work[l];
+      const ulong current = tile[p];
       if (state_frozen(current)) continue;
 #ifdef UNIFORM_METRIC
-      if (weights[slot * STENCIL_TERMS] <= 0.0f) continue;
-      if (uniform_terms < 0) uniform_terms = load_stencil(weights, offsets, slot, weight, offset);
+      if (uniform_terms < 0) {
+        uniform_terms = load_stencil(weights, offsets, slot, weight, offset);
+        near_stencil = within_one_voxel(offset, uniform_terms);
+        for (int i = 0; i < uniform_terms; ++i) flat[i] = tile_offset(offset[i]);
+      }
       const int terms = uniform_terms;
 #else
       float weight[STENCIL_TERMS];
       int3 offset[STENCIL_TERMS];
+      int flat[STENCIL_TERMS];
       const int terms = load_stencil(weights, offsets, slot, weight, offset);
       if (terms == 0) continue;
+      const bool near_stencil = within_one_voxel(offset, terms);
+      for (int i = 0; i < terms; ++i) flat[i] = tile_offset(offset[i]);
 #endif
-      const int3 v = origin + c;
       const uint last = evaluated[slot];
-      const uint last_round = last - last % stride;
+      const uint last_round = last & ~(stride - 1);
       bool dirty = last == 0;
       ulong nb[2 * STENCIL_TERMS];
-      for (int i = 0; i < terms; ++i) {
-        for (int s = 0; s < 2; ++s) {
-          const int3 y = s == 0 ? v + offset[i] : v - offset[i];
-          ulong value = INF_STATE;
-          if (inside_brick(y, origin)) {
-            const int m = local_index(y);
-            value = work[m];
-            dirty = dirty || changed[brick_slot + m] > last;
-          } else {
-            const long other = neighbour_slot(y, origin, dims, grid, table, near);
-            if (other >= 0) {
-              value = state[other];
-              dirty = dirty || changed[other] >= last_round;
+      if (near_stencil) {
+        for (int i = 0; i < terms; ++i) {
+          nb[2 * i] = tile[p + flat[i]];
+          nb[2 * i + 1] = tile[p - flat[i]];
+          dirty = dirty || tile_stamp[p + flat[i]] > last || tile_stamp[p - flat[i]] > last;
+        }
+      } else {
+        for (int i = 0; i < terms; ++i) {
+          for (int s = 0; s < 2; ++s) {
+            const int3 e = s == 0 ? offset[i] : -offset[i];
+            ulong value = INF_STATE;
+            if (inside_tile(c + e)) {
+              const int q = p + (s == 0 ? flat[i] : -flat[i]);
+              value = tile[q];
+              dirty = dirty || tile_stamp[q] > last;
+            } else {
+              const long other = neighbour_slot(origin + c + e, origin, dims, grid, table, near);
+              if (other >= 0) {
+                value = state[other];
+                dirty = dirty || changed[other] >= last_round;
+              }
             }
+            nb[2 * i + s] = value;
           }
-          nb[2 * i + s] = value;
         }
       }
       if (!dirty) continue;
       const uint stamp = round_base + tick;
       evaluated[slot] = stamp;
-      const ulong best = best_candidate(nb, weight, offset, terms, convert_float3(v), seeds);
+      const ulong best =
+          best_candidate(nb, weight, offset, terms, convert_float3(origin + c), seeds);
       ++updates;
       if (best != current) {  // T(x) replaces the state, larger or not
-        work[l] = best;
+        tile[p] = best;
         brick_flags |= FLAG_WRITTEN;
         if (significant_change(current, best)) {
           changed[slot] = stamp;
+          tile_stamp[p] = stamp;
           sweep_changed = true;
         }
       }
@@ -263,6 +323,10 @@ __kernel void relax_brick_sweep(__global const int* list, int count, __global co
       break;
     }
   }
+  if (brick_flags != 0) {  // commit_bricks copies it back
+    __global ulong* relaxed = scratch + (size_t)position * BRICK_VOLUME;
+    for (int l = 0; l < BRICK_VOLUME; ++l) relaxed[l] = tile[tile_index(local_coordinates(l))];
+  }
   flags[brick] = (uchar)brick_flags;
   atom_add(update_counter, updates);
 }
@@ -271,14 +335,14 @@ __kernel void relax_brick_sweep(__global const int* list, int count, __global co
 // GPU-friendly variant: a work-group per brick, a work-item per voxel, Jacobi iterations in
 // local memory. The iteration count is the same for every work-item (barriers inside the loop).
 
-#define READ_TILE(l) tile[l]
+#define READ_LOCAL(l) values[l]
 
 __kernel __attribute__((reqd_work_group_size(BRICK_VOLUME, 1, 1))) void relax_voxel_jacobi(
     __global const int* list, int count, __global const ulong* state, __global ulong* scratch,
     __global const float* weights, __global const char* offsets, __global const int* table,
     __global const int4* brick_origins, int4 dims, int4 grid, __global const float* seeds,
     __global uchar* flags, __global ulong* update_counter, int iterations) {
-  __local ulong tile[BRICK_VOLUME];
+  __local ulong values[BRICK_VOLUME];
   __local int changed_now, changed_ever, active_voxels;
   const int position = get_group_id(0);
   const int l = get_local_id(0);
@@ -289,8 +353,8 @@ __kernel __attribute__((reqd_work_group_size(BRICK_VOLUME, 1, 1))) void relax_vo
   float weight[STENCIL_TERMS];
   int3 offset[STENCIL_TERMS];
   int terms = load_stencil(weights, offsets, slot, weight, offset);
-  tile[l] = state[slot];
-  if (state_frozen(tile[l])) terms = 0;  // boundary data: never recomputed
+  values[l] = state[slot];
+  if (state_frozen(values[l])) terms = 0;  // boundary data: never recomputed
   if (l == 0) {
     changed_now = 0;
     changed_ever = 0;
@@ -303,13 +367,13 @@ __kernel __attribute__((reqd_work_group_size(BRICK_VOLUME, 1, 1))) void relax_vo
     ulong best = INF_STATE;
     if (terms > 0) {
       ulong nb[2 * STENCIL_TERMS];
-      GATHER_NEIGHBOURS(nb, v, offset, terms, READ_TILE)
+      GATHER_NEIGHBOURS(nb, v, offset, terms, READ_LOCAL)
       best = best_candidate(nb, weight, offset, terms, convert_float3(v), seeds);
     }
     barrier(CLK_LOCAL_MEM_FENCE);
-    if (terms > 0 && best != tile[l]) {
-      if (significant_change(tile[l], best)) changed_now = 1;
-      tile[l] = best;
+    if (terms > 0 && best != values[l]) {
+      if (significant_change(values[l], best)) changed_now = 1;
+      values[l] = best;
     }
     barrier(CLK_LOCAL_MEM_FENCE);
     if (l == 0) {  // only work-item 0 reads and resets the flag, before anyone can set it again
@@ -318,7 +382,7 @@ __kernel __attribute__((reqd_work_group_size(BRICK_VOLUME, 1, 1))) void relax_vo
       changed_now = 0;
     }
   }
-  scratch[(size_t)position * BRICK_VOLUME + l] = tile[l];
+  scratch[(size_t)position * BRICK_VOLUME + l] = values[l];
   if (l == 0) {
     flags[brick] =
         (uchar)((changed_ever ? FLAG_CHANGED : 0u) | (changed_last ? FLAG_UNCONVERGED : 0u));

@@ -160,6 +160,17 @@ TEST(OpenCLDevices, BadDeviceNamesAreClearErrors) {
   EXPECT_THROW(make_propagator("opencl:x"), Error);
 }
 
+TEST(OpenCLOptionsCheck, OutOfRangeScheduleOptionsAreClearErrors) {
+  OpenCLOptions o;
+  o.max_sweeps = 0;  // checked before any device is looked up: no device needed
+  EXPECT_THROW(make_opencl_propagator("pocl", o), Error);
+  o.max_sweeps = 65;  // the evaluation stamps of one relaxation would not fit their stride
+  EXPECT_THROW(make_opencl_propagator("pocl", o), Error);
+  o.max_sweeps = 2;
+  o.jacobi_iterations = 0;
+  EXPECT_THROW(make_opencl_propagator("pocl", o), Error);
+}
+
 TEST(OpenCLDevices, DefaultDeviceNameComesFromTheEnvironment) {
   setenv("RVOR_DEVICE", "cpu", 1);
   EXPECT_EQ(default_device_name(), "cpu");

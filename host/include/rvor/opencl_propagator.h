@@ -18,8 +18,9 @@ struct OpenCLOptions {
   // brick_sweep: sweeps per brick and round. Since sweeps start at the upwind corner, 1 and 2 tie
   // and 4 is slower (1000 seeds, --repeat 2: euclidean 160^3 2.48/2.38/2.55 s, radial_shock_3d
   // 128^3 3.90/3.92/5.13 s for 1/2/4); 2 needs fewer rounds, which small insertions feel.
+  // In [1, 64]; make_opencl_propagator throws otherwise.
   int max_sweeps = 2;
-  int jacobi_iterations = 8;  // voxel_jacobi: inner iterations per round
+  int jacobi_iterations = 8;  // voxel_jacobi: inner iterations per round (at least 1)
   // Relax one brick colour (parities of the brick coordinates, 2^d colours) per round, so that a
   // brick reads its neighbours' fresh values. `rvor bench --resolution 96 --seeds 1000 --repeat 2`,
   // without -> with: euclidean 12.49 -> 10.13 updates per voxel, radial_shock_3d 20.32 -> 13.53

@@ -130,6 +130,13 @@ std::size_t largest_colour_class(const Canvas& canvas, int colours) {
 
 }  // namespace
 
+std::vector<cl_uint> activity_bits(const Canvas& canvas) {
+  std::vector<cl_uint> bits((canvas.slot_count() + 31) / 32, 0u);
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot)
+    if (canvas.active[slot]) bits[slot / 32] |= 1u << (slot % 32);
+  return bits;
+}
+
 int brick_colours(const Canvas& canvas, bool colouring) {
   return colouring ? (canvas.dimension == 3 ? 8 : 4) : 1;
 }
@@ -152,6 +159,7 @@ DeviceCanvas upload_canvas(const cl::Context& context, const Canvas& canvas, int
     const VoxelIndex& o = canvas.brick_origins[b];
     origins[b] = {{o.i, o.j, o.k, 0}};
   }
+  d.activity = make_buffer(context, activity_bits(canvas), d.bytes);
   d.weights = make_buffer(context, stencils.weights, d.bytes);
   d.offsets = make_buffer(context, stencils.offsets, d.bytes);
   d.table = make_buffer(context, canvas.brick_table, d.bytes);

@@ -1,8 +1,8 @@
 #pragma once
 // The canvas packed for an OpenCL device (internal). Per slot: the state word (distance bits,
 // label), two 32-bit evaluation stamps, the Selling stencil precomputed on the host (6 float
-// weights rho_i / h^2, 6x3 int8 offsets). A scratch copy of each brick being relaxed: one colour
-// class of bricks at a time. Per brick: origin, flags, activation, list.
+// weights rho_i / h^2, 6x3 int8 offsets) and an activity bit. A scratch copy of each brick being
+// relaxed: one colour class of bricks at a time. Per brick: origin, flags, activation, list.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -28,6 +28,7 @@ struct DeviceCanvas {
   std::size_t slots = 0, bricks = 0;
   cl_int4 dims{}, grid{}, brick_reach{};  // brick_reach: bricks within stencil reach per axis
   cl::Buffer state, scratch, weights, offsets, table, origins;
+  cl::Buffer activity;  // a bit per slot (bit s % 32 of word s / 32): active
   cl::Buffer flags, list, list_count, update_counter, seeds;
   // Per brick: waiting for its colour's round (kernels/propagation.cl); whether any brick waits.
   cl::Buffer pending, any_pending;
@@ -36,6 +37,9 @@ struct DeviceCanvas {
   std::size_t seed_capacity = 0;
   std::uint64_t bytes = 0;  // device memory allocated for this canvas
 };
+
+// The per-slot activity bits of `activity`.
+std::vector<cl_uint> activity_bits(const Canvas& canvas);
 
 // How many brick colours are relaxed in turn: 2^dimension with colouring (OpenCLOptions), else 1.
 int brick_colours(const Canvas& canvas, bool colouring);

@@ -20,6 +20,8 @@ namespace rvor {
 
 namespace {
 
+// Bounds the evaluation stamps one relaxation uses (kernels/propagation.cl, work avoidance).
+constexpr int kMaxSweeps = 64;
 constexpr std::size_t kSeedRecord = 16;  // floats, see kernels/eikonal_scheme.clh
 constexpr std::size_t kBookkeepingGroup = 64;
 constexpr cl_ulong kInfiniteState = 0x7F8000007FFFFFFFull;  // +inf, no label, not frozen
@@ -334,9 +336,11 @@ class OpenCLPropagator final : public Propagator {
 
   // Forgets every evaluation (brick_sweep work avoidance): the next one recomputes all voxels.
   void reset_stamps() {
-    stamp_stride_ = static_cast<cl_uint>(std::max(1, options_.max_sweeps)) *
-                        static_cast<cl_uint>(brick_volume_) +
-                    1;
+    // A power of two above the evaluations of one relaxation, so rounds are stamp bit masks.
+    const cl_uint ticks =
+        static_cast<cl_uint>(options_.max_sweeps) * static_cast<cl_uint>(brick_volume_);
+    stamp_stride_ = 1;
+    while (stamp_stride_ <= ticks) stamp_stride_ *= 2;
     round_base_ = 0;
     if (variant_ != RelaxationVariant::brick_sweep) return;
     queue_.enqueueFillBuffer(canvas_->evaluated, cl_uint{0}, 0, canvas_->slots * sizeof(cl_uint));
@@ -392,6 +396,7 @@ class OpenCLPropagator final : public Propagator {
       relax_.setArg(15, d.changed);
       relax_.setArg(16, next_round_base());
       relax_.setArg(17, stamp_stride_);
+      relax_.setArg(18, d.activity);
     }
     const std::size_t voxels = static_cast<std::size_t>(count) * brick_volume_;
     if (sweep)
@@ -455,6 +460,12 @@ class OpenCLPropagator final : public Propagator {
 
 std::unique_ptr<Propagator> make_opencl_propagator(const std::string& device,
                                                    const OpenCLOptions& options) {
+  if (options.max_sweeps < 1 || options.max_sweeps > kMaxSweeps)
+    throw Error("OpenCLOptions::max_sweeps must be in [1, " + std::to_string(kMaxSweeps) +
+                "], got " + std::to_string(options.max_sweeps));
+  if (options.jacobi_iterations < 1)
+    throw Error("OpenCLOptions::jacobi_iterations must be at least 1, got " +
+                std::to_string(options.jacobi_iterations));
   opencl::Device selected = opencl::select_device(device);
   try {
     return std::make_unique<OpenCLPropagator>(std::move(selected), options);
