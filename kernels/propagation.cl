@@ -70,7 +70,7 @@ __kernel void initialise_seeds(int first_seed, int seed_count, __global const fl
   const int label = first_seed + item / INIT_BLOCK;
   __global const float* seed = seeds + (size_t)label * SEED_RECORD;
   const float3 q = convert_float3(v) - (float3)(seed[0], seed[1], seed[2]);
-  const float u0 = sqrt(max(0.0f, dot(q, seed_metric_apply(seed + 8, q))));
+  const float u0 = seed_distance(seed, q);
   const ulong candidate = make_state(u0, label) | FROZEN_BIT;
   const ulong previous = atom_min(&state[slot], candidate);
   if (candidate < previous) {
