@@ -21,7 +21,7 @@
 
 // Slot of the block voxel `item` of seed first_seed + item / INIT_BLOCK, or -1 (inactive, outside).
 inline long seed_block_slot(int item, int first_seed, __global const float* seeds,
-                            __global const float* weights, __global const int* table, int4 dims,
+                            __global const uint* activity, __global const int* table, int4 dims,
                             int4 grid, int3* voxel) {
   const int label = first_seed + item / INIT_BLOCK;
   const int cell = item % INIT_BLOCK;
@@ -32,7 +32,7 @@ inline long seed_block_slot(int item, int first_seed, __global const float* seed
       (int3)(INIT_RADIUS, INIT_RADIUS, DIM == 3 ? INIT_RADIUS : 0);
   *voxel = centre + d;
   const long slot = slot_at(*voxel, dims, grid, table);
-  return slot < 0 || weights[slot * STENCIL_TERMS] <= 0.0f ? -1 : slot;
+  return slot < 0 || !slot_active(activity, slot) ? -1 : slot;
 }
 
 // Marks the blocks of seeds [first_seed, first_seed + seed_count) frozen before their values are
@@ -41,12 +41,12 @@ inline long seed_block_slot(int item, int first_seed, __global const float* seed
 // A value written here is stamped `stamp` in `changed`, so that the sweep's work avoidance sees it.
 __kernel void freeze_seed_blocks(int first_seed, int seed_count, int existing,
                                  __global const float* seeds, __global ulong* state,
-                                 __global const float* weights, __global const int* table,
+                                 __global const uint* activity, __global const int* table,
                                  int4 dims, int4 grid, __global uint* changed, uint stamp) {
   const int item = get_global_id(0);
   if (item >= seed_count * INIT_BLOCK) return;
   int3 v;
-  const long slot = seed_block_slot(item, first_seed, seeds, weights, table, dims, grid, &v);
+  const long slot = seed_block_slot(item, first_seed, seeds, activity, table, dims, grid, &v);
   if (slot < 0) return;
   const ulong s = state[slot];
   if (existing) {
@@ -59,13 +59,13 @@ __kernel void freeze_seed_blocks(int first_seed, int seed_count, int existing,
 
 // Exact values u0_s(x) = |F_s (x - s)| on the new seeds' blocks: the smallest (value, label).
 __kernel void initialise_seeds(int first_seed, int seed_count, __global const float* seeds,
-                               __global ulong* state, __global const float* weights,
+                               __global ulong* state, __global const uint* activity,
                                __global const int* table, int4 dims, int4 grid,
                                __global uchar* flags, __global uint* changed, uint stamp) {
   const int item = get_global_id(0);
   if (item >= seed_count * INIT_BLOCK) return;
   int3 v;
-  const long slot = seed_block_slot(item, first_seed, seeds, weights, table, dims, grid, &v);
+  const long slot = seed_block_slot(item, first_seed, seeds, activity, table, dims, grid, &v);
   if (slot < 0) return;
   const int label = first_seed + item / INIT_BLOCK;
   __global const float* seed = seeds + (size_t)label * SEED_RECORD;
@@ -341,7 +341,8 @@ __kernel __attribute__((reqd_work_group_size(BRICK_VOLUME, 1, 1))) void relax_vo
     __global const int* list, int count, __global const ulong* state, __global ulong* scratch,
     __global const float* weights, __global const char* offsets, __global const int* table,
     __global const int4* brick_origins, int4 dims, int4 grid, __global const float* seeds,
-    __global uchar* flags, __global ulong* update_counter, int iterations) {
+    __global uchar* flags, __global ulong* update_counter, int iterations,
+    __global const uint* activity) {
   __local ulong values[BRICK_VOLUME];
   __local int changed_now, changed_ever, active_voxels;
   const int position = get_group_id(0);
@@ -352,7 +353,8 @@ __kernel __attribute__((reqd_work_group_size(BRICK_VOLUME, 1, 1))) void relax_vo
   const int3 v = origin + local_coordinates(l);
   float weight[STENCIL_TERMS];
   int3 offset[STENCIL_TERMS];
-  int terms = load_stencil(weights, offsets, slot, weight, offset);
+  int terms =
+      slot_active(activity, slot) ? load_stencil(weights, offsets, slot, weight, offset) : 0;
   values[l] = state[slot];
   if (state_frozen(values[l])) terms = 0;  // boundary data: never recomputed
   if (l == 0) {

@@ -7,7 +7,29 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "rvor/canvas_builder.h"
+#include "rvor/domain.h"
+#include "rvor/metric_field.h"
+
 namespace rvor::test {
+
+Canvas domain_canvas(const std::string& domain, const std::string& metric, int resolution) {
+  const DomainSpec spec = parse_domain(domain);
+  CanvasOptions options;
+  options.resolution = resolution;
+  return build_canvas(spec, *make_analytic_metric(metric, spec.dimension()), options);
+}
+
+std::vector<Vec3> seeds_in(const Canvas& canvas, int count, unsigned rng_seed) {
+  const Vec3 lo = canvas.world_of(VoxelIndex{0, 0, 0});
+  const Vec3 hi = canvas.world_of(
+      VoxelIndex{canvas.dims[0] - 1, canvas.dims[1] - 1, std::max(0, canvas.dims[2] - 1)});
+  std::vector<Vec3> seeds;
+  for (const Vec3& p : random_points(lo, hi, canvas.dimension, 8 * count, rng_seed))
+    if (static_cast<int>(seeds.size()) < count && canvas.slot_of(canvas.voxel_containing(p)) >= 0)
+      seeds.push_back(p);
+  return seeds;
+}
 
 std::vector<Vec3> random_points(const Vec3& lo, const Vec3& hi, int dimension, int count,
                                 unsigned rng_seed) {

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "rvor/canvas.h"
@@ -32,6 +33,12 @@ inline OpenCLOptions with_variant(RelaxationVariant variant) {
   options.variant = variant;
   return options;
 }
+
+// The canvas of a parse_domain() spec with an analytic metric (make_analytic_metric spec).
+Canvas domain_canvas(const std::string& domain, const std::string& metric, int resolution);
+
+// `count` random seeds inside the canvas's active voxels (fewer if the domain is too thin).
+std::vector<Vec3> seeds_in(const Canvas& canvas, int count, unsigned rng_seed);
 
 // Uniformly random points in the box shrunk by 5% per side (z = 0 in 2D).
 std::vector<Vec3> random_points(const Vec3& lo, const Vec3& hi, int dimension, int count,

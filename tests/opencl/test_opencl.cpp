@@ -92,6 +92,23 @@ INSTANTIATE_TEST_SUITE_P(
         EngineConfig{"BrickSweepNoColouring", RelaxationVariant::brick_sweep, 2, false}),
     [](const auto& info) { return std::string(info.param.name); });
 
+// Uniform metrics get one stencil for the whole canvas and the activity bits for the domain:
+// domains with holes and curved boundaries, whose first slots are inactive.
+TEST(OpenCLUniformMetric, CurvedDomainsMatchTheReference) {
+  REQUIRE_POCL(RelaxationVariant::automatic);
+  const struct {
+    const char *domain, *metric;
+    int resolution, seeds;
+  } cases[] = {{"implicit:torus:R=0.6,r=0.25", "uniform:4,1,2,0,0.5,1", 48, 25},
+               {"implicit:disk:r=1", "uniform:1,0,4", 96, 30}};
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.domain);
+    const Canvas canvas = test::domain_canvas(c.domain, c.metric, c.resolution);
+    ASSERT_FALSE(canvas.active[0]);  // the uniform stencil is not slot 0's
+    test::expect_matches_reference(*engine, canvas, test::seeds_in(canvas, c.seeds, 7));
+  }
+}
+
 TEST(OpenCLInsertion, OneByOneEqualsAllAtOnce) {
   REQUIRE_POCL(RelaxationVariant::automatic);
   const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 32, rotated_metric(3, 4.0));

@@ -15,24 +15,6 @@
 namespace rvor {
 namespace {
 
-Canvas domain_canvas(const std::string& domain, const std::string& metric, int resolution) {
-  const DomainSpec spec = parse_domain(domain);
-  CanvasOptions options;
-  options.resolution = resolution;
-  return build_canvas(spec, *make_analytic_metric(metric, spec.dimension()), options);
-}
-
-std::vector<Vec3> seeds_in(const Canvas& canvas, int count, unsigned rng_seed) {
-  const Vec3 lo = canvas.world_of(VoxelIndex{0, 0, 0});
-  const Vec3 hi = canvas.world_of(
-      VoxelIndex{canvas.dims[0] - 1, canvas.dims[1] - 1, std::max(0, canvas.dims[2] - 1)});
-  std::vector<Vec3> seeds;
-  for (const Vec3& p : test::random_points(lo, hi, canvas.dimension, 8 * count, rng_seed))
-    if (static_cast<int>(seeds.size()) < count && canvas.slot_of(canvas.voxel_containing(p)) >= 0)
-      seeds.push_back(p);
-  return seeds;
-}
-
 void expect_same_simplices(const std::vector<NerveSimplex>& expected,
                            const std::vector<NerveSimplex>& actual) {
   ASSERT_EQ(expected.size(), actual.size());
@@ -73,8 +55,9 @@ class MultiLabelBricks : public ::testing::TestWithParam<NerveCase> {};
 
 TEST_P(MultiLabelBricks, KernelMatchesHostOnTheFieldTheEngineReturned) {
   REQUIRE_POCL(RelaxationVariant::automatic);
-  const Canvas canvas = domain_canvas(GetParam().domain, GetParam().metric, GetParam().resolution);
-  const std::vector<Vec3> seeds = seeds_in(canvas, GetParam().seeds, 3);
+  const Canvas canvas =
+      test::domain_canvas(GetParam().domain, GetParam().metric, GetParam().resolution);
+  const std::vector<Vec3> seeds = test::seeds_in(canvas, GetParam().seeds, 3);
   VoronoiField field;
   engine->solve(canvas, seeds, field);
   expect_kernel_matches_host(*engine, canvas, seeds, field);
@@ -94,8 +77,8 @@ INSTANTIATE_TEST_SUITE_P(Domains, MultiLabelBricks, ::testing::ValuesIn(kCases),
 // afterwards still equals solving with all seeds at once.
 TEST(MultiLabelBricksUpload, FieldFromTheReferenceThenInsertion) {
   REQUIRE_POCL(RelaxationVariant::automatic);
-  const Canvas canvas = domain_canvas("box:-1,-1,-1,1,1,1", "uniform:4,1,2,0,0.5,1", 32);
-  const std::vector<Vec3> seeds = seeds_in(canvas, 12, 5);
+  const Canvas canvas = test::domain_canvas("box:-1,-1,-1,1,1,1", "uniform:4,1,2,0,0.5,1", 32);
+  const std::vector<Vec3> seeds = test::seeds_in(canvas, 12, 5);
   const std::vector<Vec3> first(seeds.begin(), seeds.end() - 1);
   VoronoiField expected, other, field;
   engine->solve(canvas, seeds, expected);
@@ -108,7 +91,7 @@ TEST(MultiLabelBricksUpload, FieldFromTheReferenceThenInsertion) {
 
 TEST(MultiLabelBricksUpload, MismatchedFieldsAndFlagsAreErrors) {
   REQUIRE_POCL(RelaxationVariant::automatic);
-  const Canvas canvas = domain_canvas("rect:-1,-1,1,1", "uniform:1,0,1", 32);
+  const Canvas canvas = test::domain_canvas("rect:-1,-1,1,1", "uniform:1,0,1", 32);
   VoronoiField field;
   engine->solve(canvas, {Vec3(0.1, 0.2, 0.0), Vec3(-0.5, 0.3, 0.0)}, field);
   VoronoiField truncated = field;

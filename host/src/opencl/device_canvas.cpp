@@ -24,7 +24,8 @@ struct StencilPacker {
   SellingStencil last_stencil;
   bool has_last = false;
 
-  void pack(std::size_t slot) {
+  // Packs the stencil of `slot` at position `into` of the packed arrays.
+  void pack(std::size_t slot, std::size_t into) {
     if (!canvas.active[slot]) return;
     std::array<float, 6> m;
     std::memcpy(m.data(), &canvas.metric[6 * slot], sizeof m);
@@ -35,7 +36,7 @@ struct StencilPacker {
     }
     const double h2 = canvas.voxel_size * canvas.voxel_size;
     for (int i = 0; i < last_stencil.size; ++i) {
-      out.weights[kStencilTerms * slot + i] = static_cast<float>(last_stencil.weight[i] / h2);
+      out.weights[kStencilTerms * into + i] = static_cast<float>(last_stencil.weight[i] / h2);
       for (int a = 0; a < 3; ++a) {
         const int e = last_stencil.offset[i][a];
         if (std::abs(e) > 127)
@@ -43,16 +44,44 @@ struct StencilPacker {
                       " is too anisotropic for the OpenCL engine: a Selling stencil offset of " +
                       std::to_string(e) +
                       " voxels exceeds 127 (refine the canvas or use --device cpu)");
-        out.offsets[3 * (kStencilTerms * slot + i) + a] = static_cast<std::int8_t>(e);
+        out.offsets[3 * (kStencilTerms * into + i) + a] = static_cast<std::int8_t>(e);
         reach[a] = std::max(reach[a], std::abs(e));
       }
     }
   }
 };
 
+// One stencil for the whole canvas, that of its first active voxel.
+PackedStencils pack_uniform_stencil(const Canvas& canvas) {
+  PackedStencils out;
+  out.uniform = true;
+  out.weights.assign(kStencilTerms, 0.0f);
+  out.offsets.assign(3 * kStencilTerms, 0);
+  const auto first = std::find(canvas.active.begin(), canvas.active.end(), std::uint8_t{1});
+  if (first == canvas.active.end()) return out;
+  StencilPacker packer(canvas, out);
+  packer.pack(static_cast<std::size_t>(first - canvas.active.begin()), 0);
+  out.reach = packer.reach;
+  return out;
+}
+
 }  // namespace
 
+bool has_uniform_metric(const Canvas& canvas) {
+  const float* first = nullptr;
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
+    if (!canvas.active[slot]) continue;
+    const float* m = &canvas.metric[6 * slot];
+    if (!first)
+      first = m;
+    else if (!std::equal(m, m + 6, first))
+      return false;
+  }
+  return true;
+}
+
 PackedStencils pack_stencils(const Canvas& canvas) {
+  if (has_uniform_metric(canvas)) return pack_uniform_stencil(canvas);
   PackedStencils out;
   const std::size_t slots = canvas.slot_count();
   out.weights.assign(kStencilTerms * slots, 0.0f);
@@ -65,7 +94,7 @@ PackedStencils pack_stencils(const Canvas& canvas) {
     workers.emplace_back([&, t] {
       try {
         const std::size_t begin = slots * t / threads, end = slots * (t + 1) / threads;
-        for (std::size_t slot = begin; slot < end; ++slot) packers[t].pack(slot);
+        for (std::size_t slot = begin; slot < end; ++slot) packers[t].pack(slot, slot);
       } catch (...) {
         errors[t] = std::current_exception();
       }

@@ -1,7 +1,8 @@
 #pragma once
 // The canvas packed for an OpenCL device (internal). Per slot: the state word (distance bits,
 // label), two 32-bit evaluation stamps, the Selling stencil precomputed on the host (6 float
-// weights rho_i / h^2, 6x3 int8 offsets) and an activity bit. A scratch copy of each brick being
+// weights rho_i / h^2, 6x3 int8 offsets; one for the whole canvas when the metric is uniform) and
+// an activity bit. A scratch copy of each brick being
 // relaxed: one colour class of bricks at a time. Per brick: origin, flags, activation, list.
 #include <array>
 #include <cstddef>
@@ -14,12 +15,18 @@ namespace rvor::opencl {
 
 constexpr int kStencilTerms = 6;
 
-// The Selling stencils of every slot, in the device layout (inactive slots: all-zero weights).
+// The Selling stencils of every slot, in the device layout (inactive slots: all-zero weights), or
+// a single one when every active voxel has the same metric (the kernels are then built with
+// UNIFORM_METRIC and read stencil 0).
 struct PackedStencils {
   std::vector<float> weights;        // kStencilTerms per slot
   std::vector<std::int8_t> offsets;  // 3 * kStencilTerms per slot
   std::array<int, 3> reach{};        // largest |offset| per axis, in voxels
+  bool uniform = false;
 };
+
+// Whether every active voxel carries the same metric (bit for bit).
+bool has_uniform_metric(const Canvas& canvas);
 
 // Throws rvor::Error when an offset does not fit in int8 (anisotropy too large for the canvas).
 PackedStencils pack_stencils(const Canvas& canvas);

@@ -103,20 +103,6 @@ std::uint64_t field_hash(const VoronoiField& field) {
   return hash;
 }
 
-// Whether every active voxel carries the same metric (bit for bit).
-bool has_uniform_metric(const Canvas& canvas) {
-  const float* first = nullptr;
-  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
-    const float* m = &canvas.metric[6 * slot];
-    if (m[0] <= 0.0f) continue;  // inactive
-    if (!first)
-      first = m;
-    else if (!std::equal(m, m + 6, first))
-      return false;
-  }
-  return true;
-}
-
 class OpenCLPropagator final : public Propagator {
  public:
   OpenCLPropagator(opencl::Device device, const OpenCLOptions& options)
@@ -249,7 +235,7 @@ class OpenCLPropagator final : public Propagator {
   void build_kernels(const Canvas& canvas) {
     const int dimension = canvas.dimension;
     std::string options = "-DDIM=" + std::to_string(dimension);
-    if (has_uniform_metric(canvas)) options += " -DUNIFORM_METRIC";
+    if (opencl::has_uniform_metric(canvas)) options += " -DUNIFORM_METRIC";
     const cl::Program program =
         opencl::build_program(context_, device_.device, propagation_source(), options);
     brick_volume_ = dimension == 3 ? 512 : 64;
@@ -316,7 +302,7 @@ class OpenCLPropagator final : public Propagator {
     if (items == 0) return;
     const DeviceCanvasRef d = *canvas_;
     set_args(freeze_, static_cast<cl_int>(first_seed), static_cast<cl_int>(seed_count - first_seed),
-             static_cast<cl_int>(existing ? 1 : 0), d.seeds, d.state, d.weights, d.table, d.dims,
+             static_cast<cl_int>(existing ? 1 : 0), d.seeds, d.state, d.activity, d.table, d.dims,
              d.grid, d.changed, stamp);
     queue_.enqueueNDRangeKernel(freeze_, cl::NullRange,
                                 cl::NDRange(round_up(items, kBookkeepingGroup)),
@@ -328,7 +314,7 @@ class OpenCLPropagator final : public Propagator {
     if (items == 0) return;
     const DeviceCanvasRef d = *canvas_;
     set_args(init_, static_cast<cl_int>(first_seed), static_cast<cl_int>(seed_count - first_seed),
-             d.seeds, d.state, d.weights, d.table, d.dims, d.grid, d.flags, d.changed, stamp);
+             d.seeds, d.state, d.activity, d.table, d.dims, d.grid, d.flags, d.changed, stamp);
     queue_.enqueueNDRangeKernel(init_, cl::NullRange,
                                 cl::NDRange(round_up(items, kBookkeepingGroup)),
                                 cl::NDRange(kBookkeepingGroup));
@@ -397,6 +383,8 @@ class OpenCLPropagator final : public Propagator {
       relax_.setArg(16, next_round_base());
       relax_.setArg(17, stamp_stride_);
       relax_.setArg(18, d.activity);
+    } else {
+      relax_.setArg(14, d.activity);
     }
     const std::size_t voxels = static_cast<std::size_t>(count) * brick_volume_;
     if (sweep)
