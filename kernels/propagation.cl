@@ -333,7 +333,8 @@ __kernel void relax_brick_sweep(__global const int* list, int count, __global co
 
 // ---------------------------------------------------------------------------------------------
 // GPU-friendly variant: a work-group per brick, a work-item per voxel, Jacobi iterations in
-// local memory. The iteration count is the same for every work-item (barriers inside the loop).
+// local memory, until an iteration changes nothing significant (or `iterations`). Barriers sit
+// inside the loop, so its exit must be the same for every work-item: all read the same flag.
 
 #define READ_LOCAL(l) values[l]
 
@@ -344,7 +345,9 @@ __kernel __attribute__((reqd_work_group_size(BRICK_VOLUME, 1, 1))) void relax_vo
     __global uchar* flags, __global ulong* update_counter, int iterations,
     __global const uint* activity) {
   __local ulong values[BRICK_VOLUME];
-  __local int changed_now, changed_ever, active_voxels;
+  // changed_in[it & 1]: iteration `it` changed a value significantly. Two flags, so that resetting
+  // the next iteration's flag never races with reading this one's.
+  __local int changed_in[2], active_voxels;
   const int position = get_group_id(0);
   const int l = get_local_id(0);
   const int brick = list[position];
@@ -358,13 +361,14 @@ __kernel __attribute__((reqd_work_group_size(BRICK_VOLUME, 1, 1))) void relax_vo
   values[l] = state[slot];
   if (state_frozen(values[l])) terms = 0;  // boundary data: never recomputed
   if (l == 0) {
-    changed_now = 0;
-    changed_ever = 0;
+    changed_in[0] = 0;
+    changed_in[1] = 0;
     active_voxels = 0;
   }
   barrier(CLK_LOCAL_MEM_FENCE);
   if (terms > 0) atomic_inc(&active_voxels);
-  int changed_last = 0;
+  bool changed_ever = false, changed_last = false;
+  int done = 0;
   for (int it = 0; it < iterations; ++it) {
     ulong best = INF_STATE;
     if (terms > 0) {
@@ -374,21 +378,21 @@ __kernel __attribute__((reqd_work_group_size(BRICK_VOLUME, 1, 1))) void relax_vo
     }
     barrier(CLK_LOCAL_MEM_FENCE);
     if (terms > 0 && best != values[l]) {
-      if (significant_change(values[l], best)) changed_now = 1;
+      if (significant_change(values[l], best)) changed_in[it & 1] = 1;
       values[l] = best;
     }
     barrier(CLK_LOCAL_MEM_FENCE);
-    if (l == 0) {  // only work-item 0 reads and resets the flag, before anyone can set it again
-      changed_last = changed_now;
-      changed_ever |= changed_now;
-      changed_now = 0;
-    }
+    changed_last = changed_in[it & 1] != 0;
+    if (l == 0) changed_in[(it + 1) & 1] = 0;  // last read before this iteration's first barrier
+    changed_ever = changed_ever || changed_last;
+    ++done;
+    if (!changed_last) break;
   }
   scratch[(size_t)position * BRICK_VOLUME + l] = values[l];
   if (l == 0) {
     flags[brick] =
         (uchar)((changed_ever ? FLAG_CHANGED : 0u) | (changed_last ? FLAG_UNCONVERGED : 0u));
-    atom_add(update_counter, (ulong)active_voxels * (ulong)iterations);
+    atom_add(update_counter, (ulong)active_voxels * (ulong)done);
   }
 }
 

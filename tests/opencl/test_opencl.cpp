@@ -87,6 +87,7 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(
         EngineConfig{"BrickSweep", RelaxationVariant::brick_sweep, 2, true},
         EngineConfig{"VoxelJacobi", RelaxationVariant::voxel_jacobi, 2, true},
+        EngineConfig{"VoxelJacobiNoColouring", RelaxationVariant::voxel_jacobi, 2, false},
         EngineConfig{"BrickSweepOneSweep", RelaxationVariant::brick_sweep, 1, true},
         EngineConfig{"BrickSweepEightSweeps", RelaxationVariant::brick_sweep, 8, true},
         EngineConfig{"BrickSweepNoColouring", RelaxationVariant::brick_sweep, 2, false}),
