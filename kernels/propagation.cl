@@ -148,28 +148,45 @@ inline uint outside_stamp(uint stamp, uint stride) {
   return stamp == 0 ? 0u : (stamp & ~(stride - 1)) + stride;
 }
 
-// Fills the tile row by row: a row of the tile crosses at most three of the bricks around.
+// Copies `length` consecutive slots from `slot` (-1: an absent brick) to the tile at q.
+inline void load_tile_run(ulong* tile, uint* tile_stamp, int q, __global const ulong* state,
+                          __global const uint* changed, long slot, int length, bool inside,
+                          uint stride) {
+  if (slot < 0) {
+    for (int i = 0; i < length; ++i) {
+      tile[q + i] = INF_STATE;
+      tile_stamp[q + i] = 0;
+    }
+  } else if (inside) {
+    for (int i = 0; i < length; ++i) {
+      tile[q + i] = state[slot + i];
+      tile_stamp[q + i] = changed[slot + i];
+    }
+  } else {
+    for (int i = 0; i < length; ++i) {
+      tile[q + i] = state[slot + i];
+      tile_stamp[q + i] = outside_stamp(changed[slot + i], stride);
+    }
+  }
+}
+
+// Fills the tile row by row: a row is the last voxel of the brick before, a row of this brick's
+// (or its neighbour's across y or z) and the first voxel of the brick after.
 inline void load_tile(ulong* tile, uint* tile_stamp, __global const ulong* state,
                       __global const uint* changed, const int* near, uint stride) {
   int p = 0;
   for (int z = -TILE_PAD_Z; z < EDGE_Z + TILE_PAD_Z; ++z) {
     const int bz = DIM == 3 ? (z < 0 ? 0 : z < EDGE_Z ? 1 : 2) : 1;
-    for (int y = -1; y <= EDGE; ++y) {
+    for (int y = -1; y <= EDGE; ++y, p += TILE_EDGE) {
       const int by = y < 0 ? 0 : y < EDGE ? 1 : 2;
       const int row = EDGE * ((y & (EDGE - 1)) + EDGE * (DIM == 3 ? z & (EDGE - 1) : 0));
-      for (int x = -1; x <= EDGE; ++x, ++p) {
-        const int bx = x < 0 ? 0 : x < EDGE ? 1 : 2;
-        const int brick = near[bx + 3 * (by + 3 * bz)];
-        if (brick < 0) {
-          tile[p] = INF_STATE;
-          tile_stamp[p] = 0;
-          continue;
-        }
-        const size_t slot = (size_t)brick * BRICK_VOLUME + row + (x & (EDGE - 1));
-        tile[p] = state[slot];
-        const bool inside = bx == 1 && by == 1 && bz == 1;
-        tile_stamp[p] = inside ? changed[slot] : outside_stamp(changed[slot], stride);
-      }
+      const int* bricks = near + 3 * (by + 3 * bz);  // the bricks at x - 1, x, x + 1
+      const long before = bricks[0] < 0 ? -1 : (long)bricks[0] * BRICK_VOLUME + row + EDGE - 1;
+      const long own = bricks[1] < 0 ? -1 : (long)bricks[1] * BRICK_VOLUME + row;
+      const long after = bricks[2] < 0 ? -1 : (long)bricks[2] * BRICK_VOLUME + row;
+      load_tile_run(tile, tile_stamp, p, state, changed, before, 1, false, stride);
+      load_tile_run(tile, tile_stamp, p + 1, state, changed, own, EDGE, by == 1 && bz == 1, stride);
+      load_tile_run(tile, tile_stamp, p + EDGE + 1, state, changed, after, 1, false, stride);
     }
   }
 }
