@@ -224,6 +224,49 @@ inline bool within_one_voxel(const int3* offset, int terms) {
   return near;
 }
 
+// Gathers the neighbour states of tile slot p (brick coordinates c) into nb (nb[2i] at +e_i,
+// nb[2i+1] at -e_i) and returns whether one changed since `last`, x's last evaluation (or x was
+// never evaluated). gather_near: every offset within one voxel, so all neighbours are in the tile.
+inline bool gather_near(const ulong* tile, const uint* tile_stamp, int p, const int* flat,
+                        int terms, uint last, ulong* nb) {
+  bool dirty = last == 0;
+  for (int i = 0; i < terms; ++i) {
+    nb[2 * i] = tile[p + flat[i]];
+    nb[2 * i + 1] = tile[p - flat[i]];
+    dirty = dirty || tile_stamp[p + flat[i]] > last || tile_stamp[p - flat[i]] > last;
+  }
+  return dirty;
+}
+
+// Longer offsets: the tile where they land in it, else the state (read from this round's
+// snapshot, so it was seen iff it changed in an earlier round than x's last evaluation).
+inline bool gather_far(const ulong* tile, const uint* tile_stamp, int p, int3 c, const int3* offset,
+                       const int* flat, int terms, uint last, __global const ulong* state,
+                       __global const uint* changed, int3 origin, int4 dims, int4 grid,
+                       __global const int* table, const int* near, uint stride, ulong* nb) {
+  const uint last_round = last & ~(stride - 1);
+  bool dirty = last == 0;
+  for (int i = 0; i < terms; ++i) {
+    for (int s = 0; s < 2; ++s) {
+      const int3 e = s == 0 ? offset[i] : -offset[i];
+      ulong value = INF_STATE;
+      if (inside_tile(c + e)) {
+        const int q = p + (s == 0 ? flat[i] : -flat[i]);
+        value = tile[q];
+        dirty = dirty || tile_stamp[q] > last;
+      } else {
+        const long other = neighbour_slot(origin + c + e, origin, dims, grid, table, near);
+        if (other >= 0) {
+          value = state[other];
+          dirty = dirty || changed[other] >= last_round;
+        }
+      }
+      nb[2 * i + s] = value;
+    }
+  }
+  return dirty;
+}
+
 __kernel void relax_brick_sweep(__global const int* list, int count, __global const ulong* state,
                                 __global ulong* scratch, __global const float* weights,
                                 __global const char* offsets, __global const int* table,
@@ -288,35 +331,11 @@ __kernel void relax_brick_sweep(__global const int* list, int count, __global co
       for (int i = 0; i < terms; ++i) flat[i] = tile_offset(offset[i]);
 #endif
       const uint last = evaluated[slot];
-      const uint last_round = last & ~(stride - 1);
-      bool dirty = last == 0;
       ulong nb[2 * STENCIL_TERMS];
-      if (near_stencil) {
-        for (int i = 0; i < terms; ++i) {
-          nb[2 * i] = tile[p + flat[i]];
-          nb[2 * i + 1] = tile[p - flat[i]];
-          dirty = dirty || tile_stamp[p + flat[i]] > last || tile_stamp[p - flat[i]] > last;
-        }
-      } else {
-        for (int i = 0; i < terms; ++i) {
-          for (int s = 0; s < 2; ++s) {
-            const int3 e = s == 0 ? offset[i] : -offset[i];
-            ulong value = INF_STATE;
-            if (inside_tile(c + e)) {
-              const int q = p + (s == 0 ? flat[i] : -flat[i]);
-              value = tile[q];
-              dirty = dirty || tile_stamp[q] > last;
-            } else {
-              const long other = neighbour_slot(origin + c + e, origin, dims, grid, table, near);
-              if (other >= 0) {
-                value = state[other];
-                dirty = dirty || changed[other] >= last_round;
-              }
-            }
-            nb[2 * i + s] = value;
-          }
-        }
-      }
+      const bool dirty = near_stencil
+                             ? gather_near(tile, tile_stamp, p, flat, terms, last, nb)
+                             : gather_far(tile, tile_stamp, p, c, offset, flat, terms, last, state,
+                                          changed, origin, dims, grid, table, near, stride, nb);
       if (!dirty) continue;
       const uint stamp = round_base + tick;
       evaluated[slot] = stamp;
