@@ -51,6 +51,20 @@ struct StencilPacker {
   }
 };
 
+// Whether every active voxel carries the same metric (bit for bit).
+bool has_uniform_metric(const Canvas& canvas) {
+  const float* first = nullptr;
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
+    if (!canvas.active[slot]) continue;
+    const float* m = &canvas.metric[6 * slot];
+    if (!first)
+      first = m;
+    else if (!std::equal(m, m + 6, first))
+      return false;
+  }
+  return true;
+}
+
 // One stencil for the whole canvas, that of its first active voxel.
 PackedStencils pack_uniform_stencil(const Canvas& canvas) {
   PackedStencils out;
@@ -66,19 +80,6 @@ PackedStencils pack_uniform_stencil(const Canvas& canvas) {
 }
 
 }  // namespace
-
-bool has_uniform_metric(const Canvas& canvas) {
-  const float* first = nullptr;
-  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
-    if (!canvas.active[slot]) continue;
-    const float* m = &canvas.metric[6 * slot];
-    if (!first)
-      first = m;
-    else if (!std::equal(m, m + 6, first))
-      return false;
-  }
-  return true;
-}
 
 PackedStencils pack_stencils(const Canvas& canvas) {
   if (has_uniform_metric(canvas)) return pack_uniform_stencil(canvas);
@@ -188,6 +189,7 @@ DeviceCanvas upload_canvas(const cl::Context& context, const Canvas& canvas, int
     const VoxelIndex& o = canvas.brick_origins[b];
     origins[b] = {{o.i, o.j, o.k, 0}};
   }
+  d.uniform_stencil = stencils.uniform;
   d.activity = make_buffer(context, activity_bits(canvas), d.bytes);
   d.weights = make_buffer(context, stencils.weights, d.bytes);
   d.offsets = make_buffer(context, stencils.offsets, d.bytes);

@@ -16,17 +16,14 @@ namespace rvor::opencl {
 constexpr int kStencilTerms = 6;
 
 // The Selling stencils of every slot, in the device layout (inactive slots: all-zero weights), or
-// a single one when every active voxel has the same metric (the kernels are then built with
-// UNIFORM_METRIC and read stencil 0).
+// a single one when every active voxel has the same metric (bit for bit; the kernels are then
+// built with UNIFORM_METRIC and read stencil 0).
 struct PackedStencils {
   std::vector<float> weights;        // kStencilTerms per slot
   std::vector<std::int8_t> offsets;  // 3 * kStencilTerms per slot
   std::array<int, 3> reach{};        // largest |offset| per axis, in voxels
   bool uniform = false;
 };
-
-// Whether every active voxel carries the same metric (bit for bit).
-bool has_uniform_metric(const Canvas& canvas);
 
 // Throws rvor::Error when an offset does not fit in int8 (anisotropy too large for the canvas).
 PackedStencils pack_stencils(const Canvas& canvas);
@@ -36,6 +33,9 @@ struct DeviceCanvas {
   cl_int4 dims{}, grid{}, brick_reach{};  // brick_reach: bricks within stencil reach per axis
   cl::Buffer state, scratch, weights, offsets, table, origins;
   cl::Buffer activity;  // a bit per slot (bit s % 32 of word s / 32): active
+  // One stencil for the whole canvas (every active voxel has the same metric): the kernels must
+  // be built with UNIFORM_METRIC.
+  bool uniform_stencil = false;
   cl::Buffer flags, list, list_count, update_counter, seeds;
   // Per brick: waiting for its colour's round (kernels/propagation.cl); whether any brick waits.
   cl::Buffer pending, any_pending;

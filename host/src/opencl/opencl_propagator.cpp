@@ -232,10 +232,11 @@ class OpenCLPropagator final : public Propagator {
     return opencl::brick_colours(canvas, options_.brick_colouring);
   }
 
+  // After upload_canvas: the kernels read the stencils the way they were packed.
   void build_kernels(const Canvas& canvas) {
     const int dimension = canvas.dimension;
     std::string options = "-DDIM=" + std::to_string(dimension);
-    if (opencl::has_uniform_metric(canvas)) options += " -DUNIFORM_METRIC";
+    if (canvas_->uniform_stencil) options += " -DUNIFORM_METRIC";
     const cl::Program program =
         opencl::build_program(context_, device_.device, propagation_source(), options);
     brick_volume_ = dimension == 3 ? 512 : 64;
