@@ -145,6 +145,14 @@ cl::Buffer make_scratch(const cl::Context& context, std::size_t size, std::uint6
 
 namespace {
 
+// A bit per slot, set where the slot is active (DeviceCanvas::activity).
+std::vector<cl_uint> activity_bits(const Canvas& canvas) {
+  std::vector<cl_uint> bits((canvas.slot_count() + 31) / 32, 0u);
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot)
+    if (canvas.active[slot]) bits[slot / 32] |= 1u << (slot % 32);
+  return bits;
+}
+
 // The most bricks one round can list: the largest colour class (colour = parities of the brick
 // coordinates, as brick_colour in kernels/propagation.cl), or every brick without colouring.
 std::size_t largest_colour_class(const Canvas& canvas, int colours) {
@@ -159,13 +167,6 @@ std::size_t largest_colour_class(const Canvas& canvas, int colours) {
 }
 
 }  // namespace
-
-std::vector<cl_uint> activity_bits(const Canvas& canvas) {
-  std::vector<cl_uint> bits((canvas.slot_count() + 31) / 32, 0u);
-  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot)
-    if (canvas.active[slot]) bits[slot / 32] |= 1u << (slot % 32);
-  return bits;
-}
 
 int brick_colours(const Canvas& canvas, bool colouring) {
   return colouring ? (canvas.dimension == 3 ? 8 : 4) : 1;

@@ -45,9 +45,6 @@ struct DeviceCanvas {
   std::uint64_t bytes = 0;  // device memory allocated for this canvas
 };
 
-// The per-slot activity bits of `activity`.
-std::vector<cl_uint> activity_bits(const Canvas& canvas);
-
 // How many brick colours are relaxed in turn: 2^dimension with colouring (OpenCLOptions), else 1.
 int brick_colours(const Canvas& canvas, bool colouring);
 
