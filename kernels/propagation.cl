@@ -80,24 +80,6 @@ __kernel void initialise_seeds(int first_seed, int seed_count, __global const fl
 }
 
 // ---------------------------------------------------------------------------------------------
-// Neighbour gathering: values inside the brick being relaxed come from its working copy.
-
-#define GATHER_NEIGHBOURS(nb, v, offset, terms, READ_OWN)        \
-  for (int i_ = 0; i_ < terms; ++i_) {                           \
-    for (int s_ = 0; s_ < 2; ++s_) {                             \
-      const int3 y_ = s_ == 0 ? v + offset[i_] : v - offset[i_]; \
-      ulong value_ = INF_STATE;                                  \
-      if (inside_brick(y_, origin)) {                            \
-        value_ = READ_OWN(local_index(y_));                      \
-      } else {                                                   \
-        const long slot_ = slot_at(y_, dims, grid, table);       \
-        if (slot_ >= 0) value_ = state[slot_];                   \
-      }                                                          \
-      nb[2 * i_ + s_] = value_;                                  \
-    }                                                            \
-  }
-
-// ---------------------------------------------------------------------------------------------
 // CPU-friendly variant: one work-item sweeps its brick Gauss-Seidel, starting from its upwind
 // corner, until a sweep changes nothing significant (or max_sweeps; later sweeps flip direction).
 //
@@ -368,67 +350,112 @@ __kernel void relax_brick_sweep(__global const int* list, int count, __global co
 }
 
 // ---------------------------------------------------------------------------------------------
-// GPU-friendly variant: a work-group per brick, a work-item per voxel, Jacobi iterations in
-// local memory, until an iteration changes nothing significant (or `iterations`). Barriers sit
-// inside the loop, so its exit must be the same for every work-item: all read the same flag.
+// GPU-friendly variant: a work-group per brick, in 2^DIM phases by the parities of the voxel
+// coordinates; in each phase a work-item updates one voxel of that parity class, reading the
+// brick from local memory. Selling offsets are primitive vectors (never even in every component),
+// so no voxel reads a stencil neighbour of its own class: a phase is a set of independent updates,
+// as in a sequential sweep. (Updating every voxel at once, Jacobi, can cycle: two voxels near a
+// bisector hand each other's label back and forth; it never converged on 64^3 with 1000 seeds.)
+// Iterations (all phases) repeat until one changes nothing significant, or `iterations`. Barriers
+// sit inside the loops, so every exit must be the same for every work-item: all read one flag.
 
-#define READ_LOCAL(l) values[l]
+#define PHASES (DIM == 3 ? 8 : 4)
+#define PHASE_VOXELS (BRICK_VOLUME / PHASES) /* the work-group size */
 
-__kernel __attribute__((reqd_work_group_size(BRICK_VOLUME, 1, 1))) void relax_voxel_jacobi(
+// Local index of the voxel work-item w updates in phase p: coordinates 2 (w's sub-brick
+// coordinates) + p's parity bits.
+inline int phase_voxel(int w, int p) {
+  const int3 c = 2 * (int3)(w % (EDGE / 2), (w / (EDGE / 2)) % (EDGE / 2), w / (EDGE * EDGE / 4)) +
+                 (int3)(p & 1, (p >> 1) & 1, (p >> 2) & 1);
+  return c.x + EDGE * (c.y + EDGE * c.z);
+}
+
+// The states of v's stencil neighbours (nb[2i] at +e_i, nb[2i+1] at -e_i): from the brick's
+// copy in local memory inside it, else from the state.
+inline void gather_for_phases(int3 v, int3 origin, const int3* offset, int terms,
+                              __local const ulong* values, __global const ulong* state, int4 dims,
+                              int4 grid, __global const int* table, ulong* nb) {
+  for (int i = 0; i < terms; ++i) {
+    for (int s = 0; s < 2; ++s) {
+      const int3 y = s == 0 ? v + offset[i] : v - offset[i];
+      ulong value = INF_STATE;
+      if (inside_brick(y, origin)) {
+        value = values[local_index(y)];
+      } else {
+        const long slot = slot_at(y, dims, grid, table);
+        if (slot >= 0) value = state[slot];
+      }
+      nb[2 * i + s] = value;
+    }
+  }
+}
+
+// The new state of brick voxel l (unchanged when frozen or inactive); counts an update in *updates.
+inline ulong phase_update(int l, size_t brick_slot, int3 origin, __local const ulong* values,
+                          __global const ulong* state, __global const float* weights,
+                          __global const char* offsets, __global const uint* activity, int4 dims,
+                          int4 grid, __global const int* table, __global const float* seeds,
+                          uint* updates) {
+  const ulong current = values[l];
+  if (state_frozen(current) || !slot_active(activity, brick_slot + l)) return current;
+  float weight[STENCIL_TERMS];
+  int3 offset[STENCIL_TERMS];
+  const int terms = load_stencil(weights, offsets, brick_slot + l, weight, offset);
+  if (terms == 0) return current;
+  const int3 v = origin + local_coordinates(l);
+  ulong nb[2 * STENCIL_TERMS];
+  gather_for_phases(v, origin, offset, terms, values, state, dims, grid, table, nb);
+  ++*updates;
+  return best_candidate(nb, weight, offset, terms, convert_float3(v), seeds);
+}
+
+__kernel __attribute__((reqd_work_group_size(PHASE_VOXELS, 1, 1))) void relax_voxel_phases(
     __global const int* list, int count, __global const ulong* state, __global ulong* scratch,
     __global const float* weights, __global const char* offsets, __global const int* table,
     __global const int4* brick_origins, int4 dims, int4 grid, __global const float* seeds,
     __global uchar* flags, __global ulong* update_counter, int iterations,
     __global const uint* activity) {
   __local ulong values[BRICK_VOLUME];
-  // changed_in[it & 1]: iteration `it` changed a value significantly. Two flags, so that resetting
-  // the next iteration's flag never races with reading this one's.
-  __local int changed_in[2], active_voxels;
+  // changed_in[it % 3]: iteration `it` changed a value significantly. Iteration `it` resets the
+  // flag of iteration it + 2: nobody reads it any more, and nobody sets it before a barrier.
+  __local int changed_in[3];
+  __local uint brick_updates;
   const int position = get_group_id(0);
-  const int l = get_local_id(0);
+  const int w = get_local_id(0);
   const int brick = list[position];
-  const size_t slot = (size_t)brick * BRICK_VOLUME + l;
+  const size_t brick_slot = (size_t)brick * BRICK_VOLUME;
   const int3 origin = brick_origins[brick].xyz;
-  const int3 v = origin + local_coordinates(l);
-  float weight[STENCIL_TERMS];
-  int3 offset[STENCIL_TERMS];
-  int terms =
-      slot_active(activity, slot) ? load_stencil(weights, offsets, slot, weight, offset) : 0;
-  values[l] = state[slot];
-  if (state_frozen(values[l])) terms = 0;  // boundary data: never recomputed
-  if (l == 0) {
-    changed_in[0] = 0;
-    changed_in[1] = 0;
-    active_voxels = 0;
-  }
+  for (int p = 0; p < PHASES; ++p)
+    values[phase_voxel(w, p)] = state[brick_slot + phase_voxel(w, p)];
+  if (w < 3) changed_in[w] = 0;
+  if (w == 0) brick_updates = 0;
   barrier(CLK_LOCAL_MEM_FENCE);
-  if (terms > 0) atomic_inc(&active_voxels);
+  uint updates = 0;
   bool changed_ever = false, changed_last = false;
-  int done = 0;
   for (int it = 0; it < iterations; ++it) {
-    ulong best = INF_STATE;
-    if (terms > 0) {
-      ulong nb[2 * STENCIL_TERMS];
-      GATHER_NEIGHBOURS(nb, v, offset, terms, READ_LOCAL)
-      best = best_candidate(nb, weight, offset, terms, convert_float3(v), seeds);
+    for (int p = 0; p < PHASES; ++p) {
+      const int l = phase_voxel(w, p);
+      const ulong best = phase_update(l, brick_slot, origin, values, state, weights, offsets,
+                                      activity, dims, grid, table, seeds, &updates);
+      if (best != values[l]) {
+        if (significant_change(values[l], best)) changed_in[it % 3] = 1;
+        values[l] = best;
+      }
+      barrier(CLK_LOCAL_MEM_FENCE);
     }
-    barrier(CLK_LOCAL_MEM_FENCE);
-    if (terms > 0 && best != values[l]) {
-      if (significant_change(values[l], best)) changed_in[it & 1] = 1;
-      values[l] = best;
-    }
-    barrier(CLK_LOCAL_MEM_FENCE);
-    changed_last = changed_in[it & 1] != 0;
-    if (l == 0) changed_in[(it + 1) & 1] = 0;  // last read before this iteration's first barrier
+    changed_last = changed_in[it % 3] != 0;
+    if (w == 0) changed_in[(it + 2) % 3] = 0;
     changed_ever = changed_ever || changed_last;
-    ++done;
     if (!changed_last) break;
   }
-  scratch[(size_t)position * BRICK_VOLUME + l] = values[l];
-  if (l == 0) {
+  for (int p = 0; p < PHASES; ++p)
+    scratch[(size_t)position * BRICK_VOLUME + phase_voxel(w, p)] = values[phase_voxel(w, p)];
+  atomic_add(&brick_updates, updates);
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (w == 0) {
     flags[brick] =
         (uchar)((changed_ever ? FLAG_CHANGED : 0u) | (changed_last ? FLAG_UNCONVERGED : 0u));
-    atom_add(update_counter, (ulong)active_voxels * (ulong)done);
+    atom_add(update_counter, (ulong)brick_updates);
   }
 }
 

@@ -86,8 +86,8 @@ INSTANTIATE_TEST_SUITE_P(
     Variants, EngineConfigs,
     ::testing::Values(
         EngineConfig{"BrickSweep", RelaxationVariant::brick_sweep, 2, true},
-        EngineConfig{"VoxelJacobi", RelaxationVariant::voxel_jacobi, 2, true},
-        EngineConfig{"VoxelJacobiNoColouring", RelaxationVariant::voxel_jacobi, 2, false},
+        EngineConfig{"VoxelPhases", RelaxationVariant::voxel_phases, 2, true},
+        EngineConfig{"VoxelPhasesNoColouring", RelaxationVariant::voxel_phases, 2, false},
         EngineConfig{"BrickSweepOneSweep", RelaxationVariant::brick_sweep, 1, true},
         EngineConfig{"BrickSweepEightSweeps", RelaxationVariant::brick_sweep, 8, true},
         EngineConfig{"BrickSweepNoColouring", RelaxationVariant::brick_sweep, 2, false}),
@@ -185,7 +185,7 @@ TEST(OpenCLOptionsCheck, OutOfRangeScheduleOptionsAreClearErrors) {
   o.max_sweeps = 65;  // the evaluation stamps of one relaxation would not fit their stride
   EXPECT_THROW(make_opencl_propagator("pocl", o), Error);
   o.max_sweeps = 2;
-  o.jacobi_iterations = 0;
+  o.phase_iterations = 0;
   EXPECT_THROW(make_opencl_propagator("pocl", o), Error);
 }
 

@@ -1,6 +1,7 @@
 // Every analytic field of DESIGN.md and a uniform anisotropic metric, 2D and 3D: the OpenCL
-// engine (PoCL) equals the CPU reference with one seed and with 1000 seeds, and inserting 100
-// seeds one by one equals solving with all of them at once (docs/scheme.md tolerances).
+// engine (PoCL, both relaxation variants) equals the CPU reference with one seed and with 1000
+// seeds, and inserting 100 seeds one by one equals solving with all of them at once
+// (docs/scheme.md tolerances).
 #include <gtest/gtest.h>
 
 #include <string>
@@ -52,13 +53,27 @@ Canvas field_canvas(const FieldCase& c, int resolution, Box* domain) {
 
 class EveryField : public ::testing::TestWithParam<FieldCase> {};
 
-// Solves the field's canvas with `count` random seeds on PoCL and with the reference.
+// Solves the field's canvas with `count` random seeds with the reference and on PoCL with both
+// relaxation variants (the CPU default and the GPU default).
 void expect_seeds_match_reference(const FieldCase& c, int count, unsigned rng_seed) {
-  REQUIRE_POCL(RelaxationVariant::automatic);
+  REQUIRE_POCL(RelaxationVariant::brick_sweep);
+  std::unique_ptr<Propagator> phases =
+      make_opencl_propagator("pocl", test::with_variant(RelaxationVariant::voxel_phases));
   Box box;
   const Canvas canvas = field_canvas(c, c.dimension == 2 ? kResolution2D : kResolution3D, &box);
-  test::expect_matches_reference(*engine, canvas,
-                                 test::random_points(box.lo, box.hi, c.dimension, count, rng_seed));
+  const std::vector<Vec3> seeds = test::random_points(box.lo, box.hi, c.dimension, count, rng_seed);
+  VoronoiField expected, sweep, phased;
+  make_reference_propagator()->solve(canvas, seeds, expected);
+  engine->solve(canvas, seeds, sweep);
+  phases->solve(canvas, seeds, phased);
+  {
+    SCOPED_TRACE("brick_sweep");
+    test::expect_same_field(canvas, expected, sweep);
+  }
+  {
+    SCOPED_TRACE("voxel_phases");
+    test::expect_same_field(canvas, expected, phased);
+  }
 }
 
 TEST_P(EveryField, OneSeedMatchesTheReference) {

@@ -8,9 +8,10 @@
 namespace rvor {
 
 enum class RelaxationVariant {
-  automatic,     // brick_sweep on CPU devices, voxel_jacobi on GPUs
+  automatic,     // brick_sweep on CPU devices, voxel_phases on GPUs
   brick_sweep,   // a work-item sweeps a whole brick Gauss-Seidel (CPU-friendly)
-  voxel_jacobi,  // a work-group per brick, a work-item per voxel, Jacobi in local memory (GPU)
+  voxel_phases,  // a work-group per brick, 2^d phases by voxel parity, a work-item per voxel
+                 // of the phase, in local memory (GPU)
 };
 
 struct OpenCLOptions {
@@ -20,7 +21,7 @@ struct OpenCLOptions {
   // 128^3 3.90/3.92/5.13 s for 1/2/4); 2 needs fewer rounds, which small insertions feel.
   // In [1, 64]; make_opencl_propagator throws otherwise.
   int max_sweeps = 2;
-  int jacobi_iterations = 8;  // voxel_jacobi: most inner iterations per round (at least 1)
+  int phase_iterations = 8;  // voxel_phases: most iterations (all phases) per round (at least 1)
   // Relax one brick colour (parities of the brick coordinates, 2^d colours) per round, so that a
   // brick reads its neighbours' fresh values. `rvor bench --resolution 96 --seeds 1000 --repeat 2`,
   // without -> with: euclidean 12.49 -> 10.13 updates per voxel, radial_shock_3d 20.32 -> 13.53

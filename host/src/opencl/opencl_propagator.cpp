@@ -114,7 +114,7 @@ class OpenCLPropagator final : public Propagator {
 
   std::string device_description() const override {
     return "OpenCL: " + device_.info.name + " (" + device_.info.platform + ", " +
-           (variant_ == RelaxationVariant::brick_sweep ? "brick sweep" : "voxel Jacobi") + ")";
+           (variant_ == RelaxationVariant::brick_sweep ? "brick sweep" : "voxel phases") + ")";
   }
 
   PropagationStats solve(const Canvas& canvas, const std::vector<Vec3>& seeds,
@@ -169,7 +169,7 @@ class OpenCLPropagator final : public Propagator {
 
   RelaxationVariant choose_variant() const {
     if (options_.variant != RelaxationVariant::automatic) return options_.variant;
-    return device_.info.is_gpu ? RelaxationVariant::voxel_jacobi : RelaxationVariant::brick_sweep;
+    return device_.info.is_gpu ? RelaxationVariant::voxel_phases : RelaxationVariant::brick_sweep;
   }
 
   void prepare(const Canvas& canvas, const std::vector<Vec3>& seeds) {
@@ -227,6 +227,9 @@ class OpenCLPropagator final : public Propagator {
     return result;
   }
 
+  // voxel_phases: a work-item per voxel of one parity class (kernels/propagation.cl, PHASES).
+  std::size_t phase_group_size() const { return brick_volume_ == 512 ? 64 : 16; }
+
   // Brick colours relaxed in turn (kernels/propagation.cl, compact_active); 1: all every round.
   int colours(const Canvas& canvas) const {
     return opencl::brick_colours(canvas, options_.brick_colouring);
@@ -240,13 +243,13 @@ class OpenCLPropagator final : public Propagator {
     const cl::Program program =
         opencl::build_program(context_, device_.device, propagation_source(), options);
     brick_volume_ = dimension == 3 ? 512 : 64;
-    if (variant_ == RelaxationVariant::voxel_jacobi &&
-        device_.device.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>() < brick_volume_)
-      variant_ = RelaxationVariant::brick_sweep;  // the device cannot hold a brick per work-group
+    if (variant_ == RelaxationVariant::voxel_phases &&
+        device_.device.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>() < phase_group_size())
+      variant_ = RelaxationVariant::brick_sweep;  // the device cannot hold a phase per work-group
     freeze_ = cl::Kernel(program, "freeze_seed_blocks");
     init_ = cl::Kernel(program, "initialise_seeds");
     relax_ = cl::Kernel(program, variant_ == RelaxationVariant::brick_sweep ? "relax_brick_sweep"
-                                                                            : "relax_voxel_jacobi");
+                                                                            : "relax_voxel_phases");
     commit_ = cl::Kernel(program, "commit_bricks");
     activate_ = cl::Kernel(program, "activate_bricks");
     compact_ = cl::Kernel(program, "compact_active");
@@ -377,7 +380,7 @@ class OpenCLPropagator final : public Propagator {
     const bool sweep = variant_ == RelaxationVariant::brick_sweep;
     set_args(relax_, d.list, static_cast<cl_int>(count), d.state, d.scratch, d.weights, d.offsets,
              d.table, d.origins, d.dims, d.grid, d.seeds, d.flags, d.update_counter,
-             static_cast<cl_int>(sweep ? options_.max_sweeps : options_.jacobi_iterations));
+             static_cast<cl_int>(sweep ? options_.max_sweeps : options_.phase_iterations));
     if (sweep) {
       relax_.setArg(14, d.evaluated);
       relax_.setArg(15, d.changed);
@@ -391,8 +394,9 @@ class OpenCLPropagator final : public Propagator {
     if (sweep)
       queue_.enqueueNDRangeKernel(relax_, cl::NullRange, cl::NDRange(count), cl::NDRange(1));
     else
-      queue_.enqueueNDRangeKernel(relax_, cl::NullRange, cl::NDRange(voxels),
-                                  cl::NDRange(brick_volume_));
+      queue_.enqueueNDRangeKernel(relax_, cl::NullRange,
+                                  cl::NDRange(static_cast<std::size_t>(count) * phase_group_size()),
+                                  cl::NDRange(phase_group_size()));
     set_args(commit_, d.list, static_cast<cl_int>(count), d.scratch, d.state, d.flags);
     queue_.enqueueNDRangeKernel(commit_, cl::NullRange, cl::NDRange(voxels),
                                 cl::NDRange(kBookkeepingGroup));
@@ -452,9 +456,9 @@ std::unique_ptr<Propagator> make_opencl_propagator(const std::string& device,
   if (options.max_sweeps < 1 || options.max_sweeps > kMaxSweeps)
     throw Error("OpenCLOptions::max_sweeps must be in [1, " + std::to_string(kMaxSweeps) +
                 "], got " + std::to_string(options.max_sweeps));
-  if (options.jacobi_iterations < 1)
-    throw Error("OpenCLOptions::jacobi_iterations must be at least 1, got " +
-                std::to_string(options.jacobi_iterations));
+  if (options.phase_iterations < 1)
+    throw Error("OpenCLOptions::phase_iterations must be at least 1, got " +
+                std::to_string(options.phase_iterations));
   opencl::Device selected = opencl::select_device(device);
   try {
     return std::make_unique<OpenCLPropagator>(std::move(selected), options);
