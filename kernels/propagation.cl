@@ -284,14 +284,14 @@ __kernel void relax_brick_sweep(__global const int* list, int count, __global co
   for (int sweep = 0; sweep < max_sweeps; ++sweep) {
     const int direction = corner ^ (sweep % (DIM == 3 ? 8 : 4));
     bool sweep_changed = false;
+    // Reversing an axis of the brick is flipping the bits of that coordinate in the local index.
+    const int flip = (direction & 1 ? EDGE - 1 : 0) | (direction & 2 ? EDGE * (EDGE - 1) : 0) |
+                     (direction & 4 ? EDGE * EDGE * (EDGE_Z - 1) : 0);
     for (int n = 0; n < BRICK_VOLUME; ++n) {
       ++tick;
-      int3 c = local_coordinates(n);
-      if (direction & 1) c.x = EDGE - 1 - c.x;
-      if (direction & 2) c.y = EDGE - 1 - c.y;
-      if (direction & 4) c.z = EDGE_Z - 1 - c.z;
+      const int l = n ^ flip;
+      const int3 c = local_coordinates(l);
       const int p = tile_index(c);
-      const int l = c.x + EDGE * (c.y + EDGE * c.z);
       if (!(active[l / 32] & (1u << (l % 32)))) continue;
       const size_t slot = brick_slot + l;
       const ulong current = tile[p];
