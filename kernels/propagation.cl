@@ -280,6 +280,9 @@ __kernel void relax_brick_sweep(__global const int* list, int count, __global co
   int flat[STENCIL_TERMS];
   int uniform_terms = -1;
   bool near_stencil = false;
+  float eGe[STENCIL_TERMS];
+#else
+  const float* eGe = 0;
 #endif
   for (int sweep = 0; sweep < max_sweeps; ++sweep) {
     const int direction = corner ^ (sweep % (DIM == 3 ? 8 : 4));
@@ -301,6 +304,7 @@ __kernel void relax_brick_sweep(__global const int* list, int count, __global co
         uniform_terms = load_stencil(weights, offsets, slot, weight, offset);
         near_stencil = within_one_voxel(offset, uniform_terms);
         for (int i = 0; i < uniform_terms; ++i) flat[i] = tile_offset(offset[i]);
+        term_lengths_squared(seeds, offset, uniform_terms, eGe);
       }
       const int terms = uniform_terms;
 #else
@@ -322,7 +326,7 @@ __kernel void relax_brick_sweep(__global const int* list, int count, __global co
       const uint stamp = round_base + tick;
       evaluated[slot] = stamp;
       const ulong best =
-          best_candidate(nb, weight, offset, terms, convert_float3(origin + c), seeds);
+          best_candidate(nb, weight, offset, terms, convert_float3(origin + c), seeds, eGe);
       ++updates;
       if (best != current) {  // T(x) replaces the state, larger or not
         tile[p] = best;
@@ -406,7 +410,11 @@ inline ulong phase_update(int l, size_t brick_slot, int3 origin, __local const u
   ulong nb[2 * STENCIL_TERMS];
   gather_for_phases(v, origin, offset, terms, values, state, dims, grid, table, nb);
   ++*updates;
-  return best_candidate(nb, weight, offset, terms, convert_float3(v), seeds);
+  float eGe[STENCIL_TERMS];
+#ifdef UNIFORM_METRIC
+  term_lengths_squared(seeds, offset, terms, eGe);
+#endif
+  return best_candidate(nb, weight, offset, terms, convert_float3(v), seeds, eGe);
 }
 
 __kernel __attribute__((reqd_work_group_size(PHASE_VOXELS, 1, 1))) void relax_voxel_phases(
