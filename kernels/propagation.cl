@@ -42,7 +42,8 @@ inline long seed_block_slot(int item, int first_seed, __global const float* seed
 __kernel void freeze_seed_blocks(int first_seed, int seed_count, int existing,
                                  __global const float* seeds, __global ulong* state,
                                  __global const uint* activity, __global const int* table,
-                                 int4 dims, int4 grid, __global uint* changed, uint stamp) {
+                                 int4 dims, int4 grid, __global uint* changed, uint stamp,
+                                 __global uchar* touched) {
   const int item = get_global_id(0);
   if (item >= seed_count * INIT_BLOCK) return;
   int3 v;
@@ -54,6 +55,7 @@ __kernel void freeze_seed_blocks(int first_seed, int seed_count, int existing,
   } else if (!state_frozen(s)) {
     state[slot] = INF_STATE | FROZEN_BIT;
     changed[slot] = stamp;
+    touched[slot / BRICK_VOLUME] = 1;
   }
 }
 
@@ -61,7 +63,8 @@ __kernel void freeze_seed_blocks(int first_seed, int seed_count, int existing,
 __kernel void initialise_seeds(int first_seed, int seed_count, __global const float* seeds,
                                __global ulong* state, __global const uint* activity,
                                __global const int* table, int4 dims, int4 grid,
-                               __global uchar* flags, __global uint* changed, uint stamp) {
+                               __global uchar* flags, __global uint* changed, uint stamp,
+                               __global uchar* touched) {
   const int item = get_global_id(0);
   if (item >= seed_count * INIT_BLOCK) return;
   int3 v;
@@ -76,6 +79,7 @@ __kernel void initialise_seeds(int first_seed, int seed_count, __global const fl
   if (candidate < previous) {
     flags[slot / BRICK_VOLUME] = FLAG_CHANGED | FLAG_UNCONVERGED;
     changed[slot] = stamp;
+    touched[slot / BRICK_VOLUME] = 1;
   }
 }
 
@@ -470,14 +474,17 @@ __kernel __attribute__((reqd_work_group_size(PHASE_VOXELS, 1, 1))) void relax_vo
 // ---------------------------------------------------------------------------------------------
 // Round bookkeeping.
 
-// Copies relaxed bricks back into the state (a work-item per voxel of the listed bricks).
+// Copies relaxed bricks back into the state (a work-item per voxel of the listed bricks) and marks
+// them touched.
 __kernel void commit_bricks(__global const int* list, int count, __global const ulong* scratch,
-                            __global ulong* state, __global const uchar* flags) {
+                            __global ulong* state, __global const uchar* flags,
+                            __global uchar* touched) {
   const size_t item = get_global_id(0);
   const int position = item / BRICK_VOLUME;
   if (position >= count) return;
   const int brick = list[position];
   if (flags[brick] == 0) return;
+  if (item % BRICK_VOLUME == 0) touched[brick] = 1;
   state[(size_t)brick * BRICK_VOLUME + item % BRICK_VOLUME] = scratch[item];
 }
 

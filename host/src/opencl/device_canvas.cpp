@@ -205,6 +205,7 @@ DeviceCanvas upload_canvas(const cl::Context& context, const Canvas& canvas, int
   d.evaluated = make_scratch(context, d.slots * sizeof(cl_uint), d.bytes);
   d.changed = make_scratch(context, d.slots * sizeof(cl_uint), d.bytes);
   d.flags = make_scratch(context, d.bricks, d.bytes);
+  d.touched = make_scratch(context, d.bricks, d.bytes);
   d.pending = make_scratch(context, d.bricks, d.bytes);
   d.any_pending = make_scratch(context, sizeof(cl_int), d.bytes);
   d.list = make_scratch(context, d.bricks * sizeof(cl_int), d.bytes);

@@ -41,6 +41,9 @@ struct DeviceCanvas {
   cl::Buffer pending, any_pending;
   // brick_sweep work avoidance: per slot, stamps of the last evaluation and the last change.
   cl::Buffer evaluated, changed;
+  // Per brick: written since the solve or insertion began (only those are read back after an
+  // insertion).
+  cl::Buffer touched;
   std::size_t seed_capacity = 0;
   std::uint64_t bytes = 0;  // device memory allocated for this canvas
 };

@@ -12,6 +12,7 @@
 #include <optional>
 
 #include "device_canvas.h"
+#include "field_transfer.h"
 #include "opencl_runtime.h"
 #include "rvor/embedded_kernels.h"
 #include "rvor/error.h"
@@ -25,7 +26,6 @@ constexpr int kMaxSweeps = 64;
 constexpr std::size_t kSeedRecord = 16;  // floats, see kernels/eikonal_scheme.clh
 constexpr std::size_t kBookkeepingGroup = 64;
 constexpr cl_ulong kInfiniteState = 0x7F8000007FFFFFFFull;  // +inf, no label, not frozen
-constexpr std::uint32_t kLabelNone = 0x7FFFFFFFu;
 // A scheme that does not settle is a bug; stop with an error rather than loop forever.
 constexpr std::uint64_t kMaxRounds = 100000;
 
@@ -46,13 +46,6 @@ std::string propagation_source() {
 
 std::string nerve_source() {
   return kernel_source({"state_word.clh", "brick_layout.clh", "nerve.cl"});
-}
-
-cl_ulong pack_state(float distance, int32_t label) {
-  std::uint32_t bits;
-  std::memcpy(&bits, &distance, sizeof bits);
-  return (static_cast<cl_ulong>(bits) << 32) |
-         (label < 0 ? kLabelNone : static_cast<std::uint32_t>(label));
 }
 
 // Seed records: index coordinates, containing voxel, h^2 G_s. Throws for seeds outside the canvas.
@@ -81,28 +74,6 @@ std::vector<float> seed_records(const Canvas& canvas, const std::vector<Vec3>& s
   return records;
 }
 
-// Identifies a field's contents: field_hash_step over every slot's distance bits and label, in
-// slot order, from kFieldHashStart. Each step is a bijection of the running hash, so a field that
-// differs in any one slot always hashes differently.
-constexpr std::uint64_t kFieldHashStart = 0x9E3779B97F4A7C15ull;
-
-std::uint64_t field_hash_step(std::uint64_t hash, std::uint32_t distance_bits, int32_t label) {
-  const std::uint64_t word =
-      (std::uint64_t{distance_bits} << 32) | static_cast<std::uint32_t>(label);
-  hash = (hash ^ word) * 0x100000001B3ull;
-  return hash ^ (hash >> 29);
-}
-
-std::uint64_t field_hash(const VoronoiField& field) {
-  std::uint64_t hash = kFieldHashStart;
-  for (std::size_t n = 0; n < field.distance.size(); ++n) {
-    std::uint32_t bits;
-    std::memcpy(&bits, &field.distance[n], sizeof bits);
-    hash = field_hash_step(hash, bits, field.label[n]);
-  }
-  return hash;
-}
-
 class OpenCLPropagator final : public Propagator {
  public:
   OpenCLPropagator(opencl::Device device, const OpenCLOptions& options)
@@ -126,7 +97,7 @@ class OpenCLPropagator final : public Propagator {
       queue_.enqueueFillBuffer(canvas_->state, kInfiniteState, 0,
                                canvas_->slots * sizeof(cl_ulong));
       reset_stamps();
-      return finish(canvas, 0, seeds.size(), field, start);
+      return finish(canvas, 0, seeds.size(), field, start, std::nullopt);
     });
   }
 
@@ -139,8 +110,9 @@ class OpenCLPropagator final : public Propagator {
       if (first_new > seeds.size()) throw Error("insert(): first_new is past the last seed");
       prepare(canvas, seeds);
       hold_field(field);
+      const std::uint64_t held_field_hash = *device_field_hash_;
       device_field_hash_.reset();
-      return finish(canvas, first_new, seeds.size(), field, start);
+      return finish(canvas, first_new, seeds.size(), field, start, held_field_hash);
     });
   }
 
@@ -201,9 +173,9 @@ class OpenCLPropagator final : public Propagator {
   // Makes the device state hold `field`: unless it is the field returned last (the device still
   // holds it, with stamps that describe it), upload it and forget the evaluations.
   void hold_field(const VoronoiField& field) {
-    const std::uint64_t hash = field_hash(field);
+    const std::uint64_t hash = opencl::field_hash(field);
     if (device_field_hash_ == hash) return;
-    upload_field(field);
+    opencl::upload_field(queue_, canvas_->state, field);
     reset_stamps();
     device_field_hash_ = hash;
   }
@@ -257,18 +229,13 @@ class OpenCLPropagator final : public Propagator {
     flag_multi_label_ = cl::Kernel();  // built when first used (only the nerve needs it)
   }
 
-  void upload_field(const VoronoiField& field) {
-    std::vector<cl_ulong> state(field.distance.size());
-    for (std::size_t n = 0; n < state.size(); ++n)
-      state[n] =
-          field.label[n] < 0 ? kInfiniteState : pack_state(field.distance[n], field.label[n]);
-    queue_.enqueueWriteBuffer(canvas_->state, CL_TRUE, 0, state.size() * sizeof(cl_ulong),
-                              state.data());
-  }
-
+  // held_field_hash: the device state is `field`, with that hash (insertion); then only the bricks
+  // the propagation touched are read back.
   PropagationStats finish(const Canvas& canvas, std::size_t first_seed, std::size_t seed_count,
-                          VoronoiField& field, std::chrono::steady_clock::time_point start) {
+                          VoronoiField& field, std::chrono::steady_clock::time_point start,
+                          std::optional<std::uint64_t> held_field_hash) {
     queue_.enqueueFillBuffer(canvas_->update_counter, cl_ulong{0}, 0, sizeof(cl_ulong));
+    queue_.enqueueFillBuffer(canvas_->touched, cl_uchar{0}, 0, canvas_->bricks);
     queue_.enqueueFillBuffer(canvas_->flags, cl_uchar{0}, 0, canvas_->bricks);
     queue_.enqueueFillBuffer(canvas_->pending, cl_uchar{0}, 0, canvas_->bricks);
     const cl_uint seed_stamp = next_round_base();
@@ -289,7 +256,11 @@ class OpenCLPropagator final : public Propagator {
     }
     queue_.enqueueReadBuffer(canvas_->update_counter, CL_TRUE, 0, sizeof(cl_ulong),
                              &stats.voxel_updates);
-    device_field_hash_ = download_field(canvas, field);
+    device_field_hash_ =
+        held_field_hash ? opencl::download_touched_bricks(queue_, canvas_->state, canvas_->touched,
+                                                          canvas_->bricks, brick_volume_,
+                                                          *held_field_hash, field)
+                        : opencl::download_field(queue_, canvas_->state, canvas_->slots, field);
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return stats;
   }
@@ -307,7 +278,7 @@ class OpenCLPropagator final : public Propagator {
     const DeviceCanvasRef d = *canvas_;
     set_args(freeze_, static_cast<cl_int>(first_seed), static_cast<cl_int>(seed_count - first_seed),
              static_cast<cl_int>(existing ? 1 : 0), d.seeds, d.state, d.activity, d.table, d.dims,
-             d.grid, d.changed, stamp);
+             d.grid, d.changed, stamp, d.touched);
     queue_.enqueueNDRangeKernel(freeze_, cl::NullRange,
                                 cl::NDRange(round_up(items, kBookkeepingGroup)),
                                 cl::NDRange(kBookkeepingGroup));
@@ -318,7 +289,8 @@ class OpenCLPropagator final : public Propagator {
     if (items == 0) return;
     const DeviceCanvasRef d = *canvas_;
     set_args(init_, static_cast<cl_int>(first_seed), static_cast<cl_int>(seed_count - first_seed),
-             d.seeds, d.state, d.activity, d.table, d.dims, d.grid, d.flags, d.changed, stamp);
+             d.seeds, d.state, d.activity, d.table, d.dims, d.grid, d.flags, d.changed, stamp,
+             d.touched);
     queue_.enqueueNDRangeKernel(init_, cl::NullRange,
                                 cl::NDRange(round_up(items, kBookkeepingGroup)),
                                 cl::NDRange(kBookkeepingGroup));
@@ -397,7 +369,7 @@ class OpenCLPropagator final : public Propagator {
       queue_.enqueueNDRangeKernel(relax_, cl::NullRange,
                                   cl::NDRange(static_cast<std::size_t>(count) * phase_group_size()),
                                   cl::NDRange(phase_group_size()));
-    set_args(commit_, d.list, static_cast<cl_int>(count), d.scratch, d.state, d.flags);
+    set_args(commit_, d.list, static_cast<cl_int>(count), d.scratch, d.state, d.flags, d.touched);
     queue_.enqueueNDRangeKernel(commit_, cl::NullRange, cl::NDRange(voxels),
                                 cl::NDRange(kBookkeepingGroup));
     set_args(spread_, d.list, static_cast<cl_int>(count), d.origins, d.table, d.grid, d.brick_reach,
@@ -405,24 +377,6 @@ class OpenCLPropagator final : public Propagator {
     queue_.enqueueNDRangeKernel(spread_, cl::NullRange,
                                 cl::NDRange(round_up(count, kBookkeepingGroup)),
                                 cl::NDRange(kBookkeepingGroup));
-  }
-
-  // Returns the field's field_hash, computed on the way.
-  std::uint64_t download_field(const Canvas& canvas, VoronoiField& field) {
-    std::vector<cl_ulong> state(canvas_->slots);
-    queue_.enqueueReadBuffer(canvas_->state, CL_TRUE, 0, state.size() * sizeof(cl_ulong),
-                             state.data());
-    field.distance.resize(canvas.slot_count());
-    field.label.resize(canvas.slot_count());
-    std::uint64_t hash = kFieldHashStart;
-    for (std::size_t n = 0; n < state.size(); ++n) {
-      const std::uint32_t bits = static_cast<std::uint32_t>(state[n] >> 32);
-      std::memcpy(&field.distance[n], &bits, sizeof bits);
-      const std::uint32_t label = static_cast<std::uint32_t>(state[n]) & kLabelNone;
-      field.label[n] = label == kLabelNone ? -1 : static_cast<int32_t>(label);
-      hash = field_hash_step(hash, bits, field.label[n]);
-    }
-    return hash;
   }
 
   using DeviceCanvasRef = const opencl::DeviceCanvas&;

@@ -1,0 +1,95 @@
+#include "field_transfer.h"
+
+#include <cstring>
+#include <vector>
+
+namespace rvor::opencl {
+namespace {
+
+constexpr cl_ulong kInfiniteState = 0x7F8000007FFFFFFFull;  // +inf, no label (state_word.clh)
+constexpr std::uint32_t kLabelNone = 0x7FFFFFFFu;
+
+std::uint64_t state_word(float distance, int32_t label) {
+  std::uint32_t bits;
+  std::memcpy(&bits, &distance, sizeof bits);
+  return (std::uint64_t{bits} << 32) | static_cast<std::uint32_t>(label);
+}
+
+// For a fixed slot a bijection of the word: an xor with a slot key, then splitmix64's finaliser.
+std::uint64_t slot_hash(std::size_t slot, std::uint64_t word) {
+  std::uint64_t x = word ^ (static_cast<std::uint64_t>(slot) * 0x9E3779B97F4A7C15ull);
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+
+std::uint64_t field_slot_hash(const VoronoiField& field, std::size_t slot) {
+  return slot_hash(slot, state_word(field.distance[slot], field.label[slot]));
+}
+
+void store_word(cl_ulong word, std::size_t slot, VoronoiField& field) {
+  const std::uint32_t bits = static_cast<std::uint32_t>(word >> 32);
+  std::memcpy(&field.distance[slot], &bits, sizeof bits);
+  const std::uint32_t label = static_cast<std::uint32_t>(word) & kLabelNone;
+  field.label[slot] = label == kLabelNone ? -1 : static_cast<int32_t>(label);
+}
+
+}  // namespace
+
+std::uint64_t field_hash(const VoronoiField& field) {
+  std::uint64_t hash = 0;
+  for (std::size_t slot = 0; slot < field.distance.size(); ++slot)
+    hash += field_slot_hash(field, slot);
+  return hash;
+}
+
+void upload_field(const cl::CommandQueue& queue, const cl::Buffer& state,
+                  const VoronoiField& field) {
+  std::vector<cl_ulong> words(field.distance.size());
+  for (std::size_t n = 0; n < words.size(); ++n)
+    words[n] = field.label[n] < 0 ? kInfiniteState : state_word(field.distance[n], field.label[n]);
+  queue.enqueueWriteBuffer(state, CL_TRUE, 0, words.size() * sizeof(cl_ulong), words.data());
+}
+
+std::uint64_t download_field(const cl::CommandQueue& queue, const cl::Buffer& state,
+                             std::size_t slots, VoronoiField& field) {
+  std::vector<cl_ulong> words(slots);
+  queue.enqueueReadBuffer(state, CL_TRUE, 0, slots * sizeof(cl_ulong), words.data());
+  field.distance.resize(slots);
+  field.label.resize(slots);
+  std::uint64_t hash = 0;
+  for (std::size_t slot = 0; slot < slots; ++slot) {
+    store_word(words[slot], slot, field);
+    hash += field_slot_hash(field, slot);
+  }
+  return hash;
+}
+
+std::uint64_t download_touched_bricks(const cl::CommandQueue& queue, const cl::Buffer& state,
+                                      const cl::Buffer& touched, std::size_t bricks,
+                                      std::size_t brick_volume, std::uint64_t hash,
+                                      VoronoiField& field) {
+  std::vector<cl_uchar> marks(bricks);
+  queue.enqueueReadBuffer(touched, CL_TRUE, 0, bricks, marks.data());
+  std::vector<std::size_t> listed;
+  for (std::size_t b = 0; b < bricks; ++b)
+    if (marks[b]) listed.push_back(b);
+  // One read per brick: beyond a quarter of the canvas, one read of everything is cheaper.
+  if (4 * listed.size() > bricks) return download_field(queue, state, bricks * brick_volume, field);
+  std::vector<cl_ulong> words(listed.size() * brick_volume);
+  const std::size_t bytes = brick_volume * sizeof(cl_ulong);
+  for (std::size_t n = 0; n < listed.size(); ++n)
+    queue.enqueueReadBuffer(state, CL_FALSE, listed[n] * bytes, bytes, &words[n * brick_volume]);
+  queue.finish();
+  for (std::size_t n = 0; n < listed.size(); ++n) {
+    for (std::size_t v = 0; v < brick_volume; ++v) {
+      const std::size_t slot = listed[n] * brick_volume + v;
+      hash -= field_slot_hash(field, slot);
+      store_word(words[n * brick_volume + v], slot, field);
+      hash += field_slot_hash(field, slot);
+    }
+  }
+  return hash;
+}
+
+}  // namespace rvor::opencl

@@ -1,0 +1,31 @@
+#pragma once
+// Moving a VoronoiField between the host and the device state words (internal), and the hash the
+// engine uses to recognise the field it returned last.
+#include <cstddef>
+#include <cstdint>
+
+#include "opencl_runtime.h"
+#include "rvor/propagation.h"
+
+namespace rvor::opencl {
+
+// Sum over slots of a bijective mix of (slot, distance bits, label): two fields that differ in
+// one slot always hash differently, and changing some slots updates the hash in their time.
+std::uint64_t field_hash(const VoronoiField& field);
+
+void upload_field(const cl::CommandQueue& queue, const cl::Buffer& state,
+                  const VoronoiField& field);
+
+// The whole device state into `field`; returns its field_hash.
+std::uint64_t download_field(const cl::CommandQueue& queue, const cl::Buffer& state,
+                             std::size_t slots, VoronoiField& field);
+
+// Only the bricks whose `touched` byte is set (brick_volume slots each) into `field`, which held
+// the rest of the device state already and hashed to `hash`; returns the new field_hash. Falls
+// back to download_field when most bricks were touched.
+std::uint64_t download_touched_bricks(const cl::CommandQueue& queue, const cl::Buffer& state,
+                                      const cl::Buffer& touched, std::size_t bricks,
+                                      std::size_t brick_volume, std::uint64_t hash,
+                                      VoronoiField& field);
+
+}  // namespace rvor::opencl
