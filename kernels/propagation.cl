@@ -414,9 +414,11 @@ inline ulong phase_update(int l, size_t brick_slot, int3 origin, __local const u
   ulong nb[2 * STENCIL_TERMS];
   gather_for_phases(v, origin, offset, terms, values, state, dims, grid, table, nb);
   ++*updates;
-  float eGe[STENCIL_TERMS];
 #ifdef UNIFORM_METRIC
+  float eGe[STENCIL_TERMS];
   term_lengths_squared(seeds, offset, terms, eGe);
+#else
+  const float* eGe = 0;
 #endif
   return best_candidate(nb, weight, offset, terms, convert_float3(v), seeds, eGe);
 }

@@ -6,7 +6,6 @@
 namespace rvor::opencl {
 namespace {
 
-constexpr cl_ulong kInfiniteState = 0x7F8000007FFFFFFFull;  // +inf, no label (state_word.clh)
 constexpr std::uint32_t kLabelNone = 0x7FFFFFFFu;
 
 std::uint64_t state_word(float distance, int32_t label) {

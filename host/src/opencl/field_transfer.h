@@ -9,8 +9,11 @@
 
 namespace rvor::opencl {
 
+constexpr cl_ulong kInfiniteState = 0x7F8000007FFFFFFFull;  // +inf, no label (state_word.clh)
+
 // Sum over slots of a bijective mix of (slot, distance bits, label): two fields that differ in
-// one slot always hash differently, and changing some slots updates the hash in their time.
+// one slot always hash differently, and the hash follows a change of some slots in time
+// proportional to them.
 std::uint64_t field_hash(const VoronoiField& field);
 
 void upload_field(const cl::CommandQueue& queue, const cl::Buffer& state,

@@ -25,7 +25,6 @@ namespace {
 constexpr int kMaxSweeps = 64;
 constexpr std::size_t kSeedRecord = 16;  // floats, see kernels/eikonal_scheme.clh
 constexpr std::size_t kBookkeepingGroup = 64;
-constexpr cl_ulong kInfiniteState = 0x7F8000007FFFFFFFull;  // +inf, no label, not frozen
 // A scheme that does not settle is a bug; stop with an error rather than loop forever.
 constexpr std::uint64_t kMaxRounds = 100000;
 
@@ -94,7 +93,7 @@ class OpenCLPropagator final : public Propagator {
       const auto start = std::chrono::steady_clock::now();
       prepare(canvas, seeds);
       device_field_hash_.reset();
-      queue_.enqueueFillBuffer(canvas_->state, kInfiniteState, 0,
+      queue_.enqueueFillBuffer(canvas_->state, opencl::kInfiniteState, 0,
                                canvas_->slots * sizeof(cl_ulong));
       reset_stamps();
       return finish(canvas, 0, seeds.size(), field, start, std::nullopt);
