@@ -284,13 +284,14 @@ __kernel void relax_brick_sweep(__global const int* list, int count, __global co
   uint brick_flags = FLAG_UNCONVERGED;
   ulong updates = 0;
   uint tick = 0;
-#ifdef UNIFORM_METRIC  // one stencil for every active voxel: loaded at the first one
+#ifdef UNIFORM_METRIC  // one stencil for every active voxel, prepared once
   float weight[STENCIL_TERMS];
   int3 offset[STENCIL_TERMS];
   int flat[STENCIL_TERMS];
-  int uniform_terms = -1;
-  bool near_stencil = false;
+  const int terms = load_stencil(weights, offsets, 0, weight, offset);
+  const bool near_stencil = tile_offsets(offset, terms, flat);
   float eGe[STENCIL_TERMS];
+  term_lengths_squared(seeds, offset, terms, eGe);
 #else
   const float* eGe = 0;
 #endif
@@ -309,14 +310,7 @@ __kernel void relax_brick_sweep(__global const int* list, int count, __global co
       const size_t slot = brick_slot + l;
       const ulong current = tile[p];
       if (state_frozen(current)) continue;
-#ifdef UNIFORM_METRIC
-      if (uniform_terms < 0) {
-        uniform_terms = load_stencil(weights, offsets, slot, weight, offset);
-        near_stencil = tile_offsets(offset, uniform_terms, flat);
-        term_lengths_squared(seeds, offset, uniform_terms, eGe);
-      }
-      const int terms = uniform_terms;
-#else
+#ifndef UNIFORM_METRIC
       float weight[STENCIL_TERMS];
       int3 offset[STENCIL_TERMS];
       int flat[STENCIL_TERMS];
