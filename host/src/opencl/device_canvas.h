@@ -2,8 +2,8 @@
 // The canvas packed for an OpenCL device (internal). Per slot: the state word (distance bits,
 // label), two 32-bit evaluation stamps, the Selling stencil precomputed on the host (6 float
 // weights rho_i / h^2, 6x3 int8 offsets; one for the whole canvas when the metric is uniform) and
-// an activity bit. A scratch copy of each brick being
-// relaxed: one colour class of bricks at a time. Per brick: origin, flags, activation, list.
+// an activity bit. A scratch copy of each brick being relaxed: one colour class of bricks at a
+// time. Per brick: origin, flags, activation, list, a touched mark.
 #include <array>
 #include <cstddef>
 #include <cstdint>

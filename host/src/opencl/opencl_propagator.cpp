@@ -108,8 +108,7 @@ class OpenCLPropagator final : public Propagator {
         throw Error("insert(): the field does not match the canvas (solve first)");
       if (first_new > seeds.size()) throw Error("insert(): first_new is past the last seed");
       prepare(canvas, seeds);
-      hold_field(field);
-      const std::uint64_t held_field_hash = *device_field_hash_;
+      const std::optional<std::uint64_t> held_field_hash = hold_field(field);
       device_field_hash_.reset();
       return finish(canvas, first_new, seeds.size(), field, start, held_field_hash);
     });
@@ -170,13 +169,16 @@ class OpenCLPropagator final : public Propagator {
   }
 
   // Makes the device state hold `field`: unless it is the field returned last (the device still
-  // holds it, with stamps that describe it), upload it and forget the evaluations.
-  void hold_field(const VoronoiField& field) {
+  // holds it, with stamps that describe it), upload it and forget the evaluations. Returns the
+  // field's hash when the device held it already, bit for bit (an upload turns unlabelled slots
+  // into +inf, so only then may a read-back skip the bricks nothing wrote).
+  std::optional<std::uint64_t> hold_field(const VoronoiField& field) {
     const std::uint64_t hash = opencl::field_hash(field);
-    if (device_field_hash_ == hash) return;
+    if (device_field_hash_ == hash) return hash;
     opencl::upload_field(queue_, canvas_->state, field);
     reset_stamps();
     device_field_hash_ = hash;
+    return std::nullopt;
   }
 
   std::vector<std::uint8_t> flag_multi_label_bricks(int dimension) {
@@ -228,8 +230,8 @@ class OpenCLPropagator final : public Propagator {
     flag_multi_label_ = cl::Kernel();  // built when first used (only the nerve needs it)
   }
 
-  // held_field_hash: the device state is `field`, with that hash (insertion); then only the bricks
-  // the propagation touched are read back.
+  // held_field_hash: the device state was `field` bit for bit, with that hash (an insertion into
+  // the field returned last); then only the bricks the propagation touched are read back.
   PropagationStats finish(const Canvas& canvas, std::size_t first_seed, std::size_t seed_count,
                           VoronoiField& field, std::chrono::steady_clock::time_point start,
                           std::optional<std::uint64_t> held_field_hash) {
