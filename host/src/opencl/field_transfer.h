@@ -25,7 +25,7 @@ std::uint64_t download_field(const cl::CommandQueue& queue, const cl::Buffer& st
 
 // Only the bricks whose `touched` byte is set (brick_volume slots each) into `field`, which held
 // the rest of the device state already and hashed to `hash`; returns the new field_hash. Falls
-// back to download_field when most bricks were touched.
+// back to download_field when more than a quarter of the bricks were touched.
 std::uint64_t download_touched_bricks(const cl::CommandQueue& queue, const cl::Buffer& state,
                                       const cl::Buffer& touched, std::size_t bricks,
                                       std::size_t brick_volume, std::uint64_t hash,
