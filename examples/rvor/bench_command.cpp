@@ -213,9 +213,10 @@ void add_bench_command(CLI::App& app) {
   const std::map<std::string, RelaxationVariant> variants = {
       {"auto", RelaxationVariant::automatic},
       {"brick_sweep", RelaxationVariant::brick_sweep},
+      {"brick_lanes", RelaxationVariant::brick_lanes},
       {"voxel_phases", RelaxationVariant::voxel_phases}};
   cmd->add_option("--variant", options->variant,
-                  "OpenCL relaxation: brick_sweep | voxel_phases | auto")
+                  "OpenCL relaxation: brick_sweep | brick_lanes | voxel_phases | auto")
       ->transform(CLI::CheckedTransformer(variants));
   cmd->add_option("--repeat", options->repetitions,
                   "Solves per case with the same engine; the fastest counts (the first includes "

@@ -71,6 +71,22 @@ TEST_P(EngineConfigs, AnisotropicManySeeds2D) {
   test::expect_matches_reference(*engine, canvas, test::random_points(kLo, kHi, 2, 30, 11));
 }
 
+// Axis-aligned anisotropy: a diagonal metric has a stencil of axis offsets, the one brick_lanes
+// relaxes itself (the others fall back to brick_sweep).
+TEST_P(EngineConfigs, AxisAnisotropicManySeeds3D) {
+  REQUIRE_POCL_WITH(options());
+  const Canvas canvas =
+      test::make_uniform_box_canvas(3, kLo, kHi, 32, Vec3(1.0, 9.0, 4.0).asDiagonal());
+  test::expect_matches_reference(*engine, canvas, test::random_points(kLo, kHi, 3, 60, 13));
+}
+
+TEST_P(EngineConfigs, AxisAnisotropicManySeeds2D) {
+  REQUIRE_POCL_WITH(options());
+  const Canvas canvas =
+      test::make_uniform_box_canvas(2, kLo, kHi, 64, Vec3(16.0, 1.0, 1.0).asDiagonal());
+  test::expect_matches_reference(*engine, canvas, test::random_points(kLo, kHi, 2, 60, 19));
+}
+
 TEST_P(EngineConfigs, VaryingMetric2D) {
   REQUIRE_POCL_WITH(options());
   // A smooth field whose anisotropy and direction vary: exercises per-voxel stencils.
@@ -90,7 +106,10 @@ INSTANTIATE_TEST_SUITE_P(
         EngineConfig{"VoxelPhasesNoColouring", RelaxationVariant::voxel_phases, 2, false},
         EngineConfig{"BrickSweepOneSweep", RelaxationVariant::brick_sweep, 1, true},
         EngineConfig{"BrickSweepEightSweeps", RelaxationVariant::brick_sweep, 8, true},
-        EngineConfig{"BrickSweepNoColouring", RelaxationVariant::brick_sweep, 2, false}),
+        EngineConfig{"BrickSweepNoColouring", RelaxationVariant::brick_sweep, 2, false},
+        EngineConfig{"BrickLanes", RelaxationVariant::brick_lanes, 2, true},
+        EngineConfig{"BrickLanesOneSweep", RelaxationVariant::brick_lanes, 1, true},
+        EngineConfig{"BrickLanesNoColouring", RelaxationVariant::brick_lanes, 2, false}),
     [](const auto& info) { return std::string(info.param.name); });
 
 // Uniform metrics get one stencil for the whole canvas and the activity bits for the domain:
@@ -108,6 +127,22 @@ TEST(OpenCLUniformMetric, CurvedDomainsMatchTheReference) {
     ASSERT_FALSE(canvas.active[0]);  // the uniform stencil is not slot 0's
     test::expect_matches_reference(*engine, canvas, test::seeds_in(canvas, c.seeds, 7));
   }
+}
+
+// brick_lanes relaxes stencils of axis offsets itself and hands every other stencil to
+// brick_sweep; the device description names the variant that ran.
+TEST(OpenCLBrickLanes, RelaxesAxisStencilsAndFallsBackOtherwise) {
+  REQUIRE_POCL(RelaxationVariant::brick_lanes);
+  const std::vector<Vec3> seeds = test::random_points(kLo, kHi, 3, 5, 3);
+  VoronoiField field;
+  engine->solve(test::make_uniform_box_canvas(3, kLo, kHi, 16, Vec3(1.0, 2.0, 3.0).asDiagonal()),
+                seeds, field);
+  EXPECT_NE(engine->device_description().find("brick lanes"), std::string::npos);
+  engine->solve(test::make_uniform_box_canvas(3, kLo, kHi, 16, rotated_metric(3, 4.0)), seeds,
+                field);
+  EXPECT_NE(engine->device_description().find("brick sweep"), std::string::npos);
+  engine->solve(test::make_uniform_box_canvas(3, kLo, kHi, 16, Mat3::Identity()), seeds, field);
+  EXPECT_NE(engine->device_description().find("brick lanes"), std::string::npos);
 }
 
 TEST(OpenCLInsertion, OneByOneEqualsAllAtOnce) {

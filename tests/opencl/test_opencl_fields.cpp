@@ -53,19 +53,22 @@ Canvas field_canvas(const FieldCase& c, int resolution, Box* domain) {
 
 class EveryField : public ::testing::TestWithParam<FieldCase> {};
 
-// Solves the field's canvas with `count` random seeds with the reference and on PoCL with both
-// relaxation variants (the CPU default and the GPU default).
+// Solves the field's canvas with `count` random seeds with the reference and on PoCL with every
+// relaxation variant (brick_lanes is brick_sweep unless the metric is uniform).
 void expect_seeds_match_reference(const FieldCase& c, int count, unsigned rng_seed) {
   REQUIRE_POCL(RelaxationVariant::brick_sweep);
   std::unique_ptr<Propagator> phases =
       make_opencl_propagator("pocl", test::with_variant(RelaxationVariant::voxel_phases));
+  std::unique_ptr<Propagator> lanes =
+      make_opencl_propagator("pocl", test::with_variant(RelaxationVariant::brick_lanes));
   Box box;
   const Canvas canvas = field_canvas(c, c.dimension == 2 ? kResolution2D : kResolution3D, &box);
   const std::vector<Vec3> seeds = test::random_points(box.lo, box.hi, c.dimension, count, rng_seed);
-  VoronoiField expected, sweep, phased;
+  VoronoiField expected, sweep, phased, laned;
   make_reference_propagator()->solve(canvas, seeds, expected);
   engine->solve(canvas, seeds, sweep);
   phases->solve(canvas, seeds, phased);
+  lanes->solve(canvas, seeds, laned);
   {
     SCOPED_TRACE("brick_sweep");
     test::expect_same_field(canvas, expected, sweep);
@@ -73,6 +76,10 @@ void expect_seeds_match_reference(const FieldCase& c, int count, unsigned rng_se
   {
     SCOPED_TRACE("voxel_phases");
     test::expect_same_field(canvas, expected, phased);
+  }
+  {
+    SCOPED_TRACE("brick_lanes");
+    test::expect_same_field(canvas, expected, laned);
   }
 }
 

@@ -191,6 +191,10 @@ DeviceCanvas upload_canvas(const cl::Context& context, const Canvas& canvas, int
     origins[b] = {{o.i, o.j, o.k, 0}};
   }
   d.uniform_stencil = stencils.uniform;
+  if (stencils.uniform)
+    for (std::size_t i = 0; i < kStencilTerms; ++i)
+      if (stencils.weights[i] > 0.0f)
+        d.uniform_offsets.assign(stencils.offsets.begin(), stencils.offsets.begin() + 3 * (i + 1));
   d.activity = make_buffer(context, activity_bits(canvas), d.bytes);
   d.weights = make_buffer(context, stencils.weights, d.bytes);
   d.offsets = make_buffer(context, stencils.offsets, d.bytes);

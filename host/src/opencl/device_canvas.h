@@ -36,6 +36,8 @@ struct DeviceCanvas {
   // One stencil for the whole canvas (every active voxel has the same metric): the kernels must
   // be built with UNIFORM_METRIC.
   bool uniform_stencil = false;
+  // That stencil's offsets (x, y, z per term, up to its last term of non-zero weight).
+  std::vector<int> uniform_offsets;
   cl::Buffer flags, list, list_count, update_counter, seeds;
   // Per brick: waiting for its colour's round (kernels/propagation.cl); whether any brick waits.
   cl::Buffer pending, any_pending;

@@ -25,6 +25,7 @@ namespace {
 constexpr int kMaxSweeps = 64;
 constexpr std::size_t kSeedRecord = 16;  // floats, see kernels/eikonal_scheme.clh
 constexpr std::size_t kBookkeepingGroup = 64;
+constexpr int kLanes = 8;  // bricks per work-item of relax_brick_lanes (kernels/brick_lanes.cl)
 // A scheme that does not settle is a bug; stop with an error rather than loop forever.
 constexpr std::uint64_t kMaxRounds = 100000;
 
@@ -39,8 +40,8 @@ std::string kernel_source(const std::vector<std::string>& files) {
 }
 
 std::string propagation_source() {
-  return kernel_source(
-      {"state_word.clh", "brick_layout.clh", "eikonal_scheme.clh", "propagation.cl"});
+  return kernel_source({"state_word.clh", "brick_layout.clh", "eikonal_scheme.clh",
+                        "propagation.cl", "brick_lanes.cl"});
 }
 
 std::string nerve_source() {
@@ -83,8 +84,8 @@ class OpenCLPropagator final : public Propagator {
   }
 
   std::string device_description() const override {
-    return "OpenCL: " + device_.info.name + " (" + device_.info.platform + ", " +
-           (variant_ == RelaxationVariant::brick_sweep ? "brick sweep" : "voxel phases") + ")";
+    return "OpenCL: " + device_.info.name + " (" + device_.info.platform + ", " + variant_name() +
+           ")";
   }
 
   PropagationStats solve(const Canvas& canvas, const std::vector<Vec3>& seeds,
@@ -137,9 +138,23 @@ class OpenCLPropagator final : public Propagator {
     }
   }
 
+  std::string variant_name() const {
+    switch (variant_) {
+      case RelaxationVariant::brick_lanes:
+        return "brick lanes";
+      case RelaxationVariant::voxel_phases:
+        return "voxel phases";
+      default:
+        return "brick sweep";
+    }
+  }
+
+  // brick_sweep and brick_lanes: a work-item sweeps whole bricks, with evaluation stamps.
+  bool sweeps_bricks() const { return variant_ != RelaxationVariant::voxel_phases; }
+
   RelaxationVariant choose_variant() const {
     if (options_.variant != RelaxationVariant::automatic) return options_.variant;
-    return device_.info.is_gpu ? RelaxationVariant::voxel_phases : RelaxationVariant::brick_sweep;
+    return device_.info.is_gpu ? RelaxationVariant::voxel_phases : RelaxationVariant::brick_lanes;
   }
 
   void prepare(const Canvas& canvas, const std::vector<Vec3>& seeds) {
@@ -208,21 +223,50 @@ class OpenCLPropagator final : public Propagator {
     return opencl::brick_colours(canvas, options_.brick_colouring);
   }
 
+  // brick_lanes needs one stencil for every lane (a uniform metric) that each lane's sweep frame
+  // maps onto itself (axis offsets, of a diagonal metric: a flipped axis offset is its opposite,
+  // the same term) and whose neighbours lie in the tile.
+  bool lanes_apply() const {
+    const std::vector<int>& offsets = canvas_->uniform_offsets;
+    if (offsets.empty()) return false;
+    for (std::size_t i = 0; i < offsets.size(); i += 3) {
+      const int length = std::abs(offsets[i]) + std::abs(offsets[i + 1]) + std::abs(offsets[i + 2]);
+      if (length != 1) return false;
+    }
+    return true;
+  }
+
+  // The uniform stencil's shape as constants for relax_brick_lanes (kernels/brick_lanes.cl).
+  std::string uniform_stencil_options() const {
+    const std::vector<int>& offsets = canvas_->uniform_offsets;
+    if (!lanes_apply()) return "";
+    std::string options = " -DUNIFORM_TERMS=" + std::to_string(offsets.size() / 3);
+    for (std::size_t n = 0; n < 3 * std::size_t{opencl::kStencilTerms}; ++n)
+      options += " -DUNIFORM_OFFSET_" + std::to_string(n / 3) + "XYZ"[n % 3] + "=" +
+                 std::to_string(n < offsets.size() ? offsets[n] : 0);
+    return options;
+  }
+
   // After upload_canvas: the kernels read the stencils the way they were packed.
   void build_kernels(const Canvas& canvas) {
     const int dimension = canvas.dimension;
     std::string options = "-DDIM=" + std::to_string(dimension);
-    if (canvas_->uniform_stencil) options += " -DUNIFORM_METRIC";
+    if (canvas_->uniform_stencil) options += " -DUNIFORM_METRIC" + uniform_stencil_options();
     const cl::Program program =
         opencl::build_program(context_, device_.device, propagation_source(), options);
     brick_volume_ = dimension == 3 ? 512 : 64;
+    variant_ = choose_variant();  // per canvas: the fallbacks below depend on it
     if (variant_ == RelaxationVariant::voxel_phases &&
         device_.device.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>() < phase_group_size())
       variant_ = RelaxationVariant::brick_sweep;  // the device cannot hold a phase per work-group
+    if (variant_ == RelaxationVariant::brick_lanes && !lanes_apply())
+      variant_ = RelaxationVariant::brick_sweep;
     freeze_ = cl::Kernel(program, "freeze_seed_blocks");
     init_ = cl::Kernel(program, "initialise_seeds");
-    relax_ = cl::Kernel(program, variant_ == RelaxationVariant::brick_sweep ? "relax_brick_sweep"
-                                                                            : "relax_voxel_phases");
+    relax_ =
+        cl::Kernel(program, variant_ == RelaxationVariant::brick_lanes   ? "relax_brick_lanes"
+                            : variant_ == RelaxationVariant::brick_sweep ? "relax_brick_sweep"
+                                                                         : "relax_voxel_phases");
     commit_ = cl::Kernel(program, "commit_bricks");
     activate_ = cl::Kernel(program, "activate_bricks");
     compact_ = cl::Kernel(program, "compact_active");
@@ -305,7 +349,7 @@ class OpenCLPropagator final : public Propagator {
     stamp_stride_ = 1;
     while (stamp_stride_ <= ticks) stamp_stride_ *= 2;
     round_base_ = 0;
-    if (variant_ != RelaxationVariant::brick_sweep) return;
+    if (!sweeps_bricks()) return;
     queue_.enqueueFillBuffer(canvas_->evaluated, cl_uint{0}, 0, canvas_->slots * sizeof(cl_uint));
     queue_.enqueueFillBuffer(canvas_->changed, cl_uint{0}, 0, canvas_->slots * sizeof(cl_uint));
   }
@@ -350,7 +394,7 @@ class OpenCLPropagator final : public Propagator {
 
   void relax(int count) {
     const DeviceCanvasRef d = *canvas_;
-    const bool sweep = variant_ == RelaxationVariant::brick_sweep;
+    const bool sweep = sweeps_bricks();
     set_args(relax_, d.list, static_cast<cl_int>(count), d.state, d.scratch, d.weights, d.offsets,
              d.table, d.origins, d.dims, d.grid, d.seeds, d.flags, d.update_counter,
              static_cast<cl_int>(sweep ? options_.max_sweeps : options_.phase_iterations));
@@ -364,7 +408,10 @@ class OpenCLPropagator final : public Propagator {
       relax_.setArg(14, d.activity);
     }
     const std::size_t voxels = static_cast<std::size_t>(count) * brick_volume_;
-    if (sweep)
+    if (variant_ == RelaxationVariant::brick_lanes)
+      queue_.enqueueNDRangeKernel(relax_, cl::NullRange, cl::NDRange((count + kLanes - 1) / kLanes),
+                                  cl::NDRange(1));
+    else if (sweep)
       queue_.enqueueNDRangeKernel(relax_, cl::NullRange, cl::NDRange(count), cl::NDRange(1));
     else
       queue_.enqueueNDRangeKernel(relax_, cl::NullRange,

@@ -1,0 +1,452 @@
+// CPU variant with SIMD lanes: one work-item relaxes LANES bricks at once, one per lane of 8-wide
+// vectors, with exactly the schedule of relax_brick_sweep (propagation.cl) in every lane: the
+// same upwind corner, sweeps, work avoidance and stamps. The lanes never depend on each other, so
+// a vector visit is LANES independent visits; a lane that has nothing to do there is masked.
+//
+// Each lane's tile is stored in that brick's sweep frame: coordinates flipped on the axes where
+// its upwind corner is on the high side. Then every lane visits the same frame index at the same
+// time, and a neighbour is one vector load. A frame offset e is the real offset S e, S the lane's
+// diagonal of signs, which only the factorization needs (e^T G q).
+//
+// Uniform metrics whose stencil has axis offsets only (diagonal metrics; the host checks, and
+// hands any other stencil to relax_brick_sweep): then S e = +-e is the same term in every lane.
+// A general stencil's flipped offsets would be other terms, different per lane, and each lane
+// would need its own gathers. The host also passes the stencil's shape as build options,
+// UNIFORM_TERMS (the term count of load_stencil) and UNIFORM_OFFSET_<term><axis> for every term
+// (a comma list does not survive PoCL's option handling): as constants, the loops over terms
+// unroll and the offsets fold into the arithmetic and the addressing.
+//
+// Measured (callgrind, euclidean 64^3, 1000 seeds; docs/scheme.md): kernel instructions of the
+// whole solve 1486M with relax_brick_sweep, 731M with this kernel, for the same evaluations.
+
+#if defined(UNIFORM_METRIC) && defined(UNIFORM_TERMS)
+
+inline int3 lane_offset(int i) {
+  const int offsets[3 * STENCIL_TERMS] = {
+      UNIFORM_OFFSET_0X, UNIFORM_OFFSET_0Y, UNIFORM_OFFSET_0Z, UNIFORM_OFFSET_1X, UNIFORM_OFFSET_1Y,
+      UNIFORM_OFFSET_1Z, UNIFORM_OFFSET_2X, UNIFORM_OFFSET_2Y, UNIFORM_OFFSET_2Z, UNIFORM_OFFSET_3X,
+      UNIFORM_OFFSET_3Y, UNIFORM_OFFSET_3Z, UNIFORM_OFFSET_4X, UNIFORM_OFFSET_4Y, UNIFORM_OFFSET_4Z,
+      UNIFORM_OFFSET_5X, UNIFORM_OFFSET_5Y, UNIFORM_OFFSET_5Z};
+  return (int3)(offsets[3 * i], offsets[3 * i + 1], offsets[3 * i + 2]);
+}
+
+#define LANES 8
+#define NO_LANE_LABEL 0xFFFFFFFFu /* a label no neighbour carries (labels have 31 bits) */
+
+typedef float8 lane_float;
+typedef int8 lane_mask; /* -1: set, 0: clear */
+typedef uint8 lane_uint;
+
+// One lane of a private vector array (LANES floats or uints per element).
+#define LANE_FLOAT(array, index, lane) (((float*)(array))[(index)*LANES + (lane)])
+#define LANE_UINT(array, index, lane) (((uint*)(array))[(index)*LANES + (lane)])
+
+inline lane_float lane_factorized_value(lane_float v, float sigma, lane_float u0, lane_float u0sq,
+                                        lane_float eGq, lane_float eGe, lane_float slope) {
+  const lane_float delta = 2.0f * sigma * eGq + eGe;
+  const lane_float radicand = u0sq + delta;
+  const lane_float u0_difference =
+      select(-delta / (u0 + sqrt(max(radicand, 0.0f))), u0, radicand <= 0.0f);
+  return v + (u0_difference + sigma * slope);
+}
+
+// solve_sorted (eikonal_scheme.clh) for every lane; w sorted ascending, +inf last.
+__attribute__((always_inline)) inline lane_float lane_solve_sorted(const lane_float* w,
+                                                                   const lane_float* rho) {
+  const int n = UNIFORM_TERMS;
+  lane_float a = 0.0f, b = 0.0f, pair_sum = 0.0f, result = INFINITY;
+  lane_mask done = isinf(w[0]);  // no finite term: +inf
+#pragma unroll
+  for (int k = 0; k < n; ++k) {
+    const lane_float wk = w[k] - w[0];
+#pragma unroll
+    for (int i = 0; i < k; ++i) {
+      const lane_float d = w[i] - w[k];
+      pair_sum += rho[i] * rho[k] * d * d;
+    }
+    a += rho[k];
+    b += rho[k] * wk;
+    const lane_float t = w[0] + (b + sqrt(max(0.0f, a - pair_sum))) / a;
+    const lane_mask stop = k + 1 == n ? (lane_mask)(-1) : t <= w[k + 1];
+    result = select(result, t, ~done & stop);
+    done |= stop;
+  }
+  return result;
+}
+
+// The stencil of a uniform metric as every lane sees it.
+typedef struct {
+  float weight[STENCIL_TERMS];
+  float g[6];                     // h^2 G, every seed's metric
+  lane_float eGe[STENCIL_TERMS];  // (S e)^T h^2 G (S e) per lane
+} LaneStencil;
+
+// The sweep frame of each lane: real coordinate = base + sign * frame coordinate, per axis.
+typedef struct {
+  lane_float base_x, base_y, base_z, sign_x, sign_y, sign_z;
+} LaneFrame;
+
+// Candidate distance for label L in each lane (NO_LANE_LABEL: none), from the neighbour distances
+// nbd and labels nbl (nb[2i] at frame +e_i, nb[2i+1] at -e_i) of frame voxel cf.
+__attribute__((always_inline)) inline lane_float lane_solve_for_label(
+    lane_uint label, const lane_float* nbd, const lane_uint* nbl, const LaneStencil* st,
+    const LaneFrame* frame, int3 cf, __global const float* seeds) {
+  // The seeds' positions: one 4-float load per lane, transposed.
+  const uint8 record = select(label, (lane_uint)0u, label == NO_LANE_LABEL) * SEED_RECORD;
+  const float4 p0 = vload4(0, seeds + record.s0), p1 = vload4(0, seeds + record.s1),
+               p2 = vload4(0, seeds + record.s2), p3 = vload4(0, seeds + record.s3),
+               p4 = vload4(0, seeds + record.s4), p5 = vload4(0, seeds + record.s5),
+               p6 = vload4(0, seeds + record.s6), p7 = vload4(0, seeds + record.s7);
+  const lane_float sx = (lane_float)(p0.x, p1.x, p2.x, p3.x, p4.x, p5.x, p6.x, p7.x);
+  const lane_float sy = (lane_float)(p0.y, p1.y, p2.y, p3.y, p4.y, p5.y, p6.y, p7.y);
+  const lane_float sz = (lane_float)(p0.z, p1.z, p2.z, p3.z, p4.z, p5.z, p6.z, p7.z);
+  const lane_float qx = frame->base_x + frame->sign_x * (float)cf.x - sx;
+  const lane_float qy = frame->base_y + frame->sign_y * (float)cf.y - sy;
+  const lane_float qz = frame->base_z + frame->sign_z * (float)cf.z - sz;
+  const float* g = st->g;
+  const lane_float gqx = g[0] * qx + g[1] * qy + g[3] * qz;
+  const lane_float gqy = g[1] * qx + g[2] * qy + g[4] * qz;
+  const lane_float gqz = g[3] * qx + g[4] * qy + g[5] * qz;
+  const lane_float u0sq = max(0.0f, qx * gqx + qy * gqy + qz * gqz);
+  const lane_float u0 = sqrt(u0sq);
+  const lane_mask factored = u0 > 0.0f;
+  const lane_float inverse_u0 = select((lane_float)0.0f, 1.0f / u0, factored);
+  // e^T G q for a frame offset e is e . (S G q).
+  const lane_float sgx = frame->sign_x * gqx, sgy = frame->sign_y * gqy, sgz = frame->sign_z * gqz;
+  lane_float w[STENCIL_TERMS], rho[STENCIL_TERMS];
+  const int n = UNIFORM_TERMS;
+#pragma unroll
+  for (int i = 0; i < n; ++i) {
+    const float3 e = convert_float3(lane_offset(i));  // a frame offset
+    const lane_float eGq = e.x * sgx + e.y * sgy + e.z * sgz;
+    const lane_float slope = eGq * inverse_u0;
+    const lane_float ahead = nbd[2 * i], behind = nbd[2 * i + 1];
+    const lane_float ahead_f = select(
+        ahead, lane_factorized_value(ahead, 1.0f, u0, u0sq, eGq, st->eGe[i], slope), factored);
+    const lane_float behind_f = select(
+        behind, lane_factorized_value(behind, -1.0f, u0, u0sq, eGq, st->eGe[i], slope), factored);
+    w[i] = min(select((lane_float)INFINITY, ahead_f, nbl[2 * i] == label),
+               select((lane_float)INFINITY, behind_f, nbl[2 * i + 1] == label));
+    rho[i] = st->weight[i];
+  }
+#pragma unroll
+  for (int pass = 0; pass + 1 < n; ++pass)  // stable sort, as the scalar insertion sort
+#pragma unroll
+    for (int i = 0; i + 1 < n - pass; ++i) {
+      const lane_mask swap = w[i + 1] < w[i];
+      const lane_float wl = select(w[i], w[i + 1], swap), wh = select(w[i + 1], w[i], swap);
+      const lane_float rl = select(rho[i], rho[i + 1], swap), rh = select(rho[i + 1], rho[i], swap);
+      w[i] = wl;
+      w[i + 1] = wh;
+      rho[i] = rl;
+      rho[i + 1] = rh;
+    }
+  return lane_solve_sorted(w, rho);
+}
+
+// best_candidate (eikonal_scheme.clh) in the lanes of `lanes`: the smallest (distance, label) over
+// the distinct labels of the neighbours; +inf and LABEL_NONE without a labelled neighbour.
+inline void lane_best_candidate(lane_mask lanes, const lane_float* nbd, const lane_uint* nbl,
+                                const LaneStencil* st, const LaneFrame* frame, int3 cf,
+                                __global const float* seeds, lane_float* best_distance,
+                                lane_uint* best_label) {
+  const int neighbours = 2 * UNIFORM_TERMS;
+  *best_distance = INFINITY;
+  *best_label = LABEL_NONE;
+  // The distinct labels in ascending order: each pass takes the least label above the last one.
+  lane_uint above = 0u;  // labels >= above are still to do
+  for (int pass = 0; pass < neighbours; ++pass) {
+    lane_uint label = LABEL_NONE;
+#pragma unroll
+    for (int j = 0; j < neighbours; ++j)
+      label = min(label, select((lane_uint)LABEL_NONE, nbl[j], nbl[j] >= above));
+    const lane_mask valid = lanes & (label != LABEL_NONE);
+    if (!any(valid)) break;
+    const lane_uint solved = select((lane_uint)NO_LANE_LABEL, label, valid);
+    const lane_float t = lane_solve_for_label(solved, nbd, nbl, st, frame, cf, seeds);
+    const lane_mask better =
+        valid & ~isinf(t) &
+        ((t < *best_distance) | ((t == *best_distance) & (label < *best_label)));
+    *best_distance = select(*best_distance, t, better);
+    *best_label = select(*best_label, label, better);
+    above = label + 1u;
+  }
+}
+
+// significant_change (eikonal_scheme.clh) per lane.
+inline lane_mask lane_significant_change(lane_float u, lane_uint u_label, lane_float t,
+                                         lane_uint t_label) {
+  const lane_mask u_inf = isinf(u), t_inf = isinf(t);
+  const lane_mask moved = fabs(u - t) > RELATIVE_TOLERANCE * max(u, t);
+  return (u_label != t_label) | select(moved, u_inf ^ t_inf, u_inf | t_inf);
+}
+
+inline int corner_flip(int corner) {  // the local-index bits a corner flips
+  return (corner & 1 ? EDGE - 1 : 0) | (corner & 2 ? EDGE * (EDGE - 1) : 0) |
+         (corner & 4 ? EDGE * EDGE * (EDGE_Z - 1) : 0);
+}
+
+// The smallest distance on layer `at` (-1 .. edge) across axis a of the brick's tile, read from
+// the state (the layers -1 and edge lie in the neighbour bricks; +inf where there is none).
+inline float layer_minimum(int a, int at, const int* near, __global const ulong* state) {
+  const int edge = a == 2 ? EDGE_Z : EDGE;
+  const int side = at < 0 ? 0 : at < edge ? 1 : 2;
+  int3 b = (int3)(1, 1, 1);
+  if (a == 0) b.x = side;
+  if (a == 1) b.y = side;
+  if (a == 2) b.z = side;
+  const int brick = near[b.x + 3 * (b.y + 3 * b.z)];
+  if (brick < 0) return INFINITY;
+  const int layer = (at + edge) % edge;
+  __global const ulong* slots = state + (size_t)brick * BRICK_VOLUME;
+  float least = INFINITY;
+  for (int m = 0; m < EDGE * EDGE_Z; ++m) {  // the other two coordinates
+    const int p = m % EDGE, q = m / EDGE;
+    const int3 c = a == 0   ? (int3)(layer, p, q)
+                   : a == 1 ? (int3)(p, layer, q)
+                            : (int3)(p, q, layer);
+    least = min(least, state_distance(slots[c.x + EDGE * (c.y + EDGE * c.z)]));
+  }
+  return least;
+}
+
+// upwind_corner (propagation.cl) of a brick, from the state instead of a tile.
+inline int upwind_corner_of(const int* near, __global const ulong* state) {
+  const int edge[3] = {EDGE, EDGE, EDGE_Z};
+  int corner = 0;
+  for (int a = 0; a < DIM; ++a) {
+    const float low = min(layer_minimum(a, -1, near, state), layer_minimum(a, 0, near, state));
+    const float high =
+        min(layer_minimum(a, edge[a] - 1, near, state), layer_minimum(a, edge[a], near, state));
+    if (high < low) corner |= 1 << a;
+  }
+  return corner;
+}
+
+// Tile slot `real` of lane k's brick, stored at frame index f: distance, low word, change stamp.
+inline void put_lane_slot(int k, int f, ulong s, uint stamp, lane_float* tile_distance,
+                          lane_uint* tile_word, lane_uint* tile_stamp) {
+  LANE_FLOAT(tile_distance, f, k) = state_distance(s);
+  LANE_UINT(tile_word, f, k) = (uint)s;
+  LANE_UINT(tile_stamp, f, k) = stamp;
+}
+
+// `length` consecutive slots of brick `brick` (-1: none) from `within`, to lane k's frame tile
+// from f on in steps of `step`; `inside`: the brick being relaxed (its own change stamps).
+inline void load_lane_run(int k, int f, int step, int brick, int within, int length, bool inside,
+                          __global const ulong* state, __global const uint* changed, uint stride,
+                          lane_float* tile_distance, lane_uint* tile_word, lane_uint* tile_stamp) {
+  if (brick < 0) {
+    for (int i = 0; i < length; ++i)
+      put_lane_slot(k, f + step * i, INF_STATE, 0u, tile_distance, tile_word, tile_stamp);
+    return;
+  }
+  const size_t slot = (size_t)brick * BRICK_VOLUME + within;
+  for (int i = 0; i < length; ++i) {
+    const uint stamp = inside ? changed[slot + i] : outside_stamp(changed[slot + i], stride);
+    put_lane_slot(k, f + step * i, state[slot + i], stamp, tile_distance, tile_word, tile_stamp);
+  }
+}
+
+// Loads lane k's brick into its frame tile (load_tile of propagation.cl, row by row, straight
+// into the flipped positions) with its evaluation stamps; returns its corner. The tile words are
+// the low state halves (frozen bit, label), with the frozen bit also set on inactive brick voxels
+// so the sweep skips them.
+inline int load_lane(int k, int brick, __global const ulong* state, __global const uint* changed,
+                     __global const int* table, __global const int4* brick_origins, int4 grid,
+                     uint stride, __global const uint* activity, __global const uint* evaluated,
+                     lane_float* tile_distance, lane_uint* tile_word, lane_uint* tile_stamp,
+                     lane_uint* evaluated_frame, LaneFrame* frame) {
+  const int3 origin = brick_origins[brick].xyz;
+  int near[NEAR_BRICKS];
+  load_near_bricks(origin, grid, table, near);
+  const int corner = upwind_corner_of(near, state);
+  const int fx = corner & 1, fy = (corner >> 1) & 1, fz = (corner >> 2) & 1;
+  const int flip = corner_flip(corner);
+  const size_t brick_slot = (size_t)brick * BRICK_VOLUME;
+  for (int tz = 0; tz < TILE_EDGE_Z; ++tz) {
+    const int z = tz - TILE_PAD_Z;
+    const int bz = DIM == 3 ? (z < 0 ? 0 : z < EDGE_Z ? 1 : 2) : 1;
+    for (int ty = 0; ty < TILE_EDGE; ++ty) {
+      const int y = ty - 1;
+      const int by = y < 0 ? 0 : y < EDGE ? 1 : 2;
+      const int row = EDGE * ((y & (EDGE - 1)) + EDGE * (DIM == 3 ? z & (EDGE - 1) : 0));
+      const int* bricks = near + 3 * (by + 3 * bz);  // the bricks at x - 1, x, x + 1
+      const int f_row = TILE_EDGE * ((fy ? TILE_EDGE - 1 - ty : ty) +
+                                     TILE_EDGE * (fz ? TILE_EDGE_Z - 1 - tz : tz));
+      const int f_first = f_row + (fx ? TILE_EDGE - 1 : 0), step = fx ? -1 : 1;
+      load_lane_run(k, f_first, step, bricks[0], row + EDGE - 1, 1, false, state, changed, stride,
+                    tile_distance, tile_word, tile_stamp);
+      load_lane_run(k, f_first + step, step, bricks[1], row, EDGE, by == 1 && bz == 1, state,
+                    changed, stride, tile_distance, tile_word, tile_stamp);
+      load_lane_run(k, f_first + step * (EDGE + 1), step, bricks[2], row, 1, false, state, changed,
+                    stride, tile_distance, tile_word, tile_stamp);
+    }
+  }
+  // Inactive voxels are skipped like frozen ones; the evaluation stamps go to frame positions.
+  for (int w = 0; w < BRICK_VOLUME / 32; ++w) {
+    const uint bits = activity[brick_slot / 32 + w];
+    for (int b = 0; b < 32; ++b) {
+      const int real = 32 * w + b;
+      const int l = real ^ flip;
+      const bool active = (bits >> b) & 1u;
+      if (!active) LANE_UINT(tile_word, tile_index(local_coordinates(l)), k) |= (uint)FROZEN_BIT;
+      LANE_UINT(evaluated_frame, l, k) = active ? evaluated[brick_slot + real] : 0u;
+    }
+  }
+  const float3 o = convert_float3(origin);
+  LANE_FLOAT(&frame->base_x, 0, k) = fx ? o.x + EDGE - 1 : o.x;
+  LANE_FLOAT(&frame->base_y, 0, k) = fy ? o.y + EDGE - 1 : o.y;
+  LANE_FLOAT(&frame->base_z, 0, k) = fz ? o.z + EDGE_Z - 1 : o.z;
+  LANE_FLOAT(&frame->sign_x, 0, k) = fx ? -1.0f : 1.0f;
+  LANE_FLOAT(&frame->sign_y, 0, k) = fy ? -1.0f : 1.0f;
+  LANE_FLOAT(&frame->sign_z, 0, k) = fz ? -1.0f : 1.0f;
+  return corner;
+}
+
+// An empty lane: no brick, nothing to relax (its tile is never read, but holds +inf).
+inline void clear_lane(int k, lane_float* tile_distance, lane_uint* tile_word,
+                       lane_uint* tile_stamp, lane_uint* evaluated_frame, LaneFrame* frame) {
+  for (int f = 0; f < TILE_VOLUME; ++f)
+    put_lane_slot(k, f, INF_STATE | FROZEN_BIT, 0u, tile_distance, tile_word, tile_stamp);
+  for (int l = 0; l < BRICK_VOLUME; ++l) LANE_UINT(evaluated_frame, l, k) = 0u;
+  LANE_FLOAT(&frame->base_x, 0, k) = LANE_FLOAT(&frame->base_y, 0, k) =
+      LANE_FLOAT(&frame->base_z, 0, k) = 0.0f;
+  LANE_FLOAT(&frame->sign_x, 0, k) = LANE_FLOAT(&frame->sign_y, 0, k) =
+      LANE_FLOAT(&frame->sign_z, 0, k) = 1.0f;
+}
+
+inline void prepare_lane_stencil(__global const float* weights, __global const char* offsets,
+                                 __global const float* seeds, const LaneFrame* frame,
+                                 LaneStencil* st) {
+  int3 offset[STENCIL_TERMS];
+  load_stencil(weights, offsets, 0, st->weight, offset);
+  for (int n = 0; n < 6; ++n) st->g[n] = seeds[8 + n];
+  const float* g = st->g;
+  for (int i = 0; i < UNIFORM_TERMS; ++i) {
+    const float3 e = convert_float3(lane_offset(i));
+    const lane_float x = e.x * frame->sign_x, y = e.y * frame->sign_y, z = e.z * frame->sign_z;
+    st->eGe[i] = x * (g[0] * x + g[1] * y + g[3] * z) + y * (g[1] * x + g[2] * y + g[4] * z) +
+                 z * (g[3] * x + g[4] * y + g[5] * z);
+  }
+}
+
+// Writes lane k's results: the relaxed brick to scratch (when anything was written), its
+// evaluation stamps and, when a value changed significantly, its change stamps.
+inline void store_lane(int k, int brick, int position, int corner, uint brick_flags,
+                       const lane_float* tile_distance, const lane_uint* tile_word,
+                       const lane_uint* tile_stamp, const lane_uint* evaluated_frame,
+                       __global ulong* scratch, __global uint* evaluated, __global uint* changed,
+                       __global const uint* activity) {
+  const int flip = corner_flip(corner);
+  const size_t brick_slot = (size_t)brick * BRICK_VOLUME;
+  __global ulong* relaxed = scratch + (size_t)position * BRICK_VOLUME;
+  for (int l = 0; l < BRICK_VOLUME; ++l) {
+    const int real = l ^ flip;
+    const int p = tile_index(local_coordinates(l));
+    if (!slot_active(activity, brick_slot + real)) {
+      if (brick_flags != 0) relaxed[real] = INF_STATE;
+      continue;
+    }
+    if (brick_flags != 0)
+      relaxed[real] = ((ulong)as_uint(LANE_FLOAT(tile_distance, p, k)) << 32) |
+                      (ulong)LANE_UINT(tile_word, p, k);
+    evaluated[brick_slot + real] = LANE_UINT(evaluated_frame, l, k);
+    if (brick_flags & FLAG_CHANGED) changed[brick_slot + real] = LANE_UINT(tile_stamp, p, k);
+  }
+}
+
+__kernel void relax_brick_lanes(__global const int* list, int count, __global const ulong* state,
+                                __global ulong* scratch, __global const float* weights,
+                                __global const char* offsets, __global const int* table,
+                                __global const int4* brick_origins, int4 dims, int4 grid,
+                                __global const float* seeds, __global uchar* flags,
+                                __global ulong* update_counter, int max_sweeps,
+                                __global uint* evaluated, __global uint* changed, uint round_base,
+                                uint stride, __global const uint* activity) {
+  const int first = get_global_id(0) * LANES;
+  if (first >= count) return;
+  lane_float tile_distance[TILE_VOLUME];
+  lane_uint tile_word[TILE_VOLUME], tile_stamp[TILE_VOLUME], evaluated_frame[BRICK_VOLUME];
+  LaneFrame frame;
+  int corner[LANES] = {0}, brick[LANES];
+  uint live[LANES];
+  for (int k = 0; k < LANES; ++k) {
+    brick[k] = first + k < count ? list[first + k] : -1;
+    live[k] = brick[k] >= 0 ? 0xFFFFFFFFu : 0u;
+    if (brick[k] < 0)
+      clear_lane(k, tile_distance, tile_word, tile_stamp, evaluated_frame, &frame);
+    else
+      corner[k] =
+          load_lane(k, brick[k], state, changed, table, brick_origins, grid, stride, activity,
+                    evaluated, tile_distance, tile_word, tile_stamp, evaluated_frame, &frame);
+  }
+  LaneStencil st;
+  prepare_lane_stencil(weights, offsets, seeds, &frame, &st);
+  lane_mask running = as_int8(vload8(0, live));
+  lane_uint brick_flags = select((lane_uint)0u, (lane_uint)FLAG_UNCONVERGED, running);
+  lane_uint lane_updates = 0;
+  uint tick = 0;
+  for (int sweep = 0; sweep < max_sweeps && any(running); ++sweep) {
+    const int flip = corner_flip(sweep % (DIM == 3 ? 8 : 4));
+    lane_mask sweep_changed = 0;
+    for (int n = 0; n < BRICK_VOLUME; ++n) {
+      ++tick;
+      const int l = n ^ flip;
+      const int3 c = local_coordinates(l);
+      const int p = tile_index(c);
+      const lane_uint word = tile_word[p];
+      const lane_mask open = running & ((word & (uint)FROZEN_BIT) == 0u);
+      if (!any(open)) continue;
+      const lane_uint last = evaluated_frame[l];
+      lane_mask dirty = last == 0u;
+      lane_float nbd[2 * STENCIL_TERMS];
+      lane_uint nbl[2 * STENCIL_TERMS];
+#pragma unroll
+      for (int i = 0; i < UNIFORM_TERMS; ++i) {
+        const int ahead = p + tile_offset(lane_offset(i)), behind = p - tile_offset(lane_offset(i));
+        nbd[2 * i] = tile_distance[ahead];
+        nbd[2 * i + 1] = tile_distance[behind];
+        nbl[2 * i] = tile_word[ahead] & LABEL_NONE;
+        nbl[2 * i + 1] = tile_word[behind] & LABEL_NONE;
+        dirty |= (tile_stamp[ahead] > last) | (tile_stamp[behind] > last);
+      }
+      const lane_mask lanes = open & dirty;
+      if (!any(lanes)) continue;
+      const uint stamp = round_base + tick;
+      evaluated_frame[l] = select(last, (lane_uint)stamp, lanes);
+      lane_float best;
+      lane_uint best_label;
+      lane_best_candidate(lanes, nbd, nbl, &st, &frame, c, seeds, &best, &best_label);
+      lane_updates -= as_uint8(lanes);
+      const lane_float current = tile_distance[p];
+      const lane_uint current_label = word & LABEL_NONE;
+      const lane_mask differs =
+          lanes & ((as_uint8(best) != as_uint8(current)) | (best_label != current_label));
+      if (!any(differs)) continue;
+      tile_distance[p] = select(current, best, differs);
+      tile_word[p] = select(word, best_label, differs);
+      brick_flags |= select((lane_uint)0u, (lane_uint)FLAG_WRITTEN, differs);
+      const lane_mask significant =
+          differs & lane_significant_change(current, current_label, best, best_label);
+      tile_stamp[p] = select(tile_stamp[p], (lane_uint)stamp, significant);
+      sweep_changed |= significant;
+    }
+    brick_flags |= select((lane_uint)0u, (lane_uint)FLAG_CHANGED, running & sweep_changed);
+    brick_flags &=
+        select((lane_uint)0xFFFFFFFFu, (lane_uint)~FLAG_UNCONVERGED, running & ~sweep_changed);
+    running &= sweep_changed;
+  }
+  uint lane_flags[LANES];
+  vstore8(brick_flags, 0, lane_flags);
+  for (int k = 0; k < LANES; ++k) {
+    if (brick[k] < 0) continue;
+    store_lane(k, brick[k], first + k, corner[k], lane_flags[k], tile_distance, tile_word,
+               tile_stamp, evaluated_frame, scratch, evaluated, changed, activity);
+    flags[brick[k]] = (uchar)lane_flags[k];
+  }
+  const uint4 pairs = lane_updates.lo + lane_updates.hi;
+  atom_add(update_counter, (ulong)(pairs.x + pairs.y + pairs.z + pairs.w));
+}
+
+#endif
