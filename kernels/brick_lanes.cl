@@ -356,14 +356,7 @@ inline void store_lane(int k, int brick, int position, int corner, uint brick_fl
   }
 }
 
-__kernel void relax_brick_lanes(__global const int* list, int count, __global const ulong* state,
-                                __global ulong* scratch, __global const float* weights,
-                                __global const char* offsets, __global const int* table,
-                                __global const int4* brick_origins, int4 dims, int4 grid,
-                                __global const float* seeds, __global uchar* flags,
-                                __global ulong* update_counter, int max_sweeps,
-                                __global uint* evaluated, __global uint* changed, uint round_base,
-                                uint stride, __global const uint* activity) {
+__kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
   const int first = get_global_id(0) * LANES;
   if (first >= count) return;
   lane_float tile_distance[TILE_VOLUME];

@@ -259,14 +259,17 @@ inline bool gather_far(const ulong* tile, const uint* tile_stamp, int p, int3 c,
   return dirty;
 }
 
-__kernel void relax_brick_sweep(__global const int* list, int count, __global const ulong* state,
-                                __global ulong* scratch, __global const float* weights,
-                                __global const char* offsets, __global const int* table,
-                                __global const int4* brick_origins, int4 dims, int4 grid,
-                                __global const float* seeds, __global uchar* flags,
-                                __global ulong* update_counter, int max_sweeps,
-                                __global uint* evaluated, __global uint* changed, uint round_base,
-                                uint stride, __global const uint* activity) {
+// The arguments of the brick-sweeping kernels (this one and relax_brick_lanes, brick_lanes.cl),
+// which the host sets alike.
+#define BRICK_SWEEP_ARGUMENTS                                                                 \
+  __global const int *list, int count, __global const ulong *state, __global ulong *scratch,  \
+      __global const float *weights, __global const char *offsets, __global const int *table, \
+      __global const int4 *brick_origins, int4 dims, int4 grid, __global const float *seeds,  \
+      __global uchar *flags, __global ulong *update_counter, int max_sweeps,                  \
+      __global uint *evaluated, __global uint *changed, uint round_base, uint stride,         \
+      __global const uint *activity
+
+__kernel void relax_brick_sweep(BRICK_SWEEP_ARGUMENTS) {
   const int position = get_global_id(0);
   if (position >= count) return;
   const int brick = list[position];

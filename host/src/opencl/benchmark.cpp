@@ -95,7 +95,6 @@ void time_engine(const BenchCase& c, const Canvas& canvas, const std::vector<Vec
                  VoronoiField& field, BenchResult& r) {
   const std::vector<Vec3> seeds(all_seeds.begin(), all_seeds.begin() + c.seeds);
   std::unique_ptr<Propagator> engine = make_engine(c);
-  r.device_description = engine->device_description();
   for (int repetition = 0; repetition < std::max(1, c.repetitions); ++repetition) {
     const PropagationStats stats = engine->solve(canvas, seeds, field);
     if (repetition > 0 && stats.seconds >= r.seconds) continue;
@@ -103,6 +102,7 @@ void time_engine(const BenchCase& c, const Canvas& canvas, const std::vector<Vec
     r.iterations = stats.iterations;
     r.voxel_updates = stats.voxel_updates;
   }
+  r.device_description = engine->device_description();  // after a solve: the variant that ran
   VoronoiField extended = field;  // `field` stays the solve's, for the comparisons
   time_insertion(*engine, canvas, all_seeds, extended, r);
   r.voxels_per_second = per_second(r.active_voxels, r.seconds);
