@@ -77,8 +77,8 @@ __attribute__((always_inline)) inline lane_float lane_solve_sorted(const lane_fl
 // The stencil of a uniform metric as every lane sees it.
 typedef struct {
   float weight[STENCIL_TERMS];
-  float g[6];                     // h^2 G, every seed's metric
-  lane_float eGe[STENCIL_TERMS];  // (S e)^T h^2 G (S e) per lane
+  float g[6];                // h^2 G, every seed's metric
+  float eGe[STENCIL_TERMS];  // e^T h^2 G e: the same in every lane, as S e = +-e for axis offsets
 } LaneStencil;
 
 // The sweep frame of each lane: real coordinate = base + sign * frame coordinate, per axis.
@@ -317,18 +317,11 @@ inline void clear_lane(int k, lane_float* tile_distance, lane_uint* tile_word,
 }
 
 inline void prepare_lane_stencil(__global const float* weights, __global const char* offsets,
-                                 __global const float* seeds, const LaneFrame* frame,
-                                 LaneStencil* st) {
+                                 __global const float* seeds, LaneStencil* st) {
   int3 offset[STENCIL_TERMS];
-  load_stencil(weights, offsets, 0, st->weight, offset);
+  const int terms = load_stencil(weights, offsets, 0, st->weight, offset);
   for (int n = 0; n < 6; ++n) st->g[n] = seeds[8 + n];
-  const float* g = st->g;
-  for (int i = 0; i < UNIFORM_TERMS; ++i) {
-    const float3 e = convert_float3(lane_offset(i));
-    const lane_float x = e.x * frame->sign_x, y = e.y * frame->sign_y, z = e.z * frame->sign_z;
-    st->eGe[i] = x * (g[0] * x + g[1] * y + g[3] * z) + y * (g[1] * x + g[2] * y + g[4] * z) +
-                 z * (g[3] * x + g[4] * y + g[5] * z);
-  }
+  term_lengths_squared(seeds, offset, terms, st->eGe);
 }
 
 // Writes lane k's results: the relaxed brick to scratch (when anything was written), its
@@ -375,7 +368,7 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
                     evaluated, tile_distance, tile_word, tile_stamp, evaluated_frame, &frame);
   }
   LaneStencil st;
-  prepare_lane_stencil(weights, offsets, seeds, &frame, &st);
+  prepare_lane_stencil(weights, offsets, seeds, &st);
   lane_mask running = as_int8(vload8(0, live));
   lane_uint brick_flags = select((lane_uint)0u, (lane_uint)FLAG_UNCONVERGED, running);
   lane_uint lane_updates = 0;
