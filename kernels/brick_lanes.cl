@@ -20,7 +20,13 @@
 // whole solve 1486M with relax_brick_sweep, 731M with this kernel, for the same evaluations.
 
 #if defined(UNIFORM_METRIC) && defined(UNIFORM_TERMS)
+#define AXIS_LANES /* one stencil of axis offsets, constants from the build options */
+#define LANE_TERMS UNIFORM_TERMS
+#else
+#define LANE_TERMS STENCIL_TERMS
+#endif
 
+#ifdef AXIS_LANES
 inline int3 lane_offset(int i) {
   const int offsets[3 * STENCIL_TERMS] = {
       UNIFORM_OFFSET_0X, UNIFORM_OFFSET_0Y, UNIFORM_OFFSET_0Z, UNIFORM_OFFSET_1X, UNIFORM_OFFSET_1Y,
@@ -29,6 +35,7 @@ inline int3 lane_offset(int i) {
       UNIFORM_OFFSET_5X, UNIFORM_OFFSET_5Y, UNIFORM_OFFSET_5Z};
   return (int3)(offsets[3 * i], offsets[3 * i + 1], offsets[3 * i + 2]);
 }
+#endif
 
 #define LANES 8
 #define NO_LANE_LABEL 0xFFFFFFFFu /* a label no neighbour carries (labels have 31 bits) */
@@ -41,19 +48,20 @@ typedef uint8 lane_uint;
 #define LANE_FLOAT(array, index, lane) (((float*)(array))[(index)*LANES + (lane)])
 #define LANE_UINT(array, index, lane) (((uint*)(array))[(index)*LANES + (lane)])
 
+// factorized_value (eikonal_scheme.clh) per lane.
 inline lane_float lane_factorized_value(lane_float v, float sigma, lane_float u0, lane_float u0sq,
-                                        lane_float eGq, lane_float eGe, lane_float slope) {
+                                        lane_float eGq, lane_float eGe, lane_float slope,
+                                        lane_float alpha) {
   const lane_float delta = 2.0f * sigma * eGq + eGe;
   const lane_float radicand = u0sq + delta;
   const lane_float u0_difference =
       select(-delta / (u0 + sqrt(max(radicand, 0.0f))), u0, radicand <= 0.0f);
-  return v + (u0_difference + sigma * slope);
+  return v + alpha * (u0_difference + sigma * slope);
 }
 
 // solve_sorted (eikonal_scheme.clh) for every lane; w sorted ascending, +inf last.
 __attribute__((always_inline)) inline lane_float lane_solve_sorted(const lane_float* w,
-                                                                   const lane_float* rho) {
-  const int n = UNIFORM_TERMS;
+                                                                   const lane_float* rho, int n) {
   lane_float a = 0.0f, b = 0.0f, pair_sum = 0.0f, result = INFINITY;
   lane_mask done = isinf(w[0]);  // no finite term: +inf
 #pragma unroll
@@ -74,6 +82,52 @@ __attribute__((always_inline)) inline lane_float lane_solve_sorted(const lane_fl
   return result;
 }
 
+// Sorts w ascending, rho alongside, in every lane; stable, as the scalar insertion sort.
+__attribute__((always_inline)) inline void lane_sort(lane_float* w, lane_float* rho, int n) {
+#pragma unroll
+  for (int pass = 0; pass + 1 < n; ++pass)
+#pragma unroll
+    for (int i = 0; i + 1 < n - pass; ++i) {
+      const lane_mask swap = w[i + 1] < w[i];
+      const lane_float wl = select(w[i], w[i + 1], swap), wh = select(w[i + 1], w[i], swap);
+      const lane_float rl = select(rho[i], rho[i + 1], swap), rh = select(rho[i + 1], rho[i], swap);
+      w[i] = wl;
+      w[i + 1] = wh;
+      rho[i] = rl;
+      rho[i + 1] = rh;
+    }
+}
+
+// The sweep frame of each lane: real coordinate = base + sign * frame coordinate, per axis.
+typedef struct {
+  lane_float base_x, base_y, base_z, sign_x, sign_y, sign_z;
+} LaneFrame;
+
+// The bricks in the lanes: id (-1: none), the local-index bits its frame flips, origin, the sign
+// of each frame axis, and the 3^DIM bricks around it (load_near_bricks).
+typedef struct {
+  int brick[LANES], flip[LANES];
+  int3 origin[LANES], sign[LANES];
+  int near[LANES][NEAR_BRICKS];
+} LaneBricks;
+
+// The seeds of `label` in each lane (NO_LANE_LABEL: seed 0, unused): positions, and with
+// SEED_METRIC their h^2 G_s; one 4- or 8-float load per lane, transposed.
+#define LANE_COLUMN(v, c) \
+  (lane_float)((v##0).c, (v##1).c, (v##2).c, (v##3).c, (v##4).c, (v##5).c, (v##6).c, (v##7).c)
+inline void lane_seed_positions(lane_uint label, __global const float* seeds, lane_float* sx,
+                                lane_float* sy, lane_float* sz) {
+  const uint8 r = select(label, (lane_uint)0u, label == NO_LANE_LABEL) * SEED_RECORD;
+  const float4 p0 = vload4(0, seeds + r.s0), p1 = vload4(0, seeds + r.s1),
+               p2 = vload4(0, seeds + r.s2), p3 = vload4(0, seeds + r.s3),
+               p4 = vload4(0, seeds + r.s4), p5 = vload4(0, seeds + r.s5),
+               p6 = vload4(0, seeds + r.s6), p7 = vload4(0, seeds + r.s7);
+  *sx = LANE_COLUMN(p, x);
+  *sy = LANE_COLUMN(p, y);
+  *sz = LANE_COLUMN(p, z);
+}
+
+#ifdef AXIS_LANES
 // The stencil of a uniform metric as every lane sees it.
 typedef struct {
   float weight[STENCIL_TERMS];
@@ -81,25 +135,21 @@ typedef struct {
   float eGe[STENCIL_TERMS];  // e^T h^2 G e: the same in every lane, as S e = +-e for axis offsets
 } LaneStencil;
 
-// The sweep frame of each lane: real coordinate = base + sign * frame coordinate, per axis.
-typedef struct {
-  lane_float base_x, base_y, base_z, sign_x, sign_y, sign_z;
-} LaneFrame;
+inline void prepare_lane_stencil(__global const float* weights, __global const char* offsets,
+                                 __global const float* seeds, LaneStencil* st) {
+  int3 offset[STENCIL_TERMS];
+  const int terms = load_stencil(weights, offsets, 0, st->weight, offset);
+  for (int n = 0; n < 6; ++n) st->g[n] = seeds[8 + n];
+  term_lengths_squared(seeds, offset, terms, st->eGe);
+}
 
 // Candidate distance for label L in each lane (NO_LANE_LABEL: none), from the neighbour distances
 // nbd and labels nbl (nb[2i] at frame +e_i, nb[2i+1] at -e_i) of frame voxel cf.
 __attribute__((always_inline)) inline lane_float lane_solve_for_label(
     lane_uint label, const lane_float* nbd, const lane_uint* nbl, const LaneStencil* st,
     const LaneFrame* frame, int3 cf, __global const float* seeds) {
-  // The seeds' positions: one 4-float load per lane, transposed.
-  const uint8 record = select(label, (lane_uint)0u, label == NO_LANE_LABEL) * SEED_RECORD;
-  const float4 p0 = vload4(0, seeds + record.s0), p1 = vload4(0, seeds + record.s1),
-               p2 = vload4(0, seeds + record.s2), p3 = vload4(0, seeds + record.s3),
-               p4 = vload4(0, seeds + record.s4), p5 = vload4(0, seeds + record.s5),
-               p6 = vload4(0, seeds + record.s6), p7 = vload4(0, seeds + record.s7);
-  const lane_float sx = (lane_float)(p0.x, p1.x, p2.x, p3.x, p4.x, p5.x, p6.x, p7.x);
-  const lane_float sy = (lane_float)(p0.y, p1.y, p2.y, p3.y, p4.y, p5.y, p6.y, p7.y);
-  const lane_float sz = (lane_float)(p0.z, p1.z, p2.z, p3.z, p4.z, p5.z, p6.z, p7.z);
+  lane_float sx, sy, sz;
+  lane_seed_positions(label, seeds, &sx, &sy, &sz);
   const lane_float qx = frame->base_x + frame->sign_x * (float)cf.x - sx;
   const lane_float qy = frame->base_y + frame->sign_y * (float)cf.y - sy;
   const lane_float qz = frame->base_z + frame->sign_z * (float)cf.z - sz;
@@ -114,45 +164,245 @@ __attribute__((always_inline)) inline lane_float lane_solve_for_label(
   // e^T G q for a frame offset e is e . (S G q).
   const lane_float sgx = frame->sign_x * gqx, sgy = frame->sign_y * gqy, sgz = frame->sign_z * gqz;
   lane_float w[STENCIL_TERMS], rho[STENCIL_TERMS];
-  const int n = UNIFORM_TERMS;
 #pragma unroll
-  for (int i = 0; i < n; ++i) {
+  for (int i = 0; i < LANE_TERMS; ++i) {
     const float3 e = convert_float3(lane_offset(i));  // a frame offset
     const lane_float eGq = e.x * sgx + e.y * sgy + e.z * sgz;
     const lane_float slope = eGq * inverse_u0;
     const lane_float ahead = nbd[2 * i], behind = nbd[2 * i + 1];
-    const lane_float ahead_f = select(
-        ahead, lane_factorized_value(ahead, 1.0f, u0, u0sq, eGq, st->eGe[i], slope), factored);
-    const lane_float behind_f = select(
-        behind, lane_factorized_value(behind, -1.0f, u0, u0sq, eGq, st->eGe[i], slope), factored);
+    const lane_float ahead_f =
+        select(ahead, lane_factorized_value(ahead, 1.0f, u0, u0sq, eGq, st->eGe[i], slope, 1.0f),
+               factored);
+    const lane_float behind_f =
+        select(behind, lane_factorized_value(behind, -1.0f, u0, u0sq, eGq, st->eGe[i], slope, 1.0f),
+               factored);
     w[i] = min(select((lane_float)INFINITY, ahead_f, nbl[2 * i] == label),
                select((lane_float)INFINITY, behind_f, nbl[2 * i + 1] == label));
     rho[i] = st->weight[i];
   }
-#pragma unroll
-  for (int pass = 0; pass + 1 < n; ++pass)  // stable sort, as the scalar insertion sort
-#pragma unroll
-    for (int i = 0; i + 1 < n - pass; ++i) {
-      const lane_mask swap = w[i + 1] < w[i];
-      const lane_float wl = select(w[i], w[i + 1], swap), wh = select(w[i + 1], w[i], swap);
-      const lane_float rl = select(rho[i], rho[i + 1], swap), rh = select(rho[i + 1], rho[i], swap);
-      w[i] = wl;
-      w[i + 1] = wh;
-      rho[i] = rl;
-      rho[i + 1] = rh;
-    }
-  return lane_solve_sorted(w, rho);
+  lane_sort(w, rho, LANE_TERMS);
+  return lane_solve_sorted(w, rho, LANE_TERMS);
 }
+
+inline void lane_voxel_metric(LaneStencil* st) {}  // one stencil: nothing per voxel
+
+// The neighbours of frame slot p in every lane: the same flat offsets, one vector load each.
+// Returns the lanes where one changed since `last` (or that never evaluated the voxel).
+inline lane_mask lane_gather(lane_mask open, int l, int3 cf, int p, lane_uint last,
+                             const lane_float* tile_distance, const lane_uint* tile_word,
+                             const lane_uint* tile_stamp, const LaneBricks* bricks,
+                             __global const float* weights, __global const char* offsets,
+                             __global const ulong* state, __global const uint* changed, int4 dims,
+                             int4 grid, __global const int* table, uint stride, LaneStencil* st,
+                             lane_float* nbd, lane_uint* nbl) {
+  lane_mask dirty = last == 0u;
+#pragma unroll
+  for (int i = 0; i < LANE_TERMS; ++i) {
+    const int ahead = p + tile_offset(lane_offset(i)), behind = p - tile_offset(lane_offset(i));
+    nbd[2 * i] = tile_distance[ahead];
+    nbd[2 * i + 1] = tile_distance[behind];
+    nbl[2 * i] = tile_word[ahead] & LABEL_NONE;
+    nbl[2 * i + 1] = tile_word[behind] & LABEL_NONE;
+    dirty |= (tile_stamp[ahead] > last) | (tile_stamp[behind] > last);
+  }
+  return open & dirty;
+}
+
+#else
+// Any stencil: each lane's voxel has its own (a varying metric, or a uniform one whose flipped
+// offsets are other terms in each lane's frame), so the neighbours are gathered lane by lane;
+// the solve is vectorised.
+typedef struct {
+  lane_float rho[STENCIL_TERMS];  // weights rho_i / h^2, 0 past the voxel's terms
+  lane_float ex[STENCIL_TERMS], ey[STENCIL_TERMS], ez[STENCIL_TERMS];  // real offsets
+  lane_float d[6];                                                     // D / h^2
+} LaneStencil;
+
+inline void prepare_lane_stencil(__global const float* weights, __global const char* offsets,
+                                 __global const float* seeds, LaneStencil* st) {}
+
+// D / h^2 = sum_i rho_i e_i e_i^T per lane (stencil_dual_metric), for the factorization weight.
+inline void lane_voxel_metric(LaneStencil* st) {
+  for (int n = 0; n < 6; ++n) st->d[n] = 0.0f;
+#pragma unroll
+  for (int i = 0; i < STENCIL_TERMS; ++i) {
+    const lane_float x = st->rho[i] * st->ex[i], y = st->rho[i] * st->ey[i];
+    const lane_float z = st->rho[i] * st->ez[i];
+    st->d[0] += x * st->ex[i];
+    st->d[1] += x * st->ey[i];
+    st->d[2] += y * st->ey[i];
+    st->d[3] += x * st->ez[i];
+    st->d[4] += y * st->ez[i];
+    st->d[5] += z * st->ez[i];
+  }
+}
+
+// factorization_weight (eikonal_scheme.clh) per lane, g = h^2 G_s.
+inline lane_float lane_factorization_weight(const lane_float* d, const lane_float* g) {
+  const lane_float a00 = d[0] * g[0] + d[1] * g[1] + d[3] * g[3];
+  const lane_float a01 = d[0] * g[1] + d[1] * g[2] + d[3] * g[4];
+  const lane_float a02 = d[0] * g[3] + d[1] * g[4] + d[3] * g[5];
+  const lane_float a10 = d[1] * g[0] + d[2] * g[1] + d[4] * g[3];
+  const lane_float a11 = d[1] * g[1] + d[2] * g[2] + d[4] * g[4];
+  const lane_float a12 = d[1] * g[3] + d[2] * g[4] + d[4] * g[5];
+  const lane_float a20 = d[3] * g[0] + d[4] * g[1] + d[5] * g[3];
+  const lane_float a21 = d[3] * g[1] + d[4] * g[2] + d[5] * g[4];
+  const lane_float a22 = d[3] * g[3] + d[4] * g[4] + d[5] * g[5];
+  const lane_float trace = a00 + a11 + a22;
+  const lane_float trace_square =
+      a00 * a00 + a11 * a11 + a22 * a22 + 2.0f * (a01 * a10 + a02 * a20 + a12 * a21);
+  const lane_float m2 = trace_square - 2.0f * trace + (float)DIM;
+  return clamp((0.09f - m2) / 0.05f, 0.0f, 1.0f);
+}
+
+__attribute__((always_inline)) inline lane_float lane_solve_for_label(
+    lane_uint label, const lane_float* nbd, const lane_uint* nbl, const LaneStencil* st,
+    const LaneFrame* frame, int3 cf, __global const float* seeds) {
+  lane_float sx, sy, sz;
+  lane_seed_positions(label, seeds, &sx, &sy, &sz);
+  const uint8 r = select(label, (lane_uint)0u, label == NO_LANE_LABEL) * SEED_RECORD + 8u;
+  const float8 m0 = vload8(0, seeds + r.s0), m1 = vload8(0, seeds + r.s1),
+               m2 = vload8(0, seeds + r.s2), m3 = vload8(0, seeds + r.s3),
+               m4 = vload8(0, seeds + r.s4), m5 = vload8(0, seeds + r.s5),
+               m6 = vload8(0, seeds + r.s6), m7 = vload8(0, seeds + r.s7);
+  const lane_float g[6] = {LANE_COLUMN(m, s0), LANE_COLUMN(m, s1), LANE_COLUMN(m, s2),
+                           LANE_COLUMN(m, s3), LANE_COLUMN(m, s4), LANE_COLUMN(m, s5)};
+  const lane_float qx = frame->base_x + frame->sign_x * (float)cf.x - sx;
+  const lane_float qy = frame->base_y + frame->sign_y * (float)cf.y - sy;
+  const lane_float qz = frame->base_z + frame->sign_z * (float)cf.z - sz;
+  const lane_float gqx = g[0] * qx + g[1] * qy + g[3] * qz;
+  const lane_float gqy = g[1] * qx + g[2] * qy + g[4] * qz;
+  const lane_float gqz = g[3] * qx + g[4] * qy + g[5] * qz;
+  const lane_float u0sq = max(0.0f, qx * gqx + qy * gqy + qz * gqz);
+  const lane_float u0 = sqrt(u0sq);
+  const lane_float alpha = select((lane_float)0.0f, lane_factorization_weight(st->d, g), u0 > 0.0f);
+  const lane_mask factored = alpha > 0.0f;
+  const lane_float inverse_u0 = select((lane_float)0.0f, 1.0f / u0, factored);
+  lane_float w[STENCIL_TERMS], rho[STENCIL_TERMS];
+#pragma unroll
+  for (int i = 0; i < STENCIL_TERMS; ++i) {
+    const lane_float ex = st->ex[i], ey = st->ey[i], ez = st->ez[i];
+    const lane_float eGq = ex * gqx + ey * gqy + ez * gqz;
+    const lane_float eGe = ex * (g[0] * ex + g[1] * ey + g[3] * ez) +
+                           ey * (g[1] * ex + g[2] * ey + g[4] * ez) +
+                           ez * (g[3] * ex + g[4] * ey + g[5] * ez);
+    const lane_float slope = eGq * inverse_u0;
+    const lane_float ahead = nbd[2 * i], behind = nbd[2 * i + 1];
+    const lane_float ahead_f = select(
+        ahead, lane_factorized_value(ahead, 1.0f, u0, u0sq, eGq, eGe, slope, alpha), factored);
+    const lane_float behind_f = select(
+        behind, lane_factorized_value(behind, -1.0f, u0, u0sq, eGq, eGe, slope, alpha), factored);
+    // A missing term (weight 0) is left out, as past the scalar stencil's term count.
+    w[i] = select(min(select((lane_float)INFINITY, ahead_f, nbl[2 * i] == label),
+                      select((lane_float)INFINITY, behind_f, nbl[2 * i + 1] == label)),
+                  (lane_float)INFINITY, st->rho[i] == 0.0f);
+    rho[i] = st->rho[i];
+  }
+  lane_sort(w, rho, STENCIL_TERMS);
+  return lane_solve_sorted(w, rho, STENCIL_TERMS);
+}
+
+// Lane k's stencil at its voxel `real` and the states of its neighbours (gather_far of
+// propagation.cl in the lane's frame: the tile where a neighbour lands in it, else the state).
+// Returns whether one changed since `last`; only then are the stencil and the states written
+// (most visits find the voxel clean).
+inline bool lane_gather_one(int k, int real, int3 cf, int p, uint last,
+                            const lane_float* tile_distance, const lane_uint* tile_word,
+                            const lane_uint* tile_stamp, const LaneBricks* bricks,
+                            __global const float* weights, __global const char* offsets,
+                            __global const ulong* state, __global const uint* changed, int4 dims,
+                            int4 grid, __global const int* table, uint stride, LaneStencil* st,
+                            lane_float* nbd, lane_uint* nbl) {
+  float weight[STENCIL_TERMS];
+  int3 offset[STENCIL_TERMS];
+  const int terms = load_stencil(weights, offsets, (size_t)bricks->brick[k] * BRICK_VOLUME + real,
+                                 weight, offset);
+  const int3 sign = bricks->sign[k];
+  // Where each neighbour is: a frame tile index (>= 0), or -2 - its slot, or -1 for none.
+  long where[2 * STENCIL_TERMS];
+  bool near = true;  // every offset within one voxel: tile indices without tests (gather_near)
+  for (int i = 0; i < terms; ++i) {
+    const int3 e = sign * offset[i];
+    near = near && (uint)(e.x + 1) <= 2u && (uint)(e.y + 1) <= 2u && (uint)(e.z + 1) <= 2u;
+    where[2 * i] = p + tile_offset(e);
+    where[2 * i + 1] = p - tile_offset(e);
+  }
+  bool dirty = last == 0;
+  if (near) {
+    for (int j = 0; j < 2 * terms; ++j) dirty = dirty || LANE_UINT(tile_stamp, where[j], k) > last;
+  } else {
+    const int3 position = bricks->origin[k] + local_coordinates(real);
+    const uint last_round = last & ~(stride - 1);
+    for (int j = 0; j < 2 * terms; ++j) {
+      const int3 e = j & 1 ? -offset[j / 2] : offset[j / 2];
+      if (inside_tile(cf + sign * e)) {  // where[j] is right
+        dirty = dirty || LANE_UINT(tile_stamp, where[j], k) > last;
+      } else {
+        const long other =
+            neighbour_slot(position + e, bricks->origin[k], dims, grid, table, bricks->near[k]);
+        where[j] = other < 0 ? -1 : -2 - other;
+        dirty = dirty || (other >= 0 && changed[other] >= last_round);
+      }
+    }
+  }
+  if (!dirty) return false;
+  for (int i = 0; i < terms; ++i) {
+    LANE_FLOAT(st->rho, i, k) = weight[i];
+    LANE_FLOAT(st->ex, i, k) = (float)offset[i].x;
+    LANE_FLOAT(st->ey, i, k) = (float)offset[i].y;
+    LANE_FLOAT(st->ez, i, k) = (float)offset[i].z;
+  }
+  for (int j = 0; j < 2 * terms; ++j) {
+    const long w = where[j];
+    ulong value = INF_STATE;
+    if (w >= 0)
+      value = ((ulong)as_uint(LANE_FLOAT(tile_distance, w, k)) << 32) | LANE_UINT(tile_word, w, k);
+    else if (w < -1)
+      value = state[-2 - w];
+    LANE_FLOAT(nbd, j, k) = state_distance(value);
+    LANE_UINT(nbl, j, k) = (uint)value & LABEL_NONE;
+  }
+  return true;
+}
+
+inline lane_mask lane_gather(lane_mask open, int l, int3 cf, int p, lane_uint last,
+                             const lane_float* tile_distance, const lane_uint* tile_word,
+                             const lane_uint* tile_stamp, const LaneBricks* bricks,
+                             __global const float* weights, __global const char* offsets,
+                             __global const ulong* state, __global const uint* changed, int4 dims,
+                             int4 grid, __global const int* table, uint stride, LaneStencil* st,
+                             lane_float* nbd, lane_uint* nbl) {
+  for (int i = 0; i < STENCIL_TERMS; ++i) {
+    st->rho[i] = 0.0f;
+    st->ex[i] = st->ey[i] = st->ez[i] = 0.0f;
+    nbd[2 * i] = nbd[2 * i + 1] = INFINITY;
+    nbl[2 * i] = nbl[2 * i + 1] = LABEL_NONE;
+  }
+  int opened[LANES];
+  uint lasts[LANES];
+  vstore8(open, 0, opened);
+  vstore8(last, 0, lasts);
+  int dirty[LANES];
+  for (int k = 0; k < LANES; ++k)
+    dirty[k] = opened[k] && lane_gather_one(k, l ^ bricks->flip[k], cf, p, lasts[k], tile_distance,
+                                            tile_word, tile_stamp, bricks, weights, offsets, state,
+                                            changed, dims, grid, table, stride, st, nbd, nbl)
+                   ? -1
+                   : 0;
+  return open & vload8(0, dirty);
+}
+#endif
 
 // best_candidate (eikonal_scheme.clh) in the lanes of `lanes`: the smallest (distance, label) over
 // the distinct labels of the neighbours; +inf and LABEL_NONE without a labelled neighbour.
 inline void lane_best_candidate(lane_mask lanes, const lane_float* nbd, const lane_uint* nbl,
-                                const LaneStencil* st, const LaneFrame* frame, int3 cf,
+                                LaneStencil* st, const LaneFrame* frame, int3 cf,
                                 __global const float* seeds, lane_float* best_distance,
                                 lane_uint* best_label) {
-  const int neighbours = 2 * UNIFORM_TERMS;
+  const int neighbours = 2 * LANE_TERMS;
   *best_distance = INFINITY;
   *best_label = LABEL_NONE;
+  lane_voxel_metric(st);
   // The distinct labels in ascending order: each pass takes the least label above the last one.
   lane_uint above = 0u;  // labels >= above are still to do
   for (int pass = 0; pass < neighbours; ++pass) {
@@ -256,9 +506,9 @@ inline int load_lane(int k, int brick, __global const ulong* state, __global con
                      __global const int* table, __global const int4* brick_origins, int4 grid,
                      uint stride, __global const uint* activity, __global const uint* evaluated,
                      lane_float* tile_distance, lane_uint* tile_word, lane_uint* tile_stamp,
-                     lane_uint* evaluated_frame, LaneFrame* frame) {
+                     lane_uint* evaluated_frame, LaneFrame* frame, LaneBricks* bricks) {
   const int3 origin = brick_origins[brick].xyz;
-  int near[NEAR_BRICKS];
+  int* near = bricks->near[k];
   load_near_bricks(origin, grid, table, near);
   const int corner = upwind_corner_of(near, state);
   const int fx = corner & 1, fy = (corner >> 1) & 1, fz = (corner >> 2) & 1;
@@ -301,12 +551,20 @@ inline int load_lane(int k, int brick, __global const ulong* state, __global con
   LANE_FLOAT(&frame->sign_x, 0, k) = fx ? -1.0f : 1.0f;
   LANE_FLOAT(&frame->sign_y, 0, k) = fy ? -1.0f : 1.0f;
   LANE_FLOAT(&frame->sign_z, 0, k) = fz ? -1.0f : 1.0f;
+  bricks->brick[k] = brick;
+  bricks->flip[k] = flip;
+  bricks->origin[k] = origin;
+  bricks->sign[k] = (int3)(fx ? -1 : 1, fy ? -1 : 1, fz ? -1 : 1);
   return corner;
 }
 
 // An empty lane: no brick, nothing to relax (its tile is never read, but holds +inf).
 inline void clear_lane(int k, lane_float* tile_distance, lane_uint* tile_word,
-                       lane_uint* tile_stamp, lane_uint* evaluated_frame, LaneFrame* frame) {
+                       lane_uint* tile_stamp, lane_uint* evaluated_frame, LaneFrame* frame,
+                       LaneBricks* bricks) {
+  bricks->brick[k] = -1;
+  bricks->flip[k] = 0;
+  bricks->origin[k] = bricks->sign[k] = (int3)(0, 0, 0);
   for (int f = 0; f < TILE_VOLUME; ++f)
     put_lane_slot(k, f, INF_STATE | FROZEN_BIT, 0u, tile_distance, tile_word, tile_stamp);
   for (int l = 0; l < BRICK_VOLUME; ++l) LANE_UINT(evaluated_frame, l, k) = 0u;
@@ -314,14 +572,6 @@ inline void clear_lane(int k, lane_float* tile_distance, lane_uint* tile_word,
       LANE_FLOAT(&frame->base_z, 0, k) = 0.0f;
   LANE_FLOAT(&frame->sign_x, 0, k) = LANE_FLOAT(&frame->sign_y, 0, k) =
       LANE_FLOAT(&frame->sign_z, 0, k) = 1.0f;
-}
-
-inline void prepare_lane_stencil(__global const float* weights, __global const char* offsets,
-                                 __global const float* seeds, LaneStencil* st) {
-  int3 offset[STENCIL_TERMS];
-  const int terms = load_stencil(weights, offsets, 0, st->weight, offset);
-  for (int n = 0; n < 6; ++n) st->g[n] = seeds[8 + n];
-  term_lengths_squared(seeds, offset, terms, st->eGe);
 }
 
 // Writes lane k's results: the relaxed brick to scratch (when anything was written), its
@@ -355,17 +605,18 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
   lane_float tile_distance[TILE_VOLUME];
   lane_uint tile_word[TILE_VOLUME], tile_stamp[TILE_VOLUME], evaluated_frame[BRICK_VOLUME];
   LaneFrame frame;
+  LaneBricks bricks;
   int corner[LANES] = {0}, brick[LANES];
   uint live[LANES];
   for (int k = 0; k < LANES; ++k) {
     brick[k] = first + k < count ? list[first + k] : -1;
     live[k] = brick[k] >= 0 ? 0xFFFFFFFFu : 0u;
     if (brick[k] < 0)
-      clear_lane(k, tile_distance, tile_word, tile_stamp, evaluated_frame, &frame);
+      clear_lane(k, tile_distance, tile_word, tile_stamp, evaluated_frame, &frame, &bricks);
     else
-      corner[k] =
-          load_lane(k, brick[k], state, changed, table, brick_origins, grid, stride, activity,
-                    evaluated, tile_distance, tile_word, tile_stamp, evaluated_frame, &frame);
+      corner[k] = load_lane(k, brick[k], state, changed, table, brick_origins, grid, stride,
+                            activity, evaluated, tile_distance, tile_word, tile_stamp,
+                            evaluated_frame, &frame, &bricks);
   }
   LaneStencil st;
   prepare_lane_stencil(weights, offsets, seeds, &st);
@@ -385,19 +636,11 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
       const lane_mask open = running & ((word & (uint)FROZEN_BIT) == 0u);
       if (!any(open)) continue;
       const lane_uint last = evaluated_frame[l];
-      lane_mask dirty = last == 0u;
       lane_float nbd[2 * STENCIL_TERMS];
       lane_uint nbl[2 * STENCIL_TERMS];
-#pragma unroll
-      for (int i = 0; i < UNIFORM_TERMS; ++i) {
-        const int ahead = p + tile_offset(lane_offset(i)), behind = p - tile_offset(lane_offset(i));
-        nbd[2 * i] = tile_distance[ahead];
-        nbd[2 * i + 1] = tile_distance[behind];
-        nbl[2 * i] = tile_word[ahead] & LABEL_NONE;
-        nbl[2 * i + 1] = tile_word[behind] & LABEL_NONE;
-        dirty |= (tile_stamp[ahead] > last) | (tile_stamp[behind] > last);
-      }
-      const lane_mask lanes = open & dirty;
+      const lane_mask lanes =
+          lane_gather(open, l, c, p, last, tile_distance, tile_word, tile_stamp, &bricks, weights,
+                      offsets, state, changed, dims, grid, table, stride, &st, nbd, nbl);
       if (!any(lanes)) continue;
       const uint stamp = round_base + tick;
       evaluated_frame[l] = select(last, (lane_uint)stamp, lanes);
@@ -434,5 +677,3 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
   const uint4 pairs = lane_updates.lo + lane_updates.hi;
   atom_add(update_counter, (ulong)(pairs.x + pairs.y + pairs.z + pairs.w));
 }
-
-#endif

@@ -223,10 +223,10 @@ class OpenCLPropagator final : public Propagator {
     return opencl::brick_colours(canvas, options_.brick_colouring);
   }
 
-  // brick_lanes needs one stencil for every lane (a uniform metric) that each lane's sweep frame
-  // maps onto itself (axis offsets, of a diagonal metric: a flipped axis offset is its opposite,
-  // the same term) and whose neighbours lie in the tile.
-  bool lanes_apply() const {
+  // brick_lanes shares one stencil across the lanes, as constants, when the metric is uniform
+  // and its stencil has axis offsets only (a diagonal metric: a flipped axis offset is its
+  // opposite, the same term in every lane's frame); otherwise each lane gathers its own.
+  bool axis_lanes() const {
     const std::vector<int>& offsets = canvas_->uniform_offsets;
     if (offsets.empty()) return false;
     for (std::size_t i = 0; i < offsets.size(); i += 3) {
@@ -239,7 +239,7 @@ class OpenCLPropagator final : public Propagator {
   // The uniform stencil's shape as constants for relax_brick_lanes (kernels/brick_lanes.cl).
   std::string uniform_stencil_options() const {
     const std::vector<int>& offsets = canvas_->uniform_offsets;
-    if (!lanes_apply()) return "";
+    if (!axis_lanes()) return "";
     std::string options = " -DUNIFORM_TERMS=" + std::to_string(offsets.size() / 3);
     for (std::size_t n = 0; n < 3 * std::size_t{opencl::kStencilTerms}; ++n)
       options += " -DUNIFORM_OFFSET_" + std::to_string(n / 3) + "XYZ"[n % 3] + "=" +
@@ -255,12 +255,10 @@ class OpenCLPropagator final : public Propagator {
     const cl::Program program =
         opencl::build_program(context_, device_.device, propagation_source(), options);
     brick_volume_ = dimension == 3 ? 512 : 64;
-    variant_ = choose_variant();  // per canvas: the fallbacks below depend on it
+    variant_ = choose_variant();  // per canvas: the fallback below depends on it
     if (variant_ == RelaxationVariant::voxel_phases &&
         device_.device.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>() < phase_group_size())
       variant_ = RelaxationVariant::brick_sweep;  // the device cannot hold a phase per work-group
-    if (variant_ == RelaxationVariant::brick_lanes && !lanes_apply())
-      variant_ = RelaxationVariant::brick_sweep;
     freeze_ = cl::Kernel(program, "freeze_seed_blocks");
     init_ = cl::Kernel(program, "initialise_seeds");
     relax_ =
