@@ -8,16 +8,19 @@
 // time, and a neighbour is one vector load. A frame offset e is the real offset S e, S the lane's
 // diagonal of signs, which only the factorization needs (e^T G q).
 //
-// Uniform metrics whose stencil has axis offsets only (diagonal metrics; the host checks, and
-// hands any other stencil to relax_brick_sweep): then S e = +-e is the same term in every lane.
-// A general stencil's flipped offsets would be other terms, different per lane, and each lane
-// would need its own gathers. The host also passes the stencil's shape as build options,
-// UNIFORM_TERMS (the term count of load_stencil) and UNIFORM_OFFSET_<term><axis> for every term
-// (a comma list does not survive PoCL's option handling): as constants, the loops over terms
-// unroll and the offsets fold into the arithmetic and the addressing.
+// Two configurations (docs/scheme.md, "SIMD lanes"):
+// - AXIS_LANES, a uniform metric whose stencil has axis offsets only (diagonal metrics): S e = +-e
+//   is the same term in every lane, so the neighbours are vector loads at flat offsets. The host
+//   passes the stencil's shape as build options, UNIFORM_TERMS (the term count of load_stencil)
+//   and UNIFORM_OFFSET_<term><axis> for every term (a comma list does not survive PoCL's option
+//   handling): as constants, the loops over terms unroll and the offsets fold.
+// - Any other stencil (varying metrics; uniform ones whose flipped offsets are other terms in
+//   each lane's frame): each lane loads its voxel's stencil and gathers its neighbours, reading
+//   the states only when a change stamp says the voxel is dirty; the solve is vectorised.
 //
-// Measured (callgrind, euclidean 64^3, 1000 seeds; docs/scheme.md): kernel instructions of the
-// whole solve 1486M with relax_brick_sweep, 731M with this kernel, for the same evaluations.
+// Measured (callgrind, 64^3, 1000 seeds; docs/scheme.md): kernel instructions of the whole solve,
+// relax_brick_sweep -> this kernel, euclidean 1486M -> 743M, radial_shock_3d 4048M -> 3375M, for
+// the same evaluations.
 
 #if defined(UNIFORM_METRIC) && defined(UNIFORM_TERMS)
 #define AXIS_LANES /* one stencil of axis offsets, constants from the build options */
@@ -82,6 +85,21 @@ __attribute__((always_inline)) inline lane_float lane_solve_sorted(const lane_fl
   return result;
 }
 
+// The smaller factorized value of a stencil term's two neighbours under `label` in each lane
+// (solve_for_label of eikonal_scheme.clh), +inf where neither carries it.
+__attribute__((always_inline)) inline lane_float lane_term_value(
+    lane_float ahead, lane_float behind, lane_uint ahead_label, lane_uint behind_label,
+    lane_uint label, lane_float u0, lane_float u0sq, lane_float eGq, lane_float eGe,
+    lane_float inverse_u0, lane_float alpha, lane_mask factored) {
+  const lane_float slope = eGq * inverse_u0;
+  const lane_float ahead_f =
+      select(ahead, lane_factorized_value(ahead, 1.0f, u0, u0sq, eGq, eGe, slope, alpha), factored);
+  const lane_float behind_f = select(
+      behind, lane_factorized_value(behind, -1.0f, u0, u0sq, eGq, eGe, slope, alpha), factored);
+  return min(select((lane_float)INFINITY, ahead_f, ahead_label == label),
+             select((lane_float)INFINITY, behind_f, behind_label == label));
+}
+
 // Sorts w ascending, rho alongside, in every lane; stable, as the scalar insertion sort.
 __attribute__((always_inline)) inline void lane_sort(lane_float* w, lane_float* rho, int n) {
 #pragma unroll
@@ -127,6 +145,17 @@ inline void lane_seed_positions(lane_uint label, __global const float* seeds, la
   *sz = LANE_COLUMN(p, z);
 }
 
+// The arguments of lane_gather (one per configuration): the visit (frame local index l, frame
+// coordinates cf, tile index p, the voxel's last evaluations), the lanes' tiles and bricks, the
+// buffers for neighbours beyond the tiles, and the outputs: the voxel's stencil (per-voxel
+// stencils only) and its neighbours' distances and labels (nb[2i] at +e_i, nb[2i+1] at -e_i).
+#define LANE_GATHER_ARGUMENTS                                                                     \
+  lane_mask open, int l, int3 cf, int p, lane_uint last, const lane_float *tile_distance,         \
+      const lane_uint *tile_word, const lane_uint *tile_stamp, const LaneBricks *bricks,          \
+      __global const float *weights, __global const char *offsets, __global const ulong *state,   \
+      __global const uint *changed, int4 dims, int4 grid, __global const int *table, uint stride, \
+      LaneStencil *st, lane_float *nbd, lane_uint *nbl
+
 #ifdef AXIS_LANES
 // The stencil of a uniform metric as every lane sees it.
 typedef struct {
@@ -168,16 +197,8 @@ __attribute__((always_inline)) inline lane_float lane_solve_for_label(
   for (int i = 0; i < LANE_TERMS; ++i) {
     const float3 e = convert_float3(lane_offset(i));  // a frame offset
     const lane_float eGq = e.x * sgx + e.y * sgy + e.z * sgz;
-    const lane_float slope = eGq * inverse_u0;
-    const lane_float ahead = nbd[2 * i], behind = nbd[2 * i + 1];
-    const lane_float ahead_f =
-        select(ahead, lane_factorized_value(ahead, 1.0f, u0, u0sq, eGq, st->eGe[i], slope, 1.0f),
-               factored);
-    const lane_float behind_f =
-        select(behind, lane_factorized_value(behind, -1.0f, u0, u0sq, eGq, st->eGe[i], slope, 1.0f),
-               factored);
-    w[i] = min(select((lane_float)INFINITY, ahead_f, nbl[2 * i] == label),
-               select((lane_float)INFINITY, behind_f, nbl[2 * i + 1] == label));
+    w[i] = lane_term_value(nbd[2 * i], nbd[2 * i + 1], nbl[2 * i], nbl[2 * i + 1], label, u0, u0sq,
+                           eGq, st->eGe[i], inverse_u0, 1.0f, factored);
     rho[i] = st->weight[i];
   }
   lane_sort(w, rho, LANE_TERMS);
@@ -188,13 +209,7 @@ inline void lane_voxel_metric(LaneStencil* st) {}  // one stencil: nothing per v
 
 // The neighbours of frame slot p in every lane: the same flat offsets, one vector load each.
 // Returns the lanes where one changed since `last` (or that never evaluated the voxel).
-inline lane_mask lane_gather(lane_mask open, int l, int3 cf, int p, lane_uint last,
-                             const lane_float* tile_distance, const lane_uint* tile_word,
-                             const lane_uint* tile_stamp, const LaneBricks* bricks,
-                             __global const float* weights, __global const char* offsets,
-                             __global const ulong* state, __global const uint* changed, int4 dims,
-                             int4 grid, __global const int* table, uint stride, LaneStencil* st,
-                             lane_float* nbd, lane_uint* nbl) {
+inline lane_mask lane_gather(LANE_GATHER_ARGUMENTS) {
   lane_mask dirty = last == 0u;
 #pragma unroll
   for (int i = 0; i < LANE_TERMS; ++i) {
@@ -286,15 +301,9 @@ __attribute__((always_inline)) inline lane_float lane_solve_for_label(
     const lane_float eGe = ex * (g[0] * ex + g[1] * ey + g[3] * ez) +
                            ey * (g[1] * ex + g[2] * ey + g[4] * ez) +
                            ez * (g[3] * ex + g[4] * ey + g[5] * ez);
-    const lane_float slope = eGq * inverse_u0;
-    const lane_float ahead = nbd[2 * i], behind = nbd[2 * i + 1];
-    const lane_float ahead_f = select(
-        ahead, lane_factorized_value(ahead, 1.0f, u0, u0sq, eGq, eGe, slope, alpha), factored);
-    const lane_float behind_f = select(
-        behind, lane_factorized_value(behind, -1.0f, u0, u0sq, eGq, eGe, slope, alpha), factored);
     // A missing term (weight 0) is left out, as past the scalar stencil's term count.
-    w[i] = select(min(select((lane_float)INFINITY, ahead_f, nbl[2 * i] == label),
-                      select((lane_float)INFINITY, behind_f, nbl[2 * i + 1] == label)),
+    w[i] = select(lane_term_value(nbd[2 * i], nbd[2 * i + 1], nbl[2 * i], nbl[2 * i + 1], label, u0,
+                                  u0sq, eGq, eGe, inverse_u0, alpha, factored),
                   (lane_float)INFINITY, st->rho[i] == 0.0f);
     rho[i] = st->rho[i];
   }
@@ -365,13 +374,7 @@ inline bool lane_gather_one(int k, int real, int3 cf, int p, uint last,
   return true;
 }
 
-inline lane_mask lane_gather(lane_mask open, int l, int3 cf, int p, lane_uint last,
-                             const lane_float* tile_distance, const lane_uint* tile_word,
-                             const lane_uint* tile_stamp, const LaneBricks* bricks,
-                             __global const float* weights, __global const char* offsets,
-                             __global const ulong* state, __global const uint* changed, int4 dims,
-                             int4 grid, __global const int* table, uint stride, LaneStencil* st,
-                             lane_float* nbd, lane_uint* nbl) {
+inline lane_mask lane_gather(LANE_GATHER_ARGUMENTS) {
   for (int i = 0; i < STENCIL_TERMS; ++i) {
     st->rho[i] = 0.0f;
     st->ex[i] = st->ey[i] = st->ez[i] = 0.0f;

@@ -217,8 +217,8 @@ void add_bench_command(CLI::App& app) {
       {"voxel_phases", RelaxationVariant::voxel_phases}};
   cmd->add_option("--variant", options->variant,
                   "OpenCL relaxation: auto (brick_lanes on CPUs, voxel_phases on GPUs) | "
-                  "brick_lanes (8 bricks per work-item in SIMD lanes; diagonal uniform metrics, "
-                  "else brick_sweep) | brick_sweep | voxel_phases")
+                  "brick_lanes (brick_sweep on 8 bricks per work-item, in SIMD lanes) | "
+                  "brick_sweep | voxel_phases")
       ->transform(CLI::CheckedTransformer(variants));
   cmd->add_option("--repeat", options->repetitions,
                   "Solves per case with the same engine; the fastest counts (the first includes "

@@ -10,8 +10,7 @@ namespace rvor {
 enum class RelaxationVariant {
   automatic,     // brick_lanes on CPU devices, voxel_phases on GPUs
   brick_sweep,   // a work-item sweeps a whole brick Gauss-Seidel (CPU-friendly)
-  brick_lanes,   // brick_sweep on 8 bricks at once, one per SIMD lane: uniform metrics with axis
-                 // stencils (diagonal metrics); any other canvas falls back to brick_sweep
+  brick_lanes,   // brick_sweep on 8 bricks at once, one per SIMD lane (CPU default)
   voxel_phases,  // a work-group per brick, 2^d phases by voxel parity, a work-item per voxel
                  // of the phase, in local memory (GPU)
 };
