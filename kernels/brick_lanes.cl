@@ -51,22 +51,14 @@ typedef uint8 lane_uint;
 #define LANE_FLOAT(array, index, lane) (((float*)(array))[(index)*LANES + (lane)])
 #define LANE_UINT(array, index, lane) (((uint*)(array))[(index)*LANES + (lane)])
 
-// factorized_value (eikonal_scheme.clh) per lane.
-inline lane_float lane_factorized_value(lane_float v, float sigma, lane_float u0, lane_float u0sq,
-                                        lane_float eGq, lane_float eGe, lane_float slope,
-                                        lane_float alpha) {
-  const lane_float delta = 2.0f * sigma * eGq + eGe;
-  const lane_float radicand = u0sq + delta;
-  const lane_float u0_difference =
-      select(-delta / (u0 + sqrt(max(radicand, 0.0f))), u0, radicand <= 0.0f);
-  return v + alpha * (u0_difference + sigma * slope);
-}
-
 // solve_sorted (eikonal_scheme.clh) for every lane; w sorted ascending, +inf last.
 __attribute__((always_inline)) inline lane_float lane_solve_sorted(const lane_float* w,
                                                                    const lane_float* rho, int n) {
-  lane_float a = 0.0f, b = 0.0f, pair_sum = 0.0f, result = INFINITY;
+  // t_k = w_0 + (b_k + root_k) / a_k stops at the first k with t_k <= w_{k+1}, tested as
+  // b_k + root_k <= a_k (w_{k+1} - w_0) (a_k > 0), so that only the chosen t_k is divided out.
+  lane_float a = 0.0f, b = 0.0f, pair_sum = 0.0f, numerator = 0.0f, denominator = 1.0f;
   lane_mask done = isinf(w[0]);  // no finite term: +inf
+  const lane_mask none = done;
 #pragma unroll
   for (int k = 0; k < n; ++k) {
     const lane_float wk = w[k] - w[0];
@@ -77,27 +69,39 @@ __attribute__((always_inline)) inline lane_float lane_solve_sorted(const lane_fl
     }
     a += rho[k];
     b += rho[k] * wk;
-    const lane_float t = w[0] + (b + sqrt(max(0.0f, a - pair_sum))) / a;
-    const lane_mask stop = k + 1 == n ? (lane_mask)(-1) : t <= w[k + 1];
-    result = select(result, t, ~done & stop);
+    const lane_float reach = b + sqrt(max(0.0f, a - pair_sum));
+    const lane_mask stop = k + 1 == n ? (lane_mask)(-1) : reach <= a * (w[k + 1] - w[0]);
+    numerator = select(numerator, reach, ~done & stop);
+    denominator = select(denominator, a, ~done & stop);
     done |= stop;
   }
-  return result;
+  return select(w[0] + numerator / denominator, (lane_float)INFINITY, none);
 }
 
-// The smaller factorized value of a stencil term's two neighbours under `label` in each lane
-// (solve_for_label of eikonal_scheme.clh), +inf where neither carries it.
-__attribute__((always_inline)) inline lane_float lane_term_value(
-    lane_float ahead, lane_float behind, lane_uint ahead_label, lane_uint behind_label,
-    lane_uint label, lane_float u0, lane_float u0sq, lane_float eGq, lane_float eGe,
-    lane_float inverse_u0, lane_float alpha, lane_mask factored) {
-  const lane_float slope = eGq * inverse_u0;
+// A visit's neighbours in every lane, n[2i] at frame +e_i and n[2i+1] at -e_i: distance, label
+// (LABEL_NONE: none) and seed distance under that label.
+typedef struct {
+  lane_float distance[2 * STENCIL_TERMS], seed_distance[2 * STENCIL_TERMS];
+  lane_uint label[2 * STENCIL_TERMS];
+} LaneNeighbours;
+
+// The smaller factorized value of stencil term i's two neighbours under `label` in each lane
+// (solve_for_label of eikonal_scheme.clh), +inf where neither carries it; slope = e^T G q / u0(x).
+// The neighbour y = x + sigma e gives v + alpha (u0(x) - u0(y) + sigma slope) with u0(y) from the
+// tile. factorized_value computes u0(x) - u0(y) without cancellation instead, at a square root
+// and a division per neighbour; the float difference loses about 1e-7 of u0, below the 1e-6
+// change tolerance (docs/scheme.md, "SIMD lanes").
+__attribute__((always_inline)) inline lane_float lane_term_value(const LaneNeighbours* nb, int i,
+                                                                 lane_uint label, lane_float u0,
+                                                                 lane_float slope, lane_float alpha,
+                                                                 lane_mask factored) {
+  const lane_float ahead = nb->distance[2 * i], behind = nb->distance[2 * i + 1];
   const lane_float ahead_f =
-      select(ahead, lane_factorized_value(ahead, 1.0f, u0, u0sq, eGq, eGe, slope, alpha), factored);
-  const lane_float behind_f = select(
-      behind, lane_factorized_value(behind, -1.0f, u0, u0sq, eGq, eGe, slope, alpha), factored);
-  return min(select((lane_float)INFINITY, ahead_f, ahead_label == label),
-             select((lane_float)INFINITY, behind_f, behind_label == label));
+      select(ahead, ahead + alpha * (u0 - nb->seed_distance[2 * i] + slope), factored);
+  const lane_float behind_f =
+      select(behind, behind + alpha * (u0 - nb->seed_distance[2 * i + 1] - slope), factored);
+  return min(select((lane_float)INFINITY, ahead_f, nb->label[2 * i] == label),
+             select((lane_float)INFINITY, behind_f, nb->label[2 * i + 1] == label));
 }
 
 // Sorts w ascending, rho alongside, in every lane; stable, as the scalar insertion sort.
@@ -129,6 +133,15 @@ typedef struct {
   int near[LANES][NEAR_BRICKS];
 } LaneBricks;
 
+// The lanes' tiles in their frames: distances, low state words (frozen bit, label), change stamps
+// and seed distances (u0 of each voxel under its own label, 0 without one: the factorized terms
+// take u0 of a neighbour from here instead of a square root each), with the evaluation stamps of
+// the bricks' voxels at frame local indices.
+typedef struct {
+  lane_float distance[TILE_VOLUME], seed_distance[TILE_VOLUME];
+  lane_uint word[TILE_VOLUME], stamp[TILE_VOLUME], evaluated[BRICK_VOLUME];
+} LaneTile;
+
 // The seeds of `label` in each lane (NO_LANE_LABEL: seed 0, unused): positions, and with
 // SEED_METRIC their h^2 G_s; one 4- or 8-float load per lane, transposed.
 #define LANE_COLUMN(v, c) \
@@ -145,60 +158,74 @@ inline void lane_seed_positions(lane_uint label, __global const float* seeds, la
   *sz = LANE_COLUMN(p, z);
 }
 
+// u0 = |x - s|_{G_s} of frame voxel cf in each lane (x its real coordinates, s = (sx, sy, sz) a
+// seed, g = h^2 G_s), and G q with q = x - s.
+__attribute__((always_inline)) inline lane_float lane_seed_distance(lane_float sx, lane_float sy,
+                                                                    lane_float sz,
+                                                                    const LaneFrame* frame, int3 cf,
+                                                                    const lane_float* g,
+                                                                    lane_float* gq) {
+  const lane_float qx = frame->base_x + frame->sign_x * (float)cf.x - sx;
+  const lane_float qy = frame->base_y + frame->sign_y * (float)cf.y - sy;
+  const lane_float qz = frame->base_z + frame->sign_z * (float)cf.z - sz;
+  gq[0] = g[0] * qx + g[1] * qy + g[3] * qz;
+  gq[1] = g[1] * qx + g[2] * qy + g[4] * qz;
+  gq[2] = g[3] * qx + g[4] * qy + g[5] * qz;
+  return sqrt(max(0.0f, qx * gq[0] + qy * gq[1] + qz * gq[2]));
+}
+
 // The arguments of lane_gather (one per configuration): the visit (frame local index l, frame
 // coordinates cf, tile index p, the voxel's last evaluations), the lanes' tiles and bricks, the
-// buffers for neighbours beyond the tiles, and the outputs: the voxel's stencil (per-voxel
-// stencils only) and its neighbours' distances and labels (nb[2i] at +e_i, nb[2i+1] at -e_i).
-#define LANE_GATHER_ARGUMENTS                                                                     \
-  lane_mask open, int l, int3 cf, int p, lane_uint last, const lane_float *tile_distance,         \
-      const lane_uint *tile_word, const lane_uint *tile_stamp, const LaneBricks *bricks,          \
-      __global const float *weights, __global const char *offsets, __global const ulong *state,   \
-      __global const uint *changed, int4 dims, int4 grid, __global const int *table, uint stride, \
-      LaneStencil *st, lane_float *nbd, lane_uint *nbl
+// seeds and buffers for neighbours beyond the tiles, and the outputs: the voxel's stencil
+// (per-voxel stencils only) and its neighbours.
+#define LANE_GATHER_ARGUMENTS                                                                  \
+  lane_mask open, int l, int3 cf, int p, lane_uint last, const LaneTile *tile,                 \
+      const LaneBricks *bricks, __global const float *seeds, __global const float *weights,    \
+      __global const char *offsets, __global const ulong *state, __global const uint *changed, \
+      int4 dims, int4 grid, __global const int *table, uint stride, LaneStencil *st,           \
+      LaneNeighbours *nb
 
 #ifdef AXIS_LANES
 // The stencil of a uniform metric as every lane sees it.
 typedef struct {
   float weight[STENCIL_TERMS];
-  float g[6];                // h^2 G, every seed's metric
-  float eGe[STENCIL_TERMS];  // e^T h^2 G e: the same in every lane, as S e = +-e for axis offsets
+  float g[6];  // h^2 G, every seed's metric
 } LaneStencil;
 
 inline void prepare_lane_stencil(__global const float* weights, __global const char* offsets,
                                  __global const float* seeds, LaneStencil* st) {
   int3 offset[STENCIL_TERMS];
-  const int terms = load_stencil(weights, offsets, 0, st->weight, offset);
+  load_stencil(weights, offsets, 0, st->weight, offset);
   for (int n = 0; n < 6; ++n) st->g[n] = seeds[8 + n];
-  term_lengths_squared(seeds, offset, terms, st->eGe);
 }
 
-// Candidate distance for label L in each lane (NO_LANE_LABEL: none), from the neighbour distances
-// nbd and labels nbl (nb[2i] at frame +e_i, nb[2i+1] at -e_i) of frame voxel cf.
+inline void lane_seed_metric(lane_uint label, __global const float* seeds, const LaneStencil* st,
+                             lane_float* g) {
+  for (int n = 0; n < 6; ++n) g[n] = st->g[n];  // every seed has the canvas's metric
+}
+
+// Candidate distance for label L in each lane (NO_LANE_LABEL: none) at frame voxel cf, from its
+// neighbours; seed_distance: u0 of cf under L.
 __attribute__((always_inline)) inline lane_float lane_solve_for_label(
-    lane_uint label, const lane_float* nbd, const lane_uint* nbl, const LaneStencil* st,
-    const LaneFrame* frame, int3 cf, __global const float* seeds) {
+    lane_uint label, const LaneNeighbours* nb, const LaneStencil* st, const LaneFrame* frame,
+    int3 cf, __global const float* seeds, lane_float* seed_distance) {
+  lane_float g[6], gq[3];
+  lane_seed_metric(label, seeds, st, g);
   lane_float sx, sy, sz;
   lane_seed_positions(label, seeds, &sx, &sy, &sz);
-  const lane_float qx = frame->base_x + frame->sign_x * (float)cf.x - sx;
-  const lane_float qy = frame->base_y + frame->sign_y * (float)cf.y - sy;
-  const lane_float qz = frame->base_z + frame->sign_z * (float)cf.z - sz;
-  const float* g = st->g;
-  const lane_float gqx = g[0] * qx + g[1] * qy + g[3] * qz;
-  const lane_float gqy = g[1] * qx + g[2] * qy + g[4] * qz;
-  const lane_float gqz = g[3] * qx + g[4] * qy + g[5] * qz;
-  const lane_float u0sq = max(0.0f, qx * gqx + qy * gqy + qz * gqz);
-  const lane_float u0 = sqrt(u0sq);
+  const lane_float u0 = lane_seed_distance(sx, sy, sz, frame, cf, g, gq);
+  *seed_distance = u0;
   const lane_mask factored = u0 > 0.0f;
   const lane_float inverse_u0 = select((lane_float)0.0f, 1.0f / u0, factored);
   // e^T G q for a frame offset e is e . (S G q).
-  const lane_float sgx = frame->sign_x * gqx, sgy = frame->sign_y * gqy, sgz = frame->sign_z * gqz;
+  const lane_float sgx = frame->sign_x * gq[0], sgy = frame->sign_y * gq[1];
+  const lane_float sgz = frame->sign_z * gq[2];
   lane_float w[STENCIL_TERMS], rho[STENCIL_TERMS];
 #pragma unroll
   for (int i = 0; i < LANE_TERMS; ++i) {
     const float3 e = convert_float3(lane_offset(i));  // a frame offset
     const lane_float eGq = e.x * sgx + e.y * sgy + e.z * sgz;
-    w[i] = lane_term_value(nbd[2 * i], nbd[2 * i + 1], nbl[2 * i], nbl[2 * i + 1], label, u0, u0sq,
-                           eGq, st->eGe[i], inverse_u0, 1.0f, factored);
+    w[i] = lane_term_value(nb, i, label, u0, eGq * inverse_u0, 1.0f, factored);
     rho[i] = st->weight[i];
   }
   lane_sort(w, rho, LANE_TERMS);
@@ -214,11 +241,13 @@ inline lane_mask lane_gather(LANE_GATHER_ARGUMENTS) {
 #pragma unroll
   for (int i = 0; i < LANE_TERMS; ++i) {
     const int ahead = p + tile_offset(lane_offset(i)), behind = p - tile_offset(lane_offset(i));
-    nbd[2 * i] = tile_distance[ahead];
-    nbd[2 * i + 1] = tile_distance[behind];
-    nbl[2 * i] = tile_word[ahead] & LABEL_NONE;
-    nbl[2 * i + 1] = tile_word[behind] & LABEL_NONE;
-    dirty |= (tile_stamp[ahead] > last) | (tile_stamp[behind] > last);
+    nb->distance[2 * i] = tile->distance[ahead];
+    nb->distance[2 * i + 1] = tile->distance[behind];
+    nb->label[2 * i] = tile->word[ahead] & LABEL_NONE;
+    nb->label[2 * i + 1] = tile->word[behind] & LABEL_NONE;
+    nb->seed_distance[2 * i] = tile->seed_distance[ahead];
+    nb->seed_distance[2 * i + 1] = tile->seed_distance[behind];
+    dirty |= (tile->stamp[ahead] > last) | (tile->stamp[behind] > last);
   }
   return open & dirty;
 }
@@ -270,40 +299,40 @@ inline lane_float lane_factorization_weight(const lane_float* d, const lane_floa
   return clamp((0.09f - m2) / 0.05f, 0.0f, 1.0f);
 }
 
-__attribute__((always_inline)) inline lane_float lane_solve_for_label(
-    lane_uint label, const lane_float* nbd, const lane_uint* nbl, const LaneStencil* st,
-    const LaneFrame* frame, int3 cf, __global const float* seeds) {
-  lane_float sx, sy, sz;
-  lane_seed_positions(label, seeds, &sx, &sy, &sz);
+// The seed metrics h^2 G_s of `label` in each lane (NO_LANE_LABEL: seed 0's).
+inline void lane_seed_metric(lane_uint label, __global const float* seeds, const LaneStencil* st,
+                             lane_float* g) {
   const uint8 r = select(label, (lane_uint)0u, label == NO_LANE_LABEL) * SEED_RECORD + 8u;
   const float8 m0 = vload8(0, seeds + r.s0), m1 = vload8(0, seeds + r.s1),
                m2 = vload8(0, seeds + r.s2), m3 = vload8(0, seeds + r.s3),
                m4 = vload8(0, seeds + r.s4), m5 = vload8(0, seeds + r.s5),
                m6 = vload8(0, seeds + r.s6), m7 = vload8(0, seeds + r.s7);
-  const lane_float g[6] = {LANE_COLUMN(m, s0), LANE_COLUMN(m, s1), LANE_COLUMN(m, s2),
-                           LANE_COLUMN(m, s3), LANE_COLUMN(m, s4), LANE_COLUMN(m, s5)};
-  const lane_float qx = frame->base_x + frame->sign_x * (float)cf.x - sx;
-  const lane_float qy = frame->base_y + frame->sign_y * (float)cf.y - sy;
-  const lane_float qz = frame->base_z + frame->sign_z * (float)cf.z - sz;
-  const lane_float gqx = g[0] * qx + g[1] * qy + g[3] * qz;
-  const lane_float gqy = g[1] * qx + g[2] * qy + g[4] * qz;
-  const lane_float gqz = g[3] * qx + g[4] * qy + g[5] * qz;
-  const lane_float u0sq = max(0.0f, qx * gqx + qy * gqy + qz * gqz);
-  const lane_float u0 = sqrt(u0sq);
+  g[0] = LANE_COLUMN(m, s0);
+  g[1] = LANE_COLUMN(m, s1);
+  g[2] = LANE_COLUMN(m, s2);
+  g[3] = LANE_COLUMN(m, s3);
+  g[4] = LANE_COLUMN(m, s4);
+  g[5] = LANE_COLUMN(m, s5);
+}
+
+__attribute__((always_inline)) inline lane_float lane_solve_for_label(
+    lane_uint label, const LaneNeighbours* nb, const LaneStencil* st, const LaneFrame* frame,
+    int3 cf, __global const float* seeds, lane_float* seed_distance) {
+  lane_float g[6], gq[3];
+  lane_seed_metric(label, seeds, st, g);
+  lane_float sx, sy, sz;
+  lane_seed_positions(label, seeds, &sx, &sy, &sz);
+  const lane_float u0 = lane_seed_distance(sx, sy, sz, frame, cf, g, gq);
+  *seed_distance = u0;
   const lane_float alpha = select((lane_float)0.0f, lane_factorization_weight(st->d, g), u0 > 0.0f);
   const lane_mask factored = alpha > 0.0f;
   const lane_float inverse_u0 = select((lane_float)0.0f, 1.0f / u0, factored);
   lane_float w[STENCIL_TERMS], rho[STENCIL_TERMS];
 #pragma unroll
   for (int i = 0; i < STENCIL_TERMS; ++i) {
-    const lane_float ex = st->ex[i], ey = st->ey[i], ez = st->ez[i];
-    const lane_float eGq = ex * gqx + ey * gqy + ez * gqz;
-    const lane_float eGe = ex * (g[0] * ex + g[1] * ey + g[3] * ez) +
-                           ey * (g[1] * ex + g[2] * ey + g[4] * ez) +
-                           ez * (g[3] * ex + g[4] * ey + g[5] * ez);
+    const lane_float eGq = st->ex[i] * gq[0] + st->ey[i] * gq[1] + st->ez[i] * gq[2];
     // A missing term (weight 0) is left out, as past the scalar stencil's term count.
-    w[i] = select(lane_term_value(nbd[2 * i], nbd[2 * i + 1], nbl[2 * i], nbl[2 * i + 1], label, u0,
-                                  u0sq, eGq, eGe, inverse_u0, alpha, factored),
+    w[i] = select(lane_term_value(nb, i, label, u0, eGq * inverse_u0, alpha, factored),
                   (lane_float)INFINITY, st->rho[i] == 0.0f);
     rho[i] = st->rho[i];
   }
@@ -315,13 +344,12 @@ __attribute__((always_inline)) inline lane_float lane_solve_for_label(
 // propagation.cl in the lane's frame: the tile where a neighbour lands in it, else the state).
 // Returns whether one changed since `last`; only then are the stencil and the states written
 // (most visits find the voxel clean).
-inline bool lane_gather_one(int k, int real, int3 cf, int p, uint last,
-                            const lane_float* tile_distance, const lane_uint* tile_word,
-                            const lane_uint* tile_stamp, const LaneBricks* bricks,
+inline bool lane_gather_one(int k, int real, int3 cf, int p, uint last, const LaneTile* tile,
+                            const LaneBricks* bricks, __global const float* seeds,
                             __global const float* weights, __global const char* offsets,
                             __global const ulong* state, __global const uint* changed, int4 dims,
                             int4 grid, __global const int* table, uint stride, LaneStencil* st,
-                            lane_float* nbd, lane_uint* nbl) {
+                            LaneNeighbours* nb) {
   float weight[STENCIL_TERMS];
   int3 offset[STENCIL_TERMS];
   const int terms = load_stencil(weights, offsets, (size_t)bricks->brick[k] * BRICK_VOLUME + real,
@@ -338,14 +366,14 @@ inline bool lane_gather_one(int k, int real, int3 cf, int p, uint last,
   }
   bool dirty = last == 0;
   if (near) {
-    for (int j = 0; j < 2 * terms; ++j) dirty = dirty || LANE_UINT(tile_stamp, where[j], k) > last;
+    for (int j = 0; j < 2 * terms; ++j) dirty = dirty || LANE_UINT(tile->stamp, where[j], k) > last;
   } else {
     const int3 position = bricks->origin[k] + local_coordinates(real);
     const uint last_round = last & ~(stride - 1);
     for (int j = 0; j < 2 * terms; ++j) {
       const int3 e = j & 1 ? -offset[j / 2] : offset[j / 2];
       if (inside_tile(cf + sign * e)) {  // where[j] is right
-        dirty = dirty || LANE_UINT(tile_stamp, where[j], k) > last;
+        dirty = dirty || LANE_UINT(tile->stamp, where[j], k) > last;
       } else {
         const long other =
             neighbour_slot(position + e, bricks->origin[k], dims, grid, table, bricks->near[k]);
@@ -363,13 +391,23 @@ inline bool lane_gather_one(int k, int real, int3 cf, int p, uint last,
   }
   for (int j = 0; j < 2 * terms; ++j) {
     const long w = where[j];
-    ulong value = INF_STATE;
-    if (w >= 0)
-      value = ((ulong)as_uint(LANE_FLOAT(tile_distance, w, k)) << 32) | LANE_UINT(tile_word, w, k);
-    else if (w < -1)
-      value = state[-2 - w];
-    LANE_FLOAT(nbd, j, k) = state_distance(value);
-    LANE_UINT(nbl, j, k) = (uint)value & LABEL_NONE;
+    if (w >= 0) {
+      LANE_FLOAT(nb->distance, j, k) = LANE_FLOAT(tile->distance, w, k);
+      LANE_UINT(nb->label, j, k) = LANE_UINT(tile->word, w, k) & LABEL_NONE;
+      LANE_FLOAT(nb->seed_distance, j, k) = LANE_FLOAT(tile->seed_distance, w, k);
+    } else if (w < -1) {  // beyond the tile: its seed distance from here
+      const ulong value = state[-2 - w];
+      const uint label = (uint)value & LABEL_NONE;
+      LANE_FLOAT(nb->distance, j, k) = state_distance(value);
+      LANE_UINT(nb->label, j, k) = label;
+      if (label != LABEL_NONE) {
+        const int3 e = j & 1 ? -offset[j / 2] : offset[j / 2];
+        __global const float* seed = seeds + (size_t)label * SEED_RECORD;
+        const float3 y = convert_float3(bricks->origin[k] + local_coordinates(real) + e);
+        LANE_FLOAT(nb->seed_distance, j, k) =
+            seed_distance(seed, y - (float3)(seed[0], seed[1], seed[2]));
+      }
+    }
   }
   return true;
 }
@@ -378,8 +416,9 @@ inline lane_mask lane_gather(LANE_GATHER_ARGUMENTS) {
   for (int i = 0; i < STENCIL_TERMS; ++i) {
     st->rho[i] = 0.0f;
     st->ex[i] = st->ey[i] = st->ez[i] = 0.0f;
-    nbd[2 * i] = nbd[2 * i + 1] = INFINITY;
-    nbl[2 * i] = nbl[2 * i + 1] = LABEL_NONE;
+    nb->distance[2 * i] = nb->distance[2 * i + 1] = INFINITY;
+    nb->label[2 * i] = nb->label[2 * i + 1] = LABEL_NONE;
+    nb->seed_distance[2 * i] = nb->seed_distance[2 * i + 1] = 0.0f;
   }
   int opened[LANES];
   uint lasts[LANES];
@@ -387,9 +426,9 @@ inline lane_mask lane_gather(LANE_GATHER_ARGUMENTS) {
   vstore8(last, 0, lasts);
   int dirty[LANES];
   for (int k = 0; k < LANES; ++k)
-    dirty[k] = opened[k] && lane_gather_one(k, l ^ bricks->flip[k], cf, p, lasts[k], tile_distance,
-                                            tile_word, tile_stamp, bricks, weights, offsets, state,
-                                            changed, dims, grid, table, stride, st, nbd, nbl)
+    dirty[k] = opened[k] && lane_gather_one(k, l ^ bricks->flip[k], cf, p, lasts[k], tile, bricks,
+                                            seeds, weights, offsets, state, changed, dims, grid,
+                                            table, stride, st, nb)
                    ? -1
                    : 0;
   return open & vload8(0, dirty);
@@ -398,13 +437,14 @@ inline lane_mask lane_gather(LANE_GATHER_ARGUMENTS) {
 
 // best_candidate (eikonal_scheme.clh) in the lanes of `lanes`: the smallest (distance, label) over
 // the distinct labels of the neighbours; +inf and LABEL_NONE without a labelled neighbour.
-inline void lane_best_candidate(lane_mask lanes, const lane_float* nbd, const lane_uint* nbl,
-                                LaneStencil* st, const LaneFrame* frame, int3 cf,
-                                __global const float* seeds, lane_float* best_distance,
-                                lane_uint* best_label) {
+inline void lane_best_candidate(lane_mask lanes, const LaneNeighbours* nb, LaneStencil* st,
+                                const LaneFrame* frame, int3 cf, __global const float* seeds,
+                                lane_float* best_distance, lane_uint* best_label,
+                                lane_float* best_seed_distance) {
   const int neighbours = 2 * LANE_TERMS;
   *best_distance = INFINITY;
   *best_label = LABEL_NONE;
+  *best_seed_distance = 0.0f;
   lane_voxel_metric(st);
   // The distinct labels in ascending order: each pass takes the least label above the last one.
   lane_uint above = 0u;  // labels >= above are still to do
@@ -412,18 +452,43 @@ inline void lane_best_candidate(lane_mask lanes, const lane_float* nbd, const la
     lane_uint label = LABEL_NONE;
 #pragma unroll
     for (int j = 0; j < neighbours; ++j)
-      label = min(label, select((lane_uint)LABEL_NONE, nbl[j], nbl[j] >= above));
+      label = min(label, select((lane_uint)LABEL_NONE, nb->label[j], nb->label[j] >= above));
     const lane_mask valid = lanes & (label != LABEL_NONE);
     if (!any(valid)) break;
     const lane_uint solved = select((lane_uint)NO_LANE_LABEL, label, valid);
-    const lane_float t = lane_solve_for_label(solved, nbd, nbl, st, frame, cf, seeds);
+    lane_float u0;
+    const lane_float t = lane_solve_for_label(solved, nb, st, frame, cf, seeds, &u0);
     const lane_mask better =
         valid & ~isinf(t) &
         ((t < *best_distance) | ((t == *best_distance) & (label < *best_label)));
     *best_distance = select(*best_distance, t, better);
     *best_label = select(*best_label, label, better);
+    *best_seed_distance = select(*best_seed_distance, u0, better);
     above = label + 1u;
   }
+}
+
+// The seed distance of every tile voxel under its own label (LaneTile), once the lanes are loaded.
+inline void lane_tile_seed_distances(LaneTile* tile, const LaneFrame* frame, const LaneStencil* st,
+                                     __global const float* seeds) {
+  int p = 0;
+  for (int tz = 0; tz < TILE_EDGE_Z; ++tz)
+    for (int ty = 0; ty < TILE_EDGE; ++ty)
+      for (int tx = 0; tx < TILE_EDGE; ++tx, ++p) {
+        const lane_uint label = tile->word[p] & LABEL_NONE;
+        const lane_mask labelled = label != LABEL_NONE;
+        if (!any(labelled)) {
+          tile->seed_distance[p] = 0.0f;
+          continue;
+        }
+        const lane_uint seed = select((lane_uint)NO_LANE_LABEL, label, labelled);
+        lane_float sx, sy, sz, g[6], gq[3];
+        lane_seed_positions(seed, seeds, &sx, &sy, &sz);
+        lane_seed_metric(seed, seeds, st, g);
+        const int3 cf = (int3)(tx - 1, ty - 1, tz - TILE_PAD_Z);
+        tile->seed_distance[p] =
+            select((lane_float)0.0f, lane_seed_distance(sx, sy, sz, frame, cf, g, gq), labelled);
+      }
 }
 
 // significant_change (eikonal_scheme.clh) per lane.
@@ -477,29 +542,36 @@ inline int upwind_corner_of(const int* near, __global const ulong* state) {
 }
 
 // Tile slot `real` of lane k's brick, stored at frame index f: distance, low word, change stamp.
-inline void put_lane_slot(int k, int f, ulong s, uint stamp, lane_float* tile_distance,
-                          lane_uint* tile_word, lane_uint* tile_stamp) {
-  LANE_FLOAT(tile_distance, f, k) = state_distance(s);
-  LANE_UINT(tile_word, f, k) = (uint)s;
-  LANE_UINT(tile_stamp, f, k) = stamp;
+inline void put_lane_slot(int k, int f, ulong s, uint stamp, LaneTile* tile) {
+  LANE_FLOAT(tile->distance, f, k) = state_distance(s);
+  LANE_UINT(tile->word, f, k) = (uint)s;
+  LANE_UINT(tile->stamp, f, k) = stamp;
 }
 
 // `length` consecutive slots of brick `brick` (-1: none) from `within`, to lane k's frame tile
 // from f on in steps of `step`; `inside`: the brick being relaxed (its own change stamps).
 inline void load_lane_run(int k, int f, int step, int brick, int within, int length, bool inside,
                           __global const ulong* state, __global const uint* changed, uint stride,
-                          lane_float* tile_distance, lane_uint* tile_word, lane_uint* tile_stamp) {
+                          LaneTile* tile) {
   if (brick < 0) {
-    for (int i = 0; i < length; ++i)
-      put_lane_slot(k, f + step * i, INF_STATE, 0u, tile_distance, tile_word, tile_stamp);
+    for (int i = 0; i < length; ++i) put_lane_slot(k, f + step * i, INF_STATE, 0u, tile);
     return;
   }
   const size_t slot = (size_t)brick * BRICK_VOLUME + within;
   for (int i = 0; i < length; ++i) {
     const uint stamp = inside ? changed[slot + i] : outside_stamp(changed[slot + i], stride);
-    put_lane_slot(k, f + step * i, state[slot + i], stamp, tile_distance, tile_word, tile_stamp);
+    put_lane_slot(k, f + step * i, state[slot + i], stamp, tile);
   }
 }
+
+// Whether a visit reads the tile's edges and corners (the voxels outside the brick that are not
+// next to one of its faces): axis offsets reach the faces only, so those are not loaded (at 256^3,
+// about a quarter of the cache lines a tile load touches).
+#ifdef AXIS_LANES
+#define TILE_EDGES_READ false
+#else
+#define TILE_EDGES_READ true
+#endif
 
 // Loads lane k's brick into its frame tile (load_tile of propagation.cl, row by row, straight
 // into the flipped positions) with its evaluation stamps; returns its corner. The tile words are
@@ -508,8 +580,7 @@ inline void load_lane_run(int k, int f, int step, int brick, int within, int len
 inline int load_lane(int k, int brick, __global const ulong* state, __global const uint* changed,
                      __global const int* table, __global const int4* brick_origins, int4 grid,
                      uint stride, __global const uint* activity, __global const uint* evaluated,
-                     lane_float* tile_distance, lane_uint* tile_word, lane_uint* tile_stamp,
-                     lane_uint* evaluated_frame, LaneFrame* frame, LaneBricks* bricks) {
+                     LaneTile* tile, LaneFrame* frame, LaneBricks* bricks) {
   const int3 origin = brick_origins[brick].xyz;
   int* near = bricks->near[k];
   load_near_bricks(origin, grid, table, near);
@@ -528,12 +599,15 @@ inline int load_lane(int k, int brick, __global const ulong* state, __global con
       const int f_row = TILE_EDGE * ((fy ? TILE_EDGE - 1 - ty : ty) +
                                      TILE_EDGE * (fz ? TILE_EDGE_Z - 1 - tz : tz));
       const int f_first = f_row + (fx ? TILE_EDGE - 1 : 0), step = fx ? -1 : 1;
-      load_lane_run(k, f_first, step, bricks[0], row + EDGE - 1, 1, false, state, changed, stride,
-                    tile_distance, tile_word, tile_stamp);
-      load_lane_run(k, f_first + step, step, bricks[1], row, EDGE, by == 1 && bz == 1, state,
-                    changed, stride, tile_distance, tile_word, tile_stamp);
-      load_lane_run(k, f_first + step * (EDGE + 1), step, bricks[2], row, 1, false, state, changed,
-                    stride, tile_distance, tile_word, tile_stamp);
+      const bool inner = by == 1 && bz == 1;       // a row of the brick: its ends are x faces
+      const bool read = TILE_EDGES_READ || inner;  // else tile edges: +inf, never read
+      const bool face = TILE_EDGES_READ || by == 1 || bz == 1;
+      load_lane_run(k, f_first, step, read ? bricks[0] : -1, row + EDGE - 1, 1, false, state,
+                    changed, stride, tile);
+      load_lane_run(k, f_first + step, step, face ? bricks[1] : -1, row, EDGE, inner, state,
+                    changed, stride, tile);
+      load_lane_run(k, f_first + step * (EDGE + 1), step, read ? bricks[2] : -1, row, 1, false,
+                    state, changed, stride, tile);
     }
   }
   // Inactive voxels are skipped like frozen ones; the evaluation stamps go to frame positions.
@@ -543,8 +617,8 @@ inline int load_lane(int k, int brick, __global const ulong* state, __global con
       const int real = 32 * w + b;
       const int l = real ^ flip;
       const bool active = (bits >> b) & 1u;
-      if (!active) LANE_UINT(tile_word, tile_index(local_coordinates(l)), k) |= (uint)FROZEN_BIT;
-      LANE_UINT(evaluated_frame, l, k) = active ? evaluated[brick_slot + real] : 0u;
+      if (!active) LANE_UINT(tile->word, tile_index(local_coordinates(l)), k) |= (uint)FROZEN_BIT;
+      LANE_UINT(tile->evaluated, l, k) = active ? evaluated[brick_slot + real] : 0u;
     }
   }
   const float3 o = convert_float3(origin);
@@ -562,15 +636,12 @@ inline int load_lane(int k, int brick, __global const ulong* state, __global con
 }
 
 // An empty lane: no brick, nothing to relax (its tile is never read, but holds +inf).
-inline void clear_lane(int k, lane_float* tile_distance, lane_uint* tile_word,
-                       lane_uint* tile_stamp, lane_uint* evaluated_frame, LaneFrame* frame,
-                       LaneBricks* bricks) {
+inline void clear_lane(int k, LaneTile* tile, LaneFrame* frame, LaneBricks* bricks) {
   bricks->brick[k] = -1;
   bricks->flip[k] = 0;
   bricks->origin[k] = bricks->sign[k] = (int3)(0, 0, 0);
-  for (int f = 0; f < TILE_VOLUME; ++f)
-    put_lane_slot(k, f, INF_STATE | FROZEN_BIT, 0u, tile_distance, tile_word, tile_stamp);
-  for (int l = 0; l < BRICK_VOLUME; ++l) LANE_UINT(evaluated_frame, l, k) = 0u;
+  for (int f = 0; f < TILE_VOLUME; ++f) put_lane_slot(k, f, INF_STATE | FROZEN_BIT, 0u, tile);
+  for (int l = 0; l < BRICK_VOLUME; ++l) LANE_UINT(tile->evaluated, l, k) = 0u;
   LANE_FLOAT(&frame->base_x, 0, k) = LANE_FLOAT(&frame->base_y, 0, k) =
       LANE_FLOAT(&frame->base_z, 0, k) = 0.0f;
   LANE_FLOAT(&frame->sign_x, 0, k) = LANE_FLOAT(&frame->sign_y, 0, k) =
@@ -580,10 +651,8 @@ inline void clear_lane(int k, lane_float* tile_distance, lane_uint* tile_word,
 // Writes lane k's results: the relaxed brick to scratch (when anything was written), its
 // evaluation stamps and, when a value changed significantly, its change stamps.
 inline void store_lane(int k, int brick, int position, int corner, uint brick_flags,
-                       const lane_float* tile_distance, const lane_uint* tile_word,
-                       const lane_uint* tile_stamp, const lane_uint* evaluated_frame,
-                       __global ulong* scratch, __global uint* evaluated, __global uint* changed,
-                       __global const uint* activity) {
+                       const LaneTile* tile, __global ulong* scratch, __global uint* evaluated,
+                       __global uint* changed, __global const uint* activity) {
   const int flip = corner_flip(corner);
   const size_t brick_slot = (size_t)brick * BRICK_VOLUME;
   __global ulong* relaxed = scratch + (size_t)position * BRICK_VOLUME;
@@ -595,18 +664,18 @@ inline void store_lane(int k, int brick, int position, int corner, uint brick_fl
       continue;
     }
     if (brick_flags != 0)
-      relaxed[real] = ((ulong)as_uint(LANE_FLOAT(tile_distance, p, k)) << 32) |
-                      (ulong)LANE_UINT(tile_word, p, k);
-    evaluated[brick_slot + real] = LANE_UINT(evaluated_frame, l, k);
-    if (brick_flags & FLAG_CHANGED) changed[brick_slot + real] = LANE_UINT(tile_stamp, p, k);
+      relaxed[real] = ((ulong)as_uint(LANE_FLOAT(tile->distance, p, k)) << 32) |
+                      (ulong)LANE_UINT(tile->word, p, k);
+    evaluated[brick_slot + real] = LANE_UINT(tile->evaluated, l, k);
+    if (brick_flags & FLAG_CHANGED) changed[brick_slot + real] = LANE_UINT(tile->stamp, p, k);
   }
 }
 
 __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
   const int first = get_global_id(0) * LANES;
   if (first >= count) return;
-  lane_float tile_distance[TILE_VOLUME];
-  lane_uint tile_word[TILE_VOLUME], tile_stamp[TILE_VOLUME], evaluated_frame[BRICK_VOLUME];
+  LaneTile lane_tile;
+  LaneTile* tile = &lane_tile;
   LaneFrame frame;
   LaneBricks bricks;
   int corner[LANES] = {0}, brick[LANES];
@@ -615,14 +684,14 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
     brick[k] = first + k < count ? list[first + k] : -1;
     live[k] = brick[k] >= 0 ? 0xFFFFFFFFu : 0u;
     if (brick[k] < 0)
-      clear_lane(k, tile_distance, tile_word, tile_stamp, evaluated_frame, &frame, &bricks);
+      clear_lane(k, tile, &frame, &bricks);
     else
       corner[k] = load_lane(k, brick[k], state, changed, table, brick_origins, grid, stride,
-                            activity, evaluated, tile_distance, tile_word, tile_stamp,
-                            evaluated_frame, &frame, &bricks);
+                            activity, evaluated, tile, &frame, &bricks);
   }
   LaneStencil st;
   prepare_lane_stencil(weights, offsets, seeds, &st);
+  lane_tile_seed_distances(tile, &frame, &st, seeds);
   lane_mask running = as_int8(vload8(0, live));
   lane_uint brick_flags = select((lane_uint)0u, (lane_uint)FLAG_UNCONVERGED, running);
   lane_uint lane_updates = 0;
@@ -635,33 +704,34 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
       const int l = n ^ flip;
       const int3 c = local_coordinates(l);
       const int p = tile_index(c);
-      const lane_uint word = tile_word[p];
+      const lane_uint word = tile->word[p];
       const lane_mask open = running & ((word & (uint)FROZEN_BIT) == 0u);
       if (!any(open)) continue;
-      const lane_uint last = evaluated_frame[l];
-      lane_float nbd[2 * STENCIL_TERMS];
-      lane_uint nbl[2 * STENCIL_TERMS];
+      const lane_uint last = tile->evaluated[l];
+      LaneNeighbours nb;
       const lane_mask lanes =
-          lane_gather(open, l, c, p, last, tile_distance, tile_word, tile_stamp, &bricks, weights,
-                      offsets, state, changed, dims, grid, table, stride, &st, nbd, nbl);
+          lane_gather(open, l, c, p, last, tile, &bricks, seeds, weights, offsets, state, changed,
+                      dims, grid, table, stride, &st, &nb);
       if (!any(lanes)) continue;
       const uint stamp = round_base + tick;
-      evaluated_frame[l] = select(last, (lane_uint)stamp, lanes);
-      lane_float best;
+      tile->evaluated[l] = select(last, (lane_uint)stamp, lanes);
+      lane_float best, best_seed_distance;
       lane_uint best_label;
-      lane_best_candidate(lanes, nbd, nbl, &st, &frame, c, seeds, &best, &best_label);
+      lane_best_candidate(lanes, &nb, &st, &frame, c, seeds, &best, &best_label,
+                          &best_seed_distance);
       lane_updates -= as_uint8(lanes);
-      const lane_float current = tile_distance[p];
+      const lane_float current = tile->distance[p];
       const lane_uint current_label = word & LABEL_NONE;
       const lane_mask differs =
           lanes & ((as_uint8(best) != as_uint8(current)) | (best_label != current_label));
       if (!any(differs)) continue;
-      tile_distance[p] = select(current, best, differs);
-      tile_word[p] = select(word, best_label, differs);
+      tile->distance[p] = select(current, best, differs);
+      tile->word[p] = select(word, best_label, differs);
+      tile->seed_distance[p] = select(tile->seed_distance[p], best_seed_distance, differs);
       brick_flags |= select((lane_uint)0u, (lane_uint)FLAG_WRITTEN, differs);
       const lane_mask significant =
           differs & lane_significant_change(current, current_label, best, best_label);
-      tile_stamp[p] = select(tile_stamp[p], (lane_uint)stamp, significant);
+      tile->stamp[p] = select(tile->stamp[p], (lane_uint)stamp, significant);
       sweep_changed |= significant;
     }
     brick_flags |= select((lane_uint)0u, (lane_uint)FLAG_CHANGED, running & sweep_changed);
@@ -673,8 +743,8 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
   vstore8(brick_flags, 0, lane_flags);
   for (int k = 0; k < LANES; ++k) {
     if (brick[k] < 0) continue;
-    store_lane(k, brick[k], first + k, corner[k], lane_flags[k], tile_distance, tile_word,
-               tile_stamp, evaluated_frame, scratch, evaluated, changed, activity);
+    store_lane(k, brick[k], first + k, corner[k], lane_flags[k], tile, scratch, evaluated, changed,
+               activity);
     flags[brick[k]] = (uchar)lane_flags[k];
   }
   const uint4 pairs = lane_updates.lo + lane_updates.hi;
