@@ -7,6 +7,7 @@
 
 #include <Eigen/LU>
 
+#include "host_pages.h"
 #include "rvor/error.h"
 #include "rvor/selling.h"
 
@@ -128,16 +129,24 @@ std::uint64_t canvas_fingerprint(const Canvas& canvas) {
 
 namespace {
 
+// Buffers from this size on live on huge pages where the device uses host memory (host_pages.h).
+constexpr std::size_t kHugePageBufferBytes = std::size_t{4} << 20;
+
 template <typename T>
 cl::Buffer make_buffer(const cl::Context& context, const std::vector<T>& data,
                        std::uint64_t& bytes) {
-  bytes += data.size() * sizeof(T);
-  return cl::Buffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, data.size() * sizeof(T),
+  const std::size_t size = data.size() * sizeof(T);
+  bytes += size;
+  if (size >= kHugePageBufferBytes && device_uses_host_memory(context))
+    return huge_page_buffer(context, CL_MEM_READ_ONLY, size, data.data());
+  return cl::Buffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, size,
                     const_cast<T*>(data.data()));
 }
 
 cl::Buffer make_scratch(const cl::Context& context, std::size_t size, std::uint64_t& bytes) {
   bytes += size;
+  if (size >= kHugePageBufferBytes && device_uses_host_memory(context))
+    return huge_page_buffer(context, CL_MEM_READ_WRITE, size, nullptr);
   return cl::Buffer(context, CL_MEM_READ_WRITE, std::max<std::size_t>(size, 8));
 }
 
