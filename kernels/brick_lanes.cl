@@ -504,38 +504,38 @@ inline int corner_flip(int corner) {  // the local-index bits a corner flips
          (corner & 4 ? EDGE * EDGE * (EDGE_Z - 1) : 0);
 }
 
-// The smallest distance on layer `at` (-1 .. edge) across axis a of the brick's tile, read from
-// the state (the layers -1 and edge lie in the neighbour bricks; +inf where there is none).
-inline float layer_minimum(int a, int at, const int* near, __global const ulong* state) {
-  const int edge = a == 2 ? EDGE_Z : EDGE;
-  const int side = at < 0 ? 0 : at < edge ? 1 : 2;
-  int3 b = (int3)(1, 1, 1);
-  if (a == 0) b.x = side;
-  if (a == 1) b.y = side;
-  if (a == 2) b.z = side;
-  const int brick = near[b.x + 3 * (b.y + 3 * b.z)];
+// The smallest distance in `runs` runs of `length` consecutive slots of brick `brick` (+inf
+// without one), the runs `stride` slots apart from slot `first`: a layer of the brick across an
+// axis. The distances are read as the high float halves of the state words.
+inline float layer_minimum(__global const ulong* state, int brick, int first, int length, int runs,
+                           int stride) {
   if (brick < 0) return INFINITY;
-  const int layer = (at + edge) % edge;
-  __global const ulong* slots = state + (size_t)brick * BRICK_VOLUME;
+  __global const float* distance = (__global const float*)(state + (size_t)brick * BRICK_VOLUME);
   float least = INFINITY;
-  for (int m = 0; m < EDGE * EDGE_Z; ++m) {  // the other two coordinates
-    const int p = m % EDGE, q = m / EDGE;
-    const int3 c = a == 0   ? (int3)(layer, p, q)
-                   : a == 1 ? (int3)(p, layer, q)
-                            : (int3)(p, q, layer);
-    least = min(least, state_distance(slots[c.x + EDGE * (c.y + EDGE * c.z)]));
-  }
+  for (int r = 0; r < runs; ++r)
+    for (int i = 0; i < length; ++i) least = min(least, distance[2 * (first + stride * r + i) + 1]);
   return least;
 }
 
-// upwind_corner (propagation.cl) of a brick, from the state instead of a tile.
+// upwind_corner (propagation.cl) of a brick, from the state instead of a tile: per axis, whether
+// the two layers at its high side (its last, the next brick's first) hold a smaller distance than
+// the two at its low side.
 inline int upwind_corner_of(const int* near, __global const ulong* state) {
-  const int edge[3] = {EDGE, EDGE, EDGE_Z};
+  const int centre = 13, below[3] = {12, 10, 4}, above[3] = {14, 16, 22};  // in near
+  // A layer across axis a at local coordinate c: its first slot, run length, runs and stride.
+  const int length[3] = {1, EDGE, EDGE * EDGE};
+  const int runs[3] = {EDGE * EDGE_Z, EDGE_Z, 1};
+  const int stride[3] = {EDGE, EDGE * EDGE, 0};
+  const int step[3] = {1, EDGE, EDGE * EDGE};  // slots between layers
+  const int last[3] = {EDGE - 1, EDGE - 1, EDGE_Z - 1};
   int corner = 0;
   for (int a = 0; a < DIM; ++a) {
-    const float low = min(layer_minimum(a, -1, near, state), layer_minimum(a, 0, near, state));
+    const float low =
+        min(layer_minimum(state, near[below[a]], step[a] * last[a], length[a], runs[a], stride[a]),
+            layer_minimum(state, near[centre], 0, length[a], runs[a], stride[a]));
     const float high =
-        min(layer_minimum(a, edge[a] - 1, near, state), layer_minimum(a, edge[a], near, state));
+        min(layer_minimum(state, near[centre], step[a] * last[a], length[a], runs[a], stride[a]),
+            layer_minimum(state, near[above[a]], 0, length[a], runs[a], stride[a]));
     if (high < low) corner |= 1 << a;
   }
   return corner;
@@ -653,22 +653,29 @@ inline void clear_lane(int k, LaneTile* tile, LaneFrame* frame, LaneBricks* bric
 inline void store_lane(int k, int brick, int position, int corner, uint brick_flags,
                        const LaneTile* tile, __global ulong* scratch, __global uint* evaluated,
                        __global uint* changed, __global const uint* activity) {
-  const int flip = corner_flip(corner);
+  const int fx = corner & 1, fy = (corner >> 1) & 1, fz = (corner >> 2) & 1;
   const size_t brick_slot = (size_t)brick * BRICK_VOLUME;
   __global ulong* relaxed = scratch + (size_t)position * BRICK_VOLUME;
-  for (int l = 0; l < BRICK_VOLUME; ++l) {
-    const int real = l ^ flip;
-    const int p = tile_index(local_coordinates(l));
-    if (!slot_active(activity, brick_slot + real)) {
-      if (brick_flags != 0) relaxed[real] = INF_STATE;
-      continue;
+  for (int z = 0; z < EDGE_Z; ++z)
+    for (int y = 0; y < EDGE; ++y) {  // a row in real order, its frame positions l and p
+      const int row = EDGE * (y + EDGE * z);
+      const uint active = activity[(brick_slot + row) / 32] >> (row % 32);
+      const int3 f = (int3)(0, fy ? EDGE - 1 - y : y, fz ? EDGE_Z - 1 - z : z);
+      const int l_row = EDGE * (f.y + EDGE * f.z), p_row = tile_index(f);
+      for (int x = 0; x < EDGE; ++x) {
+        const int real = row + x, fxx = fx ? EDGE - 1 - x : x;
+        const int l = l_row + fxx, p = p_row + fxx;
+        if (!((active >> x) & 1u)) {
+          if (brick_flags != 0) relaxed[real] = INF_STATE;
+          continue;
+        }
+        if (brick_flags != 0)
+          relaxed[real] = ((ulong)as_uint(LANE_FLOAT(tile->distance, p, k)) << 32) |
+                          (ulong)LANE_UINT(tile->word, p, k);
+        evaluated[brick_slot + real] = LANE_UINT(tile->evaluated, l, k);
+        if (brick_flags & FLAG_CHANGED) changed[brick_slot + real] = LANE_UINT(tile->stamp, p, k);
+      }
     }
-    if (brick_flags != 0)
-      relaxed[real] = ((ulong)as_uint(LANE_FLOAT(tile->distance, p, k)) << 32) |
-                      (ulong)LANE_UINT(tile->word, p, k);
-    evaluated[brick_slot + real] = LANE_UINT(tile->evaluated, l, k);
-    if (brick_flags & FLAG_CHANGED) changed[brick_slot + real] = LANE_UINT(tile->stamp, p, k);
-  }
 }
 
 __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
