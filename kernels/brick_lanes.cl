@@ -19,7 +19,7 @@
 //   the states only when a change stamp says the voxel is dirty; the solve is vectorised.
 //
 // Measured (callgrind, 64^3, 1000 seeds; docs/scheme.md): kernel instructions of the whole solve,
-// relax_brick_sweep -> this kernel, euclidean 1486M -> 743M, radial_shock_3d 4048M -> 3375M, for
+// relax_brick_sweep -> this kernel, euclidean 1486M -> 729M, radial_shock_3d 4048M -> 3118M, for
 // the same evaluations.
 
 #if defined(UNIFORM_METRIC) && defined(UNIFORM_TERMS)
@@ -46,6 +46,14 @@ inline int3 lane_offset(int i) {
 typedef float8 lane_float;
 typedef int8 lane_mask; /* -1: set, 0: clear */
 typedef uint8 lane_uint;
+
+// Whether any lane of m is set: one vector OR tree and one test (PoCL lowers any() to a chain of
+// lane extracts and branches).
+inline bool lanes_any(lane_mask m) {
+  const int4 halves = m.lo | m.hi;
+  const int2 quarters = halves.lo | halves.hi;
+  return (quarters.x | quarters.y) < 0;
+}
 
 // One lane of a private vector array (LANES floats or uints per element).
 #define LANE_FLOAT(array, index, lane) (((float*)(array))[(index)*LANES + (lane)])
@@ -454,7 +462,7 @@ inline void lane_best_candidate(lane_mask lanes, const LaneNeighbours* nb, LaneS
     for (int j = 0; j < neighbours; ++j)
       label = min(label, select((lane_uint)LABEL_NONE, nb->label[j], nb->label[j] >= above));
     const lane_mask valid = lanes & (label != LABEL_NONE);
-    if (!any(valid)) break;
+    if (!lanes_any(valid)) break;
     const lane_uint solved = select((lane_uint)NO_LANE_LABEL, label, valid);
     lane_float u0;
     const lane_float t = lane_solve_for_label(solved, nb, st, frame, cf, seeds, &u0);
@@ -477,7 +485,7 @@ inline void lane_tile_seed_distances(LaneTile* tile, const LaneFrame* frame, con
       for (int tx = 0; tx < TILE_EDGE; ++tx, ++p) {
         const lane_uint label = tile->word[p] & LABEL_NONE;
         const lane_mask labelled = label != LABEL_NONE;
-        if (!any(labelled)) {
+        if (!lanes_any(labelled)) {
           tile->seed_distance[p] = 0.0f;
           continue;
         }
@@ -703,7 +711,7 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
   lane_uint brick_flags = select((lane_uint)0u, (lane_uint)FLAG_UNCONVERGED, running);
   lane_uint lane_updates = 0;
   uint tick = 0;
-  for (int sweep = 0; sweep < max_sweeps && any(running); ++sweep) {
+  for (int sweep = 0; sweep < max_sweeps && lanes_any(running); ++sweep) {
     const int flip = corner_flip(sweep % (DIM == 3 ? 8 : 4));
     lane_mask sweep_changed = 0;
     for (int n = 0; n < BRICK_VOLUME; ++n) {
@@ -713,13 +721,13 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
       const int p = tile_index(c);
       const lane_uint word = tile->word[p];
       const lane_mask open = running & ((word & (uint)FROZEN_BIT) == 0u);
-      if (!any(open)) continue;
+      if (!lanes_any(open)) continue;
       const lane_uint last = tile->evaluated[l];
       LaneNeighbours nb;
       const lane_mask lanes =
           lane_gather(open, l, c, p, last, tile, &bricks, seeds, weights, offsets, state, changed,
                       dims, grid, table, stride, &st, &nb);
-      if (!any(lanes)) continue;
+      if (!lanes_any(lanes)) continue;
       const uint stamp = round_base + tick;
       tile->evaluated[l] = select(last, (lane_uint)stamp, lanes);
       lane_float best, best_seed_distance;
@@ -731,7 +739,7 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
       const lane_uint current_label = word & LABEL_NONE;
       const lane_mask differs =
           lanes & ((as_uint8(best) != as_uint8(current)) | (best_label != current_label));
-      if (!any(differs)) continue;
+      if (!lanes_any(differs)) continue;
       tile->distance[p] = select(current, best, differs);
       tile->word[p] = select(word, best_label, differs);
       tile->seed_distance[p] = select(tile->seed_distance[p], best_seed_distance, differs);
