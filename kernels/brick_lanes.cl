@@ -572,6 +572,34 @@ inline void load_lane_run(int k, int f, int step, int brick, int within, int len
   }
 }
 
+// A row of EDGE slots of brick `brick` (-1: none) from `within` (load_lane_run): one vector load
+// of the states and of the stamps, then the lane's stores.
+inline void load_lane_row(int k, int f, int step, int brick, int within, bool inside,
+                          __global const ulong* state, __global const uint* changed, uint stride,
+                          LaneTile* tile) {
+  if (brick < 0) {
+    load_lane_run(k, f, step, brick, within, EDGE, inside, state, changed, stride, tile);
+    return;
+  }
+  const size_t slot = (size_t)brick * BRICK_VOLUME + within;
+  const ulong8 s = vload8(0, state + slot);
+  const uint8 c = vload8(0, changed + slot);
+  const uint8 above = (c & ~(stride - 1u)) + stride;  // outside_stamp
+  const uint8 stamp = inside ? c : select(above, (uint8)0u, c == 0u);
+  const float8 distance = as_float8(convert_uint8(s >> 32));
+  const uint8 word = convert_uint8(s);
+  float d[EDGE];
+  uint w[EDGE], t[EDGE];
+  vstore8(distance, 0, d);
+  vstore8(word, 0, w);
+  vstore8(stamp, 0, t);
+  for (int i = 0; i < EDGE; ++i) {
+    LANE_FLOAT(tile->distance, f + step * i, k) = d[i];
+    LANE_UINT(tile->word, f + step * i, k) = w[i];
+    LANE_UINT(tile->stamp, f + step * i, k) = t[i];
+  }
+}
+
 // Whether a visit reads the tile's edges and corners (the voxels outside the brick that are not
 // next to one of its faces): axis offsets reach the faces only, so those are not loaded (at 256^3,
 // about a quarter of the cache lines a tile load touches).
@@ -612,8 +640,8 @@ inline int load_lane(int k, int brick, __global const ulong* state, __global con
       const bool face = TILE_EDGES_READ || by == 1 || bz == 1;
       load_lane_run(k, f_first, step, read ? bricks[0] : -1, row + EDGE - 1, 1, false, state,
                     changed, stride, tile);
-      load_lane_run(k, f_first + step, step, face ? bricks[1] : -1, row, EDGE, inner, state,
-                    changed, stride, tile);
+      load_lane_row(k, f_first + step, step, face ? bricks[1] : -1, row, inner, state, changed,
+                    stride, tile);
       load_lane_run(k, f_first + step * (EDGE + 1), step, read ? bricks[2] : -1, row, 1, false,
                     state, changed, stride, tile);
     }
