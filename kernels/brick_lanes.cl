@@ -695,9 +695,25 @@ inline void store_lane(int k, int brick, int position, int corner, uint brick_fl
   for (int z = 0; z < EDGE_Z; ++z)
     for (int y = 0; y < EDGE; ++y) {  // a row in real order, its frame positions l and p
       const int row = EDGE * (y + EDGE * z);
-      const uint active = activity[(brick_slot + row) / 32] >> (row % 32);
+      const uint active = (activity[(brick_slot + row) / 32] >> (row % 32)) & 0xFFu;
       const int3 f = (int3)(0, fy ? EDGE - 1 - y : y, fz ? EDGE_Z - 1 - z : z);
       const int l_row = EDGE * (f.y + EDGE * f.z), p_row = tile_index(f);
+      if (active == 0xFFu) {  // the usual case: whole rows as vectors
+        uint distance[EDGE], word[EDGE], stamp[EDGE], evaluation[EDGE];
+        for (int x = 0; x < EDGE; ++x) {
+          const int fxx = fx ? EDGE - 1 - x : x;
+          distance[x] = as_uint(LANE_FLOAT(tile->distance, p_row + fxx, k));
+          word[x] = LANE_UINT(tile->word, p_row + fxx, k);
+          stamp[x] = LANE_UINT(tile->stamp, p_row + fxx, k);
+          evaluation[x] = LANE_UINT(tile->evaluated, l_row + fxx, k);
+        }
+        if (brick_flags != 0)
+          vstore8((convert_ulong8(vload8(0, distance)) << 32) | convert_ulong8(vload8(0, word)), 0,
+                  relaxed + row);
+        vstore8(vload8(0, evaluation), 0, evaluated + brick_slot + row);
+        if (brick_flags & FLAG_CHANGED) vstore8(vload8(0, stamp), 0, changed + brick_slot + row);
+        continue;
+      }
       for (int x = 0; x < EDGE; ++x) {
         const int real = row + x, fxx = fx ? EDGE - 1 - x : x;
         const int l = l_row + fxx, p = p_row + fxx;
