@@ -1,0 +1,68 @@
+// Device buffers on transparent huge pages (host/src/opencl/host_pages.h, internal): they hold
+// what they were given, the device reads and writes them, their pages go when the buffer goes,
+// and an engine whose per-voxel buffers take that path (4 MiB and more) matches the reference.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdint>
+#include <fstream>
+#include <numeric>
+#include <vector>
+
+#include "host_pages.h"
+#include "opencl/opencl_test_support.h"
+#include "opencl_runtime.h"
+
+namespace rvor {
+namespace {
+
+long resident_bytes() {
+  std::ifstream statm("/proc/self/statm");
+  long size = 0, resident = 0;
+  statm >> size >> resident;
+  return resident * sysconf(_SC_PAGESIZE);
+}
+
+TEST(HugePageBuffers, HoldTheirDataTakeDeviceWritesAndReleaseTheirPages) {
+  opencl::Device device;
+  try {
+    device = opencl::select_device("pocl");
+  } catch (const Error& e) {
+    GTEST_SKIP() << "no usable OpenCL device: " << e.what();
+  }
+  const cl::Context context = opencl::context_for(device);
+  ASSERT_TRUE(opencl::device_uses_host_memory(context));
+  cl::CommandQueue queue(context, device.device);
+  const std::size_t count = (std::size_t{32} << 20) / sizeof(cl_uint);
+  const std::size_t bytes = count * sizeof(cl_uint);
+  std::vector<cl_uint> data(count), back(count);
+  std::iota(data.begin(), data.end(), 1u);
+  const long before = resident_bytes();
+  for (int round = 0; round < 16; ++round) {  // 512 MiB in all if the pages were kept
+    cl::Buffer buffer = opencl::huge_page_buffer(context, CL_MEM_READ_WRITE, bytes, data.data());
+    queue.enqueueReadBuffer(buffer, CL_TRUE, 0, bytes, back.data());
+    ASSERT_EQ(back, data) << "round " << round;
+    queue.enqueueFillBuffer(buffer, cl_uint(7), 0, bytes);
+    queue.enqueueReadBuffer(buffer, CL_TRUE, 0, bytes, back.data());
+    ASSERT_EQ(back, std::vector<cl_uint>(count, 7u)) << "round " << round;
+    cl::Buffer zeros = opencl::huge_page_buffer(context, CL_MEM_READ_ONLY, bytes, nullptr);
+    queue.enqueueReadBuffer(zeros, CL_TRUE, 0, bytes, back.data());
+    ASSERT_EQ(back, std::vector<cl_uint>(count, 0u)) << "round " << round;
+  }
+  EXPECT_LT(resident_bytes() - before, long{128} << 20) << "the pages of released buffers stay";
+}
+
+// 84^3 slots: the state buffer (8 B per slot) is above 4 MiB; radial_shock_3d at 64^3: its
+// per-voxel stencil weights (24 B per slot) and offsets (18 B) are.
+TEST(HugePageBuffers, EnginesOnThemMatchTheReference) {
+  REQUIRE_POCL_WITH(OpenCLOptions{});
+  const Canvas uniform = test::domain_canvas("box:-1,-1,-1,1,1,1", "euclidean", 84);
+  ASSERT_GE(uniform.slot_count() * sizeof(cl_ulong), std::size_t{4} << 20);
+  test::expect_matches_reference(*engine, uniform, test::seeds_in(uniform, 40, 5));
+  const Canvas varying = test::domain_canvas("box:1,1,1,11,11,11", "radial_shock_3d", 64);
+  ASSERT_GE(varying.slot_count() * 6 * sizeof(float), std::size_t{4} << 20);
+  test::expect_matches_reference(*engine, varying, test::seeds_in(varying, 40, 5));
+}
+
+}  // namespace
+}  // namespace rvor
