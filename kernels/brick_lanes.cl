@@ -182,6 +182,35 @@ __attribute__((always_inline)) inline lane_float lane_seed_distance(lane_float s
   return sqrt(max(0.0f, qx * gq[0] + qy * gq[1] + qz * gq[2]));
 }
 
+// The seed metrics h^2 G_s of `label` in each lane (NO_LANE_LABEL: seed 0's).
+inline void lane_seed_metric(lane_uint label, __global const float* seeds, lane_float* g) {
+#ifdef AXIS_LANES
+  for (int n = 0; n < 6; ++n) g[n] = seeds[8 + n];  // every seed has the canvas's metric
+#else
+  const uint8 r = select(label, (lane_uint)0u, label == NO_LANE_LABEL) * SEED_RECORD + 8u;
+  const float8 m0 = vload8(0, seeds + r.s0), m1 = vload8(0, seeds + r.s1),
+               m2 = vload8(0, seeds + r.s2), m3 = vload8(0, seeds + r.s3),
+               m4 = vload8(0, seeds + r.s4), m5 = vload8(0, seeds + r.s5),
+               m6 = vload8(0, seeds + r.s6), m7 = vload8(0, seeds + r.s7);
+  g[0] = LANE_COLUMN(m, s0);
+  g[1] = LANE_COLUMN(m, s1);
+  g[2] = LANE_COLUMN(m, s2);
+  g[3] = LANE_COLUMN(m, s3);
+  g[4] = LANE_COLUMN(m, s4);
+  g[5] = LANE_COLUMN(m, s5);
+#endif
+}
+
+// u0 of frame voxel cf under `label` in each lane, with that seed's metric g and G q.
+__attribute__((always_inline)) inline lane_float lane_label_seed_distance(
+    lane_uint label, const LaneFrame* frame, int3 cf, __global const float* seeds, lane_float* g,
+    lane_float* gq) {
+  lane_seed_metric(label, seeds, g);
+  lane_float sx, sy, sz;
+  lane_seed_positions(label, seeds, &sx, &sy, &sz);
+  return lane_seed_distance(sx, sy, sz, frame, cf, g, gq);
+}
+
 // The arguments of lane_gather (one per configuration): the visit (frame local index l, frame
 // coordinates cf, tile index p, the voxel's last evaluations), the lanes' tiles and bricks, the
 // seeds and buffers for neighbours beyond the tiles, and the outputs: the voxel's stencil
@@ -197,19 +226,12 @@ __attribute__((always_inline)) inline lane_float lane_seed_distance(lane_float s
 // The stencil of a uniform metric as every lane sees it.
 typedef struct {
   float weight[STENCIL_TERMS];
-  float g[6];  // h^2 G, every seed's metric
 } LaneStencil;
 
 inline void prepare_lane_stencil(__global const float* weights, __global const char* offsets,
                                  __global const float* seeds, LaneStencil* st) {
   int3 offset[STENCIL_TERMS];
   load_stencil(weights, offsets, 0, st->weight, offset);
-  for (int n = 0; n < 6; ++n) st->g[n] = seeds[8 + n];
-}
-
-inline void lane_seed_metric(lane_uint label, __global const float* seeds, const LaneStencil* st,
-                             lane_float* g) {
-  for (int n = 0; n < 6; ++n) g[n] = st->g[n];  // every seed has the canvas's metric
 }
 
 // Candidate distance for label L in each lane (NO_LANE_LABEL: none) at frame voxel cf, from its
@@ -218,10 +240,7 @@ __attribute__((always_inline)) inline lane_float lane_solve_for_label(
     lane_uint label, const LaneNeighbours* nb, const LaneStencil* st, const LaneFrame* frame,
     int3 cf, __global const float* seeds, lane_float* seed_distance) {
   lane_float g[6], gq[3];
-  lane_seed_metric(label, seeds, st, g);
-  lane_float sx, sy, sz;
-  lane_seed_positions(label, seeds, &sx, &sy, &sz);
-  const lane_float u0 = lane_seed_distance(sx, sy, sz, frame, cf, g, gq);
+  const lane_float u0 = lane_label_seed_distance(label, frame, cf, seeds, g, gq);
   *seed_distance = u0;
   const lane_mask factored = u0 > 0.0f;
   const lane_float inverse_u0 = select((lane_float)0.0f, 1.0f / u0, factored);
@@ -307,30 +326,11 @@ inline lane_float lane_factorization_weight(const lane_float* d, const lane_floa
   return clamp((0.09f - m2) / 0.05f, 0.0f, 1.0f);
 }
 
-// The seed metrics h^2 G_s of `label` in each lane (NO_LANE_LABEL: seed 0's).
-inline void lane_seed_metric(lane_uint label, __global const float* seeds, const LaneStencil* st,
-                             lane_float* g) {
-  const uint8 r = select(label, (lane_uint)0u, label == NO_LANE_LABEL) * SEED_RECORD + 8u;
-  const float8 m0 = vload8(0, seeds + r.s0), m1 = vload8(0, seeds + r.s1),
-               m2 = vload8(0, seeds + r.s2), m3 = vload8(0, seeds + r.s3),
-               m4 = vload8(0, seeds + r.s4), m5 = vload8(0, seeds + r.s5),
-               m6 = vload8(0, seeds + r.s6), m7 = vload8(0, seeds + r.s7);
-  g[0] = LANE_COLUMN(m, s0);
-  g[1] = LANE_COLUMN(m, s1);
-  g[2] = LANE_COLUMN(m, s2);
-  g[3] = LANE_COLUMN(m, s3);
-  g[4] = LANE_COLUMN(m, s4);
-  g[5] = LANE_COLUMN(m, s5);
-}
-
 __attribute__((always_inline)) inline lane_float lane_solve_for_label(
     lane_uint label, const LaneNeighbours* nb, const LaneStencil* st, const LaneFrame* frame,
     int3 cf, __global const float* seeds, lane_float* seed_distance) {
   lane_float g[6], gq[3];
-  lane_seed_metric(label, seeds, st, g);
-  lane_float sx, sy, sz;
-  lane_seed_positions(label, seeds, &sx, &sy, &sz);
-  const lane_float u0 = lane_seed_distance(sx, sy, sz, frame, cf, g, gq);
+  const lane_float u0 = lane_label_seed_distance(label, frame, cf, seeds, g, gq);
   *seed_distance = u0;
   const lane_float alpha = select((lane_float)0.0f, lane_factorization_weight(st->d, g), u0 > 0.0f);
   const lane_mask factored = alpha > 0.0f;
@@ -477,7 +477,7 @@ inline void lane_best_candidate(lane_mask lanes, const LaneNeighbours* nb, LaneS
 }
 
 // The seed distance of every tile voxel under its own label (LaneTile), once the lanes are loaded.
-inline void lane_tile_seed_distances(LaneTile* tile, const LaneFrame* frame, const LaneStencil* st,
+inline void lane_tile_seed_distances(LaneTile* tile, const LaneFrame* frame,
                                      __global const float* seeds) {
   int p = 0;
   for (int tz = 0; tz < TILE_EDGE_Z; ++tz)
@@ -490,12 +490,10 @@ inline void lane_tile_seed_distances(LaneTile* tile, const LaneFrame* frame, con
           continue;
         }
         const lane_uint seed = select((lane_uint)NO_LANE_LABEL, label, labelled);
-        lane_float sx, sy, sz, g[6], gq[3];
-        lane_seed_positions(seed, seeds, &sx, &sy, &sz);
-        lane_seed_metric(seed, seeds, st, g);
+        lane_float g[6], gq[3];
         const int3 cf = (int3)(tx - 1, ty - 1, tz - TILE_PAD_Z);
-        tile->seed_distance[p] =
-            select((lane_float)0.0f, lane_seed_distance(sx, sy, sz, frame, cf, g, gq), labelled);
+        tile->seed_distance[p] = select(
+            (lane_float)0.0f, lane_label_seed_distance(seed, frame, cf, seeds, g, gq), labelled);
       }
 }
 
@@ -750,7 +748,7 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
   }
   LaneStencil st;
   prepare_lane_stencil(weights, offsets, seeds, &st);
-  lane_tile_seed_distances(tile, &frame, &st, seeds);
+  lane_tile_seed_distances(tile, &frame, seeds);
   lane_mask running = as_int8(vload8(0, live));
   lane_uint brick_flags = select((lane_uint)0u, (lane_uint)FLAG_UNCONVERGED, running);
   lane_uint lane_updates = 0;
