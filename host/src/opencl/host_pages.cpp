@@ -1,6 +1,7 @@
 #include "host_pages.h"
 
 #include <sys/mman.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstdint>
@@ -35,7 +36,10 @@ bool device_uses_host_memory(const cl::Context& context) {
 
 cl::Buffer huge_page_buffer(const cl::Context& context, cl_mem_flags flags, std::size_t size,
                             const void* initial) {
-  const std::size_t length = (size + kHugePage - 1) / kHugePage * kHugePage;
+  // Whole small pages: the kernel backs the buffer's whole 2 MiB ranges with huge pages and the
+  // tail with small ones, so nothing is reserved beyond the buffer's last small page.
+  const std::size_t page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
+  const std::size_t length = (size + page - 1) / page * page;
   // Over-allocate by a huge page so that the buffer can start on a 2 MiB boundary.
   const std::size_t mapped = length + kHugePage;
   void* region = mmap(nullptr, mapped, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);

@@ -13,9 +13,9 @@ namespace rvor::opencl {
 bool device_uses_host_memory(const cl::Context& context);
 
 // A buffer of `size` bytes (flags: CL_MEM_READ_ONLY or CL_MEM_READ_WRITE) on pages allocated
-// here, 2 MiB aligned and advised for huge pages, holding a copy of `initial` when given (else
-// zeros); the pages are released with the buffer. Throws rvor::Error when the memory cannot be
-// had.
+// here, 2 MiB aligned and advised for huge pages (its whole 2 MiB ranges get them), holding a copy
+// of `initial` when given (else zeros); the pages are released with the buffer. Throws rvor::Error
+// when the memory cannot be had.
 cl::Buffer huge_page_buffer(const cl::Context& context, cl_mem_flags flags, std::size_t size,
                             const void* initial);
 
