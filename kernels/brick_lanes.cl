@@ -352,12 +352,11 @@ __attribute__((always_inline)) inline lane_float lane_solve_for_label(
 // propagation.cl in the lane's frame: the tile where a neighbour lands in it, else the state).
 // Returns whether one changed since `last`; only then are the stencil and the states written
 // (most visits find the voxel clean).
-inline bool lane_gather_one(int k, int real, int3 cf, int p, uint last, const LaneTile* tile,
-                            const LaneBricks* bricks, __global const float* seeds,
-                            __global const float* weights, __global const char* offsets,
-                            __global const ulong* state, __global const uint* changed, int4 dims,
-                            int4 grid, __global const int* table, uint stride, LaneStencil* st,
-                            LaneNeighbours* nb) {
+__attribute__((always_inline)) inline bool lane_gather_one(
+    int k, int real, int3 cf, int p, uint last, const LaneTile* tile, const LaneBricks* bricks,
+    __global const float* seeds, __global const float* weights, __global const char* offsets,
+    __global const ulong* state, __global const uint* changed, int4 dims, int4 grid,
+    __global const int* table, uint stride, LaneStencil* st, LaneNeighbours* nb) {
   float weight[STENCIL_TERMS];
   int3 offset[STENCIL_TERMS];
   const int terms = load_stencil(weights, offsets, (size_t)bricks->brick[k] * BRICK_VOLUME + real,
