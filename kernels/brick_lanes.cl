@@ -19,7 +19,7 @@
 //   the states only when a change stamp says the voxel is dirty; the solve is vectorised.
 //
 // Measured (callgrind, 64^3, 1000 seeds; docs/scheme.md): kernel instructions of the whole solve,
-// relax_brick_sweep -> this kernel, euclidean 1486M -> 688M, radial_shock_3d 4048M -> 3078M, for
+// relax_brick_sweep -> this kernel, euclidean 1486M -> 664M, radial_shock_3d 4048M -> 2996M, for
 // the same evaluations.
 
 #if defined(UNIFORM_METRIC) && defined(UNIFORM_TERMS)
