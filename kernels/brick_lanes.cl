@@ -229,7 +229,7 @@ typedef struct {
 } LaneStencil;
 
 inline void prepare_lane_stencil(__global const float* weights, __global const char* offsets,
-                                 __global const float* seeds, LaneStencil* st) {
+                                 LaneStencil* st) {
   int3 offset[STENCIL_TERMS];
   load_stencil(weights, offsets, 0, st->weight, offset);
 }
@@ -290,7 +290,7 @@ typedef struct {
 } LaneStencil;
 
 inline void prepare_lane_stencil(__global const float* weights, __global const char* offsets,
-                                 __global const float* seeds, LaneStencil* st) {}
+                                 LaneStencil* st) {}
 
 // D / h^2 = sum_i rho_i e_i e_i^T per lane (stencil_dual_metric), for the factorization weight.
 inline void lane_voxel_metric(LaneStencil* st) {
@@ -756,7 +756,7 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
                             activity, evaluated, tile, &frame, &bricks);
   }
   LaneStencil st;
-  prepare_lane_stencil(weights, offsets, seeds, &st);
+  prepare_lane_stencil(weights, offsets, &st);
   lane_tile_seed_distances(tile, &frame, seeds);
   lane_mask running = as_int8(vload8(0, live));
   lane_uint brick_flags = select((lane_uint)0u, (lane_uint)FLAG_UNCONVERGED, running);
