@@ -591,8 +591,7 @@ inline void load_lane_row(int k, int f, int step, int brick, int within, bool in
   const size_t slot = (size_t)brick * BRICK_VOLUME + within;
   const ulong8 s = vload8(0, state + slot);
   const uint8 c = vload8(0, changed + slot);
-  const uint8 above = (c & ~(stride - 1u)) + stride;  // outside_stamp
-  const uint8 stamp = inside ? c : select(above, (uint8)0u, c == 0u);
+  const uint8 stamp = inside ? c : OUTSIDE_STAMP(c, stride);
   const float8 distance = as_float8(convert_uint8(s >> 32));
   const uint8 word = convert_uint8(s);
   float d[EDGE];

@@ -129,9 +129,12 @@ inline long neighbour_slot(int3 y, int3 origin, int4 dims, int4 grid, __global c
   return brick < 0 ? -1 : (long)brick * BRICK_VOLUME + local_index(y);
 }
 
-// A change stamp of another brick as the tile holds it (see above).
+// A change stamp of another brick as the tile holds it (see above): 0 stays 0, any other moves to
+// the start of the next round. A macro so that uint and uint8 (brick_lanes.cl) share the rule.
+#define OUTSIDE_STAMP(stamp, stride) \
+  select(((stamp) & ~((stride)-1u)) + (stride), (stamp)&0u, (stamp) == 0u)
 inline uint outside_stamp(uint stamp, uint stride) {
-  return stamp == 0 ? 0u : (stamp & ~(stride - 1)) + stride;
+  return OUTSIDE_STAMP(stamp, stride);
 }
 
 // Copies `length` consecutive slots from `slot` (-1: an absent brick) to the tile at q.
