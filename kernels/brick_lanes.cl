@@ -59,9 +59,12 @@ inline bool lanes_any(lane_mask m) {
 #define LANE_FLOAT(array, index, lane) (((float*)(array))[(index)*LANES + (lane)])
 #define LANE_UINT(array, index, lane) (((uint*)(array))[(index)*LANES + (lane)])
 
-// solve_sorted (eikonal_scheme.clh) for every lane; w sorted ascending, +inf last.
+// solve_sorted (eikonal_scheme.clh) for every lane over the LANE_TERMS terms; w sorted ascending,
+// +inf last. The term count is the constant, not a parameter, so that even the out-of-line copy
+// PoCL compiles has loops it can unroll (a parameter made every build warn "loop not unrolled").
 __attribute__((always_inline)) inline lane_float lane_solve_sorted(const lane_float* w,
-                                                                   const lane_float* rho, int n) {
+                                                                   const lane_float* rho) {
+  const int n = LANE_TERMS;
   // t_k = w_0 + (b_k + root_k) / a_k stops at the first k with t_k <= w_{k+1}, tested as
   // b_k + root_k <= a_k (w_{k+1} - w_0) (a_k > 0), so that only the chosen t_k is divided out.
   lane_float a = 0.0f, b = 0.0f, pair_sum = 0.0f, numerator = 0.0f, denominator = 1.0f;
@@ -112,8 +115,10 @@ __attribute__((always_inline)) inline lane_float lane_term_value(const LaneNeigh
              select((lane_float)INFINITY, behind_f, nb->label[2 * i + 1] == label));
 }
 
-// Sorts w ascending, rho alongside, in every lane; stable, as the scalar insertion sort.
-__attribute__((always_inline)) inline void lane_sort(lane_float* w, lane_float* rho, int n) {
+// Sorts the LANE_TERMS terms w ascending, rho alongside, in every lane; stable, as the scalar
+// insertion sort.
+__attribute__((always_inline)) inline void lane_sort(lane_float* w, lane_float* rho) {
+  const int n = LANE_TERMS;
 #pragma unroll
   for (int pass = 0; pass + 1 < n; ++pass)
 #pragma unroll
@@ -255,8 +260,8 @@ __attribute__((always_inline)) inline lane_float lane_solve_for_label(
     w[i] = lane_term_value(nb, i, label, u0, eGq * inverse_u0, 1.0f, factored);
     rho[i] = st->weight[i];
   }
-  lane_sort(w, rho, LANE_TERMS);
-  return lane_solve_sorted(w, rho, LANE_TERMS);
+  lane_sort(w, rho);
+  return lane_solve_sorted(w, rho);
 }
 
 inline void lane_voxel_metric(LaneStencil* st) {}  // one stencil: nothing per voxel
@@ -344,8 +349,8 @@ __attribute__((always_inline)) inline lane_float lane_solve_for_label(
                   (lane_float)INFINITY, st->rho[i] == 0.0f);
     rho[i] = st->rho[i];
   }
-  lane_sort(w, rho, STENCIL_TERMS);
-  return lane_solve_sorted(w, rho, STENCIL_TERMS);
+  lane_sort(w, rho);
+  return lane_solve_sorted(w, rho);
 }
 
 // Lane k's stencil at its voxel `real` and the states of its neighbours (gather_far of
@@ -641,9 +646,9 @@ inline int load_lane(int k, int brick, __global const ulong* state, __global con
       const int f_row = TILE_EDGE * ((fy ? TILE_EDGE - 1 - ty : ty) +
                                      TILE_EDGE * (fz ? TILE_EDGE_Z - 1 - tz : tz));
       const int f_first = f_row + (fx ? TILE_EDGE - 1 : 0), step = fx ? -1 : 1;
-      const bool inner = by == 1 && bz == 1;       // a row of the brick: its ends are x faces
+      const bool inner = brick_row(by, bz);        // its ends are x faces
       const bool read = TILE_EDGES_READ || inner;  // else tile edges: +inf, never read
-      const bool face = TILE_EDGES_READ || by == 1 || bz == 1;
+      const bool face = TILE_EDGES_READ || face_row(by, bz);
       load_lane_run(k, f_first, step, read ? bricks[0] : -1, row + EDGE - 1, 1, false, state,
                     changed, stride, tile);
       load_lane_row(k, f_first + step, step, face ? bricks[1] : -1, row, inner, state, changed,

@@ -174,7 +174,7 @@ inline void load_tile(ulong* tile, uint* tile_stamp, __global const ulong* state
       const long own = bricks[1] < 0 ? -1 : (long)bricks[1] * BRICK_VOLUME + row;
       const long after = bricks[2] < 0 ? -1 : (long)bricks[2] * BRICK_VOLUME + row;
       load_tile_run(tile, tile_stamp, p, state, changed, before, 1, false, stride);
-      load_tile_run(tile, tile_stamp, p + 1, state, changed, own, EDGE, by == 1 && bz == 1, stride);
+      load_tile_run(tile, tile_stamp, p + 1, state, changed, own, EDGE, brick_row(by, bz), stride);
       load_tile_run(tile, tile_stamp, p + EDGE + 1, state, changed, after, 1, false, stride);
     }
   }

@@ -56,6 +56,29 @@ TEST_F(CliOutputs, DefaultDeviceIsOpenCLWhenOneIsPresent) {
   EXPECT_EQ(device.rfind("OpenCL", 0), 0u) << device;
 }
 
+// PoCL prints its compiler's warnings on stderr when it builds a program (only then: later runs
+// load it from the kernel cache), so a fresh cache shows whether the kernels build cleanly in
+// each configuration: 2D and 3D, per-voxel stencils, a rotated uniform stencil, axis stencils.
+TEST_F(CliOutputs, KernelsBuildWithoutCompilerWarnings) {
+  if (list_opencl_devices().empty()) GTEST_SKIP() << "no OpenCL device on this machine";
+  const std::string cases[] = {
+      "--domain rect:-1,-1,1,1 --metric swirl --resolution 32",
+      "--domain rect:-1,-1,1,1 --metric uniform:9,0,1 --resolution 32",
+      "--domain box:-1,-1,-1,1,1,1 --metric hyperbolic_shock --resolution 16",
+      "--domain box:-1,-1,-1,1,1,1 --metric uniform:10,3,5,2,1,4 --resolution 16",
+      "--domain box:-1,-1,-1,1,1,1 --metric euclidean --resolution 16"};
+  int run = 0;
+  for (const std::string& options : cases) {
+    const std::string cache = dir.file("pocl-cache-" + std::to_string(run));
+    const std::string out_dir = dir.file("warnings-" + std::to_string(run++));
+    const CommandResult result = run_command("POCL_CACHE_DIR=" + cache + " " + rvor_binary() +
+                                             " voronoi --random-seeds 5 --out " + out_dir + " " +
+                                             options + " --dual straight");
+    ASSERT_EQ(result.exit_code, 0) << options << "\n" << result.err;
+    EXPECT_EQ(result.err.find("warning"), std::string::npos) << options << "\n" << result.err;
+  }
+}
+
 TEST_F(CliOutputs, ProbesGiveExactDistancesForUniformMetric) {
   ASSERT_EQ(run_uniform_2d("").exit_code, 0);
   std::ifstream in(out() + "/probe.csv");
