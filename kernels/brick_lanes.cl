@@ -220,11 +220,11 @@ __attribute__((always_inline)) inline lane_float lane_label_seed_distance(
 // coordinates cf, tile index p, the voxel's last evaluations), the lanes' tiles and bricks, the
 // seeds and buffers for neighbours beyond the tiles, and the outputs: the voxel's stencil
 // (per-voxel stencils only) and its neighbours.
-#define LANE_GATHER_ARGUMENTS                                                                  \
-  lane_mask open, int l, int3 cf, int p, lane_uint last, const LaneTile *tile,                 \
-      const LaneBricks *bricks, __global const float *seeds, __global const float *weights,    \
-      __global const char *offsets, __global const ulong *state, __global const uint *changed, \
-      int4 dims, int4 grid, __global const int *table, uint stride, LaneStencil *st,           \
+#define LANE_GATHER_ARGUMENTS                                                                 \
+  lane_mask open, int l, int3 cf, int p, lane_uint last, const LaneTile *tile,                \
+      const LaneBricks *bricks, __global const float *seeds, __global const float *stencils,  \
+      __global const char *shapes, __global const ulong *state, __global const uint *changed, \
+      int4 dims, int4 grid, __global const int *table, uint stride, LaneStencil *st,          \
       LaneNeighbours *nb
 
 #ifdef AXIS_LANES
@@ -233,10 +233,10 @@ typedef struct {
   float weight[STENCIL_TERMS];
 } LaneStencil;
 
-inline void prepare_lane_stencil(__global const float* weights, __global const char* offsets,
+inline void prepare_lane_stencil(__global const float* stencils, __global const char* shapes,
                                  LaneStencil* st) {
   int3 offset[STENCIL_TERMS];
-  load_stencil(weights, offsets, 0, st->weight, offset);
+  load_stencil(stencils, shapes, 0, st->weight, offset);
 }
 
 // Candidate distance for label L in each lane (NO_LANE_LABEL: none) at frame voxel cf, from its
@@ -294,7 +294,7 @@ typedef struct {
   lane_float d[6];                                                     // D / h^2
 } LaneStencil;
 
-inline void prepare_lane_stencil(__global const float* weights, __global const char* offsets,
+inline void prepare_lane_stencil(__global const float* stencils, __global const char* shapes,
                                  LaneStencil* st) {}
 
 // D / h^2 = sum_i rho_i e_i e_i^T per lane (stencil_dual_metric), for the factorization weight.
@@ -359,12 +359,12 @@ __attribute__((always_inline)) inline lane_float lane_solve_for_label(
 // (most visits find the voxel clean).
 __attribute__((always_inline)) inline bool lane_gather_one(
     int k, int real, int3 cf, int p, uint last, const LaneTile* tile, const LaneBricks* bricks,
-    __global const float* seeds, __global const float* weights, __global const char* offsets,
+    __global const float* seeds, __global const float* stencils, __global const char* shapes,
     __global const ulong* state, __global const uint* changed, int4 dims, int4 grid,
     __global const int* table, uint stride, LaneStencil* st, LaneNeighbours* nb) {
   float weight[STENCIL_TERMS];
   int3 offset[STENCIL_TERMS];
-  const int terms = load_stencil(weights, offsets, (size_t)bricks->brick[k] * BRICK_VOLUME + real,
+  const int terms = load_stencil(stencils, shapes, (size_t)bricks->brick[k] * BRICK_VOLUME + real,
                                  weight, offset);
   const int3 sign = bricks->sign[k];
   // Where each neighbour is: a frame tile index (>= 0), or -2 - its slot, or -1 for none.
@@ -439,7 +439,7 @@ inline lane_mask lane_gather(LANE_GATHER_ARGUMENTS) {
   int dirty[LANES];
   for (int k = 0; k < LANES; ++k)
     dirty[k] = opened[k] && lane_gather_one(k, l ^ bricks->flip[k], cf, p, lasts[k], tile, bricks,
-                                            seeds, weights, offsets, state, changed, dims, grid,
+                                            seeds, stencils, shapes, state, changed, dims, grid,
                                             table, stride, st, nb)
                    ? -1
                    : 0;
@@ -760,7 +760,7 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
                             activity, evaluated, tile, &frame, &bricks);
   }
   LaneStencil st;
-  prepare_lane_stencil(weights, offsets, &st);
+  prepare_lane_stencil(stencils, shapes, &st);
   lane_tile_seed_distances(tile, &frame, seeds);
   lane_mask running = as_int8(vload8(0, live));
   lane_uint brick_flags = select((lane_uint)0u, (lane_uint)FLAG_UNCONVERGED, running);
@@ -780,7 +780,7 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
       const lane_uint last = tile->evaluated[l];
       LaneNeighbours nb;
       const lane_mask lanes =
-          lane_gather(open, l, c, p, last, tile, &bricks, seeds, weights, offsets, state, changed,
+          lane_gather(open, l, c, p, last, tile, &bricks, seeds, stencils, shapes, state, changed,
                       dims, grid, table, stride, &st, &nb);
       if (!lanes_any(lanes)) continue;
       const uint stamp = round_base + tick;

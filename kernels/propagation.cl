@@ -266,7 +266,7 @@ inline bool gather_far(const ulong* tile, const uint* tile_stamp, int p, int3 c,
 // which the host sets alike.
 #define BRICK_SWEEP_ARGUMENTS                                                                 \
   __global const int *list, int count, __global const ulong *state, __global ulong *scratch,  \
-      __global const float *weights, __global const char *offsets, __global const int *table, \
+      __global const float *stencils, __global const char *shapes, __global const int *table, \
       __global const int4 *brick_origins, int4 dims, int4 grid, __global const float *seeds,  \
       __global uchar *flags, __global ulong *update_counter, int max_sweeps,                  \
       __global uint *evaluated, __global uint *changed, uint round_base, uint stride,         \
@@ -294,7 +294,7 @@ __kernel void relax_brick_sweep(BRICK_SWEEP_ARGUMENTS) {
   float weight[STENCIL_TERMS];
   int3 offset[STENCIL_TERMS];
   int flat[STENCIL_TERMS];
-  const int terms = load_stencil(weights, offsets, 0, weight, offset);
+  const int terms = load_stencil(stencils, shapes, 0, weight, offset);
   const bool near_stencil = tile_offsets(offset, terms, flat);
   float eGe[STENCIL_TERMS];
   term_lengths_squared(seeds, offset, terms, eGe);
@@ -320,7 +320,7 @@ __kernel void relax_brick_sweep(BRICK_SWEEP_ARGUMENTS) {
       float weight[STENCIL_TERMS];
       int3 offset[STENCIL_TERMS];
       int flat[STENCIL_TERMS];
-      const int terms = load_stencil(weights, offsets, slot, weight, offset);
+      const int terms = load_stencil(stencils, shapes, slot, weight, offset);
       if (terms == 0) continue;
       const bool near_stencil = tile_offsets(offset, terms, flat);
 #endif
@@ -404,15 +404,15 @@ inline void gather_for_phases(int3 v, int3 origin, const int3* offset, int terms
 
 // The new state of brick voxel l (unchanged when frozen or inactive); counts an update in *updates.
 inline ulong phase_update(int l, size_t brick_slot, int3 origin, __local const ulong* values,
-                          __global const ulong* state, __global const float* weights,
-                          __global const char* offsets, __global const uint* activity, int4 dims,
+                          __global const ulong* state, __global const float* stencils,
+                          __global const char* shapes, __global const uint* activity, int4 dims,
                           int4 grid, __global const int* table, __global const float* seeds,
                           uint* updates) {
   const ulong current = values[l];
   if (state_frozen(current) || !slot_active(activity, brick_slot + l)) return current;
   float weight[STENCIL_TERMS];
   int3 offset[STENCIL_TERMS];
-  const int terms = load_stencil(weights, offsets, brick_slot + l, weight, offset);
+  const int terms = load_stencil(stencils, shapes, brick_slot + l, weight, offset);
   if (terms == 0) return current;
   const int3 v = origin + local_coordinates(l);
   ulong nb[2 * STENCIL_TERMS];
@@ -429,7 +429,7 @@ inline ulong phase_update(int l, size_t brick_slot, int3 origin, __local const u
 
 __kernel __attribute__((reqd_work_group_size(PHASE_VOXELS, 1, 1))) void relax_voxel_phases(
     __global const int* list, int count, __global const ulong* state, __global ulong* scratch,
-    __global const float* weights, __global const char* offsets, __global const int* table,
+    __global const float* stencils, __global const char* shapes, __global const int* table,
     __global const int4* brick_origins, int4 dims, int4 grid, __global const float* seeds,
     __global uchar* flags, __global ulong* update_counter, int iterations,
     __global const uint* activity) {
@@ -453,7 +453,7 @@ __kernel __attribute__((reqd_work_group_size(PHASE_VOXELS, 1, 1))) void relax_vo
   for (int it = 0; it < iterations; ++it) {
     for (int p = 0; p < PHASES; ++p) {
       const int l = phase_voxel(w, p);
-      const ulong best = phase_update(l, brick_slot, origin, values, state, weights, offsets,
+      const ulong best = phase_update(l, brick_slot, origin, values, state, stencils, shapes,
                                       activity, dims, grid, table, seeds, &updates);
       if (best != values[l]) {
         if (significant_change(values[l], best)) changed_in[it % 3] = 1;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <thread>
+#include <unordered_map>
 
 #include <Eigen/LU>
 
@@ -15,17 +16,39 @@ namespace rvor::opencl {
 
 namespace {
 
-// Packs the stencil of one slot; `previous` caches the last metric so uniform regions reuse it.
+using Shape = std::array<std::int8_t, 3 * kStencilTerms>;
+
+struct ShapeHash {
+  std::size_t operator()(const Shape& shape) const {
+    std::uint64_t hash = 1469598103934665603ull;
+    for (std::int8_t e : shape) hash = (hash ^ static_cast<std::uint8_t>(e)) * 1099511628211ull;
+    return static_cast<std::size_t>(hash);
+  }
+};
+
+// The distinct offset sets met so far, each with its index in the shape table.
+using ShapeTable = std::unordered_map<Shape, std::uint32_t, ShapeHash>;
+
+void store_shape_index(std::vector<float>& records, std::size_t into, std::uint32_t index) {
+  std::memcpy(&records[kStencilRecord * into + kStencilTerms], &index, sizeof index);
+}
+
+// Packs the stencils of a range of slots: weights into the records, offsets into a table of this
+// packer's own (merged into the canvas's by merge_shapes). `last_*` caches the last metric, so
+// uniform regions reuse its stencil and shape.
 struct StencilPacker {
   StencilPacker(const Canvas& c, PackedStencils& o) : canvas(c), out(o) {}
   const Canvas& canvas;
   PackedStencils& out;
   std::array<int, 3> reach{};
+  ShapeTable shapes;
+  std::vector<Shape> shape_list;  // by local index
   std::array<float, 6> last_metric{};
   SellingStencil last_stencil;
+  std::uint32_t last_shape = 0;
   bool has_last = false;
 
-  // Packs the stencil of `slot` at position `into` of the packed arrays.
+  // Packs the stencil of `slot` at position `into` of the records; its shape index is local.
   void pack(std::size_t slot, std::size_t into) {
     if (!canvas.active[slot]) return;
     std::array<float, 6> m;
@@ -33,11 +56,19 @@ struct StencilPacker {
     if (!has_last || m != last_metric) {
       last_stencil = selling_decomposition(canvas.metric_at(slot).inverse(), canvas.dimension);
       last_metric = m;
+      last_shape = shape_index(slot);
       has_last = true;
     }
     const double h2 = canvas.voxel_size * canvas.voxel_size;
-    for (int i = 0; i < last_stencil.size; ++i) {
-      out.weights[kStencilTerms * into + i] = static_cast<float>(last_stencil.weight[i] / h2);
+    for (int i = 0; i < last_stencil.size; ++i)
+      out.records[kStencilRecord * into + i] = static_cast<float>(last_stencil.weight[i] / h2);
+    store_shape_index(out.records, into, last_shape);
+  }
+
+  // The local index of last_stencil's offsets, added to this packer's table when new.
+  std::uint32_t shape_index(std::size_t slot) {
+    Shape shape{};
+    for (int i = 0; i < last_stencil.size; ++i)
       for (int a = 0; a < 3; ++a) {
         const int e = last_stencil.offset[i][a];
         if (std::abs(e) > 127)
@@ -45,10 +76,13 @@ struct StencilPacker {
                       " is too anisotropic for the OpenCL engine: a Selling stencil offset of " +
                       std::to_string(e) +
                       " voxels exceeds 127 (refine the canvas or use --device cpu)");
-        out.offsets[3 * (kStencilTerms * into + i) + a] = static_cast<std::int8_t>(e);
+        shape[3 * i + a] = static_cast<std::int8_t>(e);
         reach[a] = std::max(reach[a], std::abs(e));
       }
-    }
+    const auto [found, added] =
+        shapes.emplace(shape, static_cast<std::uint32_t>(shape_list.size()));
+    if (added) shape_list.push_back(shape);
+    return found->second;
   }
 };
 
@@ -66,37 +100,32 @@ bool has_uniform_metric(const Canvas& canvas) {
   return true;
 }
 
-// One stencil for the whole canvas, that of its first active voxel.
-PackedStencils pack_uniform_stencil(const Canvas& canvas) {
-  PackedStencils out;
-  out.uniform = true;
-  out.weights.assign(kStencilTerms, 0.0f);
-  out.offsets.assign(3 * kStencilTerms, 0);
-  const auto first = std::find(canvas.active.begin(), canvas.active.end(), std::uint8_t{1});
-  if (first == canvas.active.end()) return out;
-  StencilPacker packer(canvas, out);
-  packer.pack(static_cast<std::size_t>(first - canvas.active.begin()), 0);
-  out.reach = packer.reach;
-  return out;
+// Appends each packer's shapes to the canvas's table (once each) and returns, per packer, the
+// canvas index of each of its local indices.
+std::vector<std::vector<std::uint32_t>> merge_shapes(const std::vector<StencilPacker>& packers,
+                                                     PackedStencils& out) {
+  ShapeTable merged;
+  std::vector<std::vector<std::uint32_t>> global_index(packers.size());
+  for (std::size_t t = 0; t < packers.size(); ++t)
+    for (const Shape& shape : packers[t].shape_list) {
+      const auto [found, added] =
+          merged.emplace(shape, static_cast<std::uint32_t>(out.shape_count()));
+      if (added) out.shapes.insert(out.shapes.end(), shape.begin(), shape.end());
+      global_index[t].push_back(found->second);
+    }
+  if (out.shapes.empty()) out.shapes.assign(3 * kStencilTerms, 0);  // shape 0 always exists
+  return global_index;
 }
 
-}  // namespace
-
-PackedStencils pack_stencils(const Canvas& canvas) {
-  if (has_uniform_metric(canvas)) return pack_uniform_stencil(canvas);
-  PackedStencils out;
-  const std::size_t slots = canvas.slot_count();
-  out.weights.assign(kStencilTerms * slots, 0.0f);
-  out.offsets.assign(3 * kStencilTerms * slots, 0);
-  const unsigned threads = std::max(1u, std::min(8u, std::thread::hardware_concurrency()));
-  std::vector<StencilPacker> packers(threads, StencilPacker(canvas, out));
+// Runs work(t, begin, end) on `threads` threads over [0, slots); rethrows the first error.
+template <typename Work>
+void for_slot_ranges(std::size_t slots, unsigned threads, Work&& work) {
   std::vector<std::exception_ptr> errors(threads);
   std::vector<std::thread> workers;
   for (unsigned t = 0; t < threads; ++t)
     workers.emplace_back([&, t] {
       try {
-        const std::size_t begin = slots * t / threads, end = slots * (t + 1) / threads;
-        for (std::size_t slot = begin; slot < end; ++slot) packers[t].pack(slot, slot);
+        work(t, slots * t / threads, slots * (t + 1) / threads);
       } catch (...) {
         errors[t] = std::current_exception();
       }
@@ -104,6 +133,51 @@ PackedStencils pack_stencils(const Canvas& canvas) {
   for (std::thread& w : workers) w.join();
   for (const std::exception_ptr& e : errors)
     if (e) std::rethrow_exception(e);
+}
+
+// One stencil for the whole canvas, that of its first active voxel.
+PackedStencils pack_uniform_stencil(const Canvas& canvas) {
+  PackedStencils out;
+  out.uniform = true;
+  out.records.assign(kStencilRecord, 0.0f);
+  const auto first = std::find(canvas.active.begin(), canvas.active.end(), std::uint8_t{1});
+  std::vector<StencilPacker> packer(1, StencilPacker(canvas, out));
+  if (first != canvas.active.end())
+    packer[0].pack(static_cast<std::size_t>(first - canvas.active.begin()), 0);
+  merge_shapes(packer, out);  // its only shape has index 0 in both tables
+  out.reach = packer[0].reach;
+  return out;
+}
+
+}  // namespace
+
+std::uint32_t PackedStencils::shape_of(std::size_t slot) const {
+  std::uint32_t index;
+  std::memcpy(&index, &records[kStencilRecord * slot + kStencilTerms], sizeof index);
+  return index;
+}
+
+int PackedStencils::offset(std::size_t slot, int i, int a) const {
+  return shapes[3 * (kStencilTerms * shape_of(slot) + static_cast<std::size_t>(i)) +
+                static_cast<std::size_t>(a)];
+}
+
+PackedStencils pack_stencils(const Canvas& canvas) {
+  if (has_uniform_metric(canvas)) return pack_uniform_stencil(canvas);
+  PackedStencils out;
+  const std::size_t slots = canvas.slot_count();
+  out.records.assign(kStencilRecord * slots, 0.0f);
+  const unsigned threads = std::max(1u, std::min(8u, std::thread::hardware_concurrency()));
+  std::vector<StencilPacker> packers(threads, StencilPacker(canvas, out));
+  for_slot_ranges(slots, threads, [&](unsigned t, std::size_t begin, std::size_t end) {
+    for (std::size_t slot = begin; slot < end; ++slot) packers[t].pack(slot, slot);
+  });
+  const std::vector<std::vector<std::uint32_t>> global_index = merge_shapes(packers, out);
+  for_slot_ranges(slots, threads, [&](unsigned t, std::size_t begin, std::size_t end) {
+    for (std::size_t slot = begin; slot < end; ++slot)
+      if (canvas.active[slot])
+        store_shape_index(out.records, slot, global_index[t][out.shape_of(slot)]);
+  });
   for (const StencilPacker& p : packers)
     for (int a = 0; a < 3; ++a) out.reach[a] = std::max(out.reach[a], p.reach[a]);
   return out;
@@ -202,11 +276,11 @@ DeviceCanvas upload_canvas(const cl::Context& context, const Canvas& canvas, int
   d.uniform_stencil = stencils.uniform;
   if (stencils.uniform)
     for (std::size_t i = 0; i < kStencilTerms; ++i)
-      if (stencils.weights[i] > 0.0f)
-        d.uniform_offsets.assign(stencils.offsets.begin(), stencils.offsets.begin() + 3 * (i + 1));
+      if (stencils.records[i] > 0.0f)
+        d.uniform_offsets.assign(stencils.shapes.begin(), stencils.shapes.begin() + 3 * (i + 1));
   d.activity = make_buffer(context, activity_bits(canvas), d.bytes);
-  d.weights = make_buffer(context, stencils.weights, d.bytes);
-  d.offsets = make_buffer(context, stencils.offsets, d.bytes);
+  d.stencils = make_buffer(context, stencils.records, d.bytes);
+  d.shapes = make_buffer(context, stencils.shapes, d.bytes);
   d.table = make_buffer(context, canvas.brick_table, d.bytes);
   d.origins = make_buffer(context, origins, d.bytes);
   d.state = make_scratch(context, d.slots * sizeof(cl_ulong), d.bytes);

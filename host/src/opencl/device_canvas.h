@@ -1,9 +1,10 @@
 #pragma once
 // The canvas packed for an OpenCL device (internal). Per slot: the state word (distance bits,
 // label), two 32-bit evaluation stamps, the Selling stencil precomputed on the host (6 float
-// weights rho_i / h^2, 6x3 int8 offsets; one for the whole canvas when the metric is uniform) and
-// an activity bit. A scratch copy of each brick being relaxed: one colour class of bricks at a
-// time. Per brick: origin, flags, activation, list, a touched mark.
+// weights rho_i / h^2 and the index of its int8 offsets in a table of the canvas's distinct
+// offset sets; one stencil for the whole canvas when the metric is uniform) and an activity bit.
+// A scratch copy of each brick being relaxed: one colour class of bricks at a time. Per brick:
+// origin, flags, activation, list, a touched mark.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -14,15 +15,25 @@
 namespace rvor::opencl {
 
 constexpr int kStencilTerms = 6;
+// Words of a slot's stencil record: the weights, then its shape index (load_stencil,
+// kernels/eikonal_scheme.clh).
+constexpr int kStencilRecord = kStencilTerms + 1;
 
-// The Selling stencils of every slot, in the device layout (inactive slots: all-zero weights), or
-// a single one when every active voxel has the same metric (bit for bit; the kernels are then
-// built with UNIFORM_METRIC and read stencil 0).
+// The Selling stencils of every slot, in the device layout, or a single one when every active
+// voxel has the same metric (bit for bit; the kernels are then built with UNIFORM_METRIC and read
+// stencil 0). Inactive slots: all-zero weights, shape 0.
 struct PackedStencils {
-  std::vector<float> weights;        // kStencilTerms per slot
-  std::vector<std::int8_t> offsets;  // 3 * kStencilTerms per slot
-  std::array<int, 3> reach{};        // largest |offset| per axis, in voxels
+  // kStencilRecord words per slot: kStencilTerms float weights, then the uint32 index of the
+  // slot's offsets in `shapes`.
+  std::vector<float> records;
+  std::vector<std::int8_t> shapes;  // 3 * kStencilTerms per distinct offset set
+  std::array<int, 3> reach{};       // largest |offset| per axis, in voxels
   bool uniform = false;
+
+  std::size_t shape_count() const { return shapes.size() / (3 * kStencilTerms); }
+  std::uint32_t shape_of(std::size_t slot) const;
+  // Offset a (0, 1, 2 for x, y, z) of stencil term i at `slot`.
+  int offset(std::size_t slot, int i, int a) const;
 };
 
 // Throws rvor::Error when an offset does not fit in int8 (anisotropy too large for the canvas).
@@ -31,7 +42,7 @@ PackedStencils pack_stencils(const Canvas& canvas);
 struct DeviceCanvas {
   std::size_t slots = 0, bricks = 0;
   cl_int4 dims{}, grid{}, brick_reach{};  // brick_reach: bricks within stencil reach per axis
-  cl::Buffer state, scratch, weights, offsets, table, origins;
+  cl::Buffer state, scratch, stencils, shapes, table, origins;  // stencils, shapes: PackedStencils
   cl::Buffer activity;  // a bit per slot (bit s % 32 of word s / 32): active
   // One stencil for the whole canvas (every active voxel has the same metric): the kernels must
   // be built with UNIFORM_METRIC.

@@ -393,7 +393,7 @@ class OpenCLPropagator final : public Propagator {
   void relax(int count) {
     const DeviceCanvasRef d = *canvas_;
     const bool sweep = sweeps_bricks();
-    set_args(relax_, d.list, static_cast<cl_int>(count), d.state, d.scratch, d.weights, d.offsets,
+    set_args(relax_, d.list, static_cast<cl_int>(count), d.state, d.scratch, d.stencils, d.shapes,
              d.table, d.origins, d.dims, d.grid, d.seeds, d.flags, d.update_counter,
              static_cast<cl_int>(sweep ? options_.max_sweeps : options_.phase_iterations));
     if (sweep) {
