@@ -150,6 +150,7 @@ nlohmann::json case_json(const BenchResult& r) {
           {"voxel_updates", r.voxel_updates},
           {"voxels_per_second", r.voxels_per_second},
           {"updates_per_voxel", r.updates_per_voxel},
+          {"relaxations_per_brick", r.relaxations_per_brick},
           {"device_bytes", r.device_bytes},
           {"bytes_per_voxel", r.bytes_per_voxel},
           {"inserted_seeds", r.bench_case.inserted_seeds},

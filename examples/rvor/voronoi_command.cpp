@@ -209,6 +209,7 @@ void run_voronoi(const VoronoiOptions& o) {
       {"device", propagator->device_description()},
       {"iterations", stats.iterations},
       {"voxel_updates", stats.voxel_updates},
+      {"brick_relaxations", stats.brick_relaxations},
       {"updates_per_voxel",
        canvas.active_voxel_count ? double(stats.voxel_updates) / canvas.active_voxel_count : 0.0},
       {"timings",

@@ -45,6 +45,8 @@ struct BenchResult {
   std::uint64_t iterations = 0, voxel_updates = 0;
   double voxels_per_second = 0.0;  // active voxels / seconds
   double updates_per_voxel = 0.0;
+  // OpenCL: brick relaxations of the solve per active brick (PropagationStats); cpu: 0.
+  double relaxations_per_brick = 0.0;
   std::uint64_t device_bytes = 0;  // OpenCL: the device canvas's buffers; cpu: 0
   double bytes_per_voxel = 0.0;    // device_bytes / active voxels
 

@@ -101,6 +101,8 @@ void time_engine(const BenchCase& c, const Canvas& canvas, const std::vector<Vec
     r.seconds = stats.seconds;
     r.iterations = stats.iterations;
     r.voxel_updates = stats.voxel_updates;
+    r.relaxations_per_brick = static_cast<double>(stats.brick_relaxations) /
+                              static_cast<double>(std::max<std::size_t>(1, canvas.brick_count()));
   }
   r.device_description = engine->device_description();  // after a solve: the variant that ran
   VoronoiField extended = field;  // `field` stays the solve's, for the comparisons

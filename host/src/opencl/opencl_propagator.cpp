@@ -293,6 +293,7 @@ class OpenCLPropagator final : public Propagator {
          colour = (colour + 1) % colour_count) {
       if (count == 0) continue;
       relax(count);
+      stats.brick_relaxations += static_cast<std::uint64_t>(count);
       if (++stats.iterations > kMaxRounds)
         throw Error("the OpenCL propagation did not converge in " + std::to_string(kMaxRounds) +
                     " rounds");
