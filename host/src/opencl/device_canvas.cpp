@@ -16,12 +16,18 @@ namespace rvor::opencl {
 
 namespace {
 
+// FNV-1a: the shape table's hash and the canvas fingerprint.
+constexpr std::uint64_t kFnvBasis = 1469598103934665603ull;
+void fnv_mix(std::uint64_t& hash, std::uint64_t value) {
+  hash = (hash ^ value) * 1099511628211ull;
+}
+
 using Shape = std::array<std::int8_t, 3 * kStencilTerms>;
 
 struct ShapeHash {
   std::size_t operator()(const Shape& shape) const {
-    std::uint64_t hash = 1469598103934665603ull;
-    for (std::int8_t e : shape) hash = (hash ^ static_cast<std::uint8_t>(e)) * 1099511628211ull;
+    std::uint64_t hash = kFnvBasis;
+    for (std::int8_t e : shape) fnv_mix(hash, static_cast<std::uint8_t>(e));
     return static_cast<std::size_t>(hash);
   }
 };
@@ -79,6 +85,8 @@ struct StencilPacker {
         shape[3 * i + a] = static_cast<std::int8_t>(e);
         reach[a] = std::max(reach[a], std::abs(e));
       }
+    // Neighbouring voxels mostly share their offsets: skip the hash lookup then.
+    if (!shape_list.empty() && shape_list[last_shape] == shape) return last_shape;
     const auto [found, added] =
         shapes.emplace(shape, static_cast<std::uint32_t>(shape_list.size()));
     if (added) shape_list.push_back(shape);
@@ -184,8 +192,8 @@ PackedStencils pack_stencils(const Canvas& canvas) {
 }
 
 std::uint64_t canvas_fingerprint(const Canvas& canvas) {
-  std::uint64_t hash = 1469598103934665603ull;
-  auto mix = [&hash](std::uint64_t value) { hash = (hash ^ value) * 1099511628211ull; };
+  std::uint64_t hash = kFnvBasis;
+  auto mix = [&hash](std::uint64_t value) { fnv_mix(hash, value); };
   mix(canvas.slot_count());
   mix(canvas.active_voxel_count);
   std::uint64_t bits;
