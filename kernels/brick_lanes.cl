@@ -741,6 +741,26 @@ inline void store_lane(int k, int brick, int position, int corner, uint brick_fl
     }
 }
 
+// brick_news (brick_layout.clh) of lane k from its box of changes in frame coordinates: the box
+// in real coordinates, whose directions go to the bricks around (only the faces with axis
+// offsets, which never reach an edge or corner brick).
+inline uint lane_news(int k, int corner, int lo[3][LANES], int hi[3][LANES], uint packed_reach) {
+  const int last[3] = {EDGE - 1, EDGE - 1, EDGE_Z - 1};
+  int real_lo[3], real_hi[3];
+  for (int a = 0; a < 3; ++a) {
+    const bool flipped = (corner >> a) & 1;
+    real_lo[a] = flipped ? last[a] - hi[a][k] : lo[a][k];
+    real_hi[a] = flipped ? last[a] - lo[a][k] : hi[a][k];
+  }
+  const uint news = brick_news((int3)(real_lo[0], real_lo[1], real_lo[2]),
+                               (int3)(real_hi[0], real_hi[1], real_hi[2]), packed_reach);
+#ifdef AXIS_LANES
+  return news & (FACE_DIRECTIONS | FAR_READERS);
+#else
+  return news;
+#endif
+}
+
 __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
   const int first = get_global_id(0) * LANES;
   if (first >= count) return;
@@ -765,6 +785,9 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
   lane_mask running = as_int8(vload8(0, live));
   lane_uint brick_flags = select((lane_uint)0u, (lane_uint)FLAG_UNCONVERGED, running);
   lane_uint lane_updates = 0;
+  // The box of each lane's significant changes, in frame coordinates (empty: lo > hi).
+  int8 changed_lo_x = EDGE, changed_lo_y = EDGE, changed_lo_z = EDGE;
+  int8 changed_hi_x = -1, changed_hi_y = -1, changed_hi_z = -1;
   uint tick = 0;
   for (int sweep = 0; sweep < max_sweeps && lanes_any(running); ++sweep) {
     const int flip = corner_flip(sweep % (DIM == 3 ? 8 : 4));
@@ -803,6 +826,12 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
           differs & lane_significant_change(current, current_label, best, best_label);
       tile->stamp[p] = select(tile->stamp[p], (lane_uint)stamp, significant);
       sweep_changed |= significant;
+      changed_lo_x = min(changed_lo_x, select((int8)EDGE, (int8)c.x, significant));
+      changed_lo_y = min(changed_lo_y, select((int8)EDGE, (int8)c.y, significant));
+      changed_lo_z = min(changed_lo_z, select((int8)EDGE, (int8)c.z, significant));
+      changed_hi_x = max(changed_hi_x, select((int8)-1, (int8)c.x, significant));
+      changed_hi_y = max(changed_hi_y, select((int8)-1, (int8)c.y, significant));
+      changed_hi_z = max(changed_hi_z, select((int8)-1, (int8)c.z, significant));
     }
     brick_flags |= select((lane_uint)0u, (lane_uint)FLAG_CHANGED, running & sweep_changed);
     brick_flags &=
@@ -811,11 +840,19 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
   }
   uint lane_flags[LANES];
   vstore8(brick_flags, 0, lane_flags);
+  int lo[3][LANES], hi[3][LANES];
+  vstore8(changed_lo_x, 0, lo[0]);
+  vstore8(changed_lo_y, 0, lo[1]);
+  vstore8(changed_lo_z, 0, lo[2]);
+  vstore8(changed_hi_x, 0, hi[0]);
+  vstore8(changed_hi_y, 0, hi[1]);
+  vstore8(changed_hi_z, 0, hi[2]);
   for (int k = 0; k < LANES; ++k) {
     if (brick[k] < 0) continue;
     store_lane(k, brick[k], first + k, corner[k], lane_flags[k], tile, scratch, evaluated, changed,
                activity);
     flags[brick[k]] = (uchar)lane_flags[k];
+    news[brick[k]] = lane_news(k, corner[k], lo, hi, reader_reach[brick[k]]);
   }
   const uint4 pairs = lane_updates.lo + lane_updates.hi;
   atom_add(update_counter, (ulong)(pairs.x + pairs.y + pairs.z + pairs.w));

@@ -270,7 +270,7 @@ inline bool gather_far(const ulong* tile, const uint* tile_stamp, int p, int3 c,
       __global const int4 *brick_origins, int4 dims, int4 grid, __global const float *seeds,  \
       __global uchar *flags, __global ulong *update_counter, int max_sweeps,                  \
       __global uint *evaluated, __global uint *changed, uint round_base, uint stride,         \
-      __global const uint *activity
+      __global const uint *activity, __global const uint *reader_reach, __global uint *news
 
 __kernel void relax_brick_sweep(BRICK_SWEEP_ARGUMENTS) {
   const int position = get_global_id(0);
@@ -288,6 +288,8 @@ __kernel void relax_brick_sweep(BRICK_SWEEP_ARGUMENTS) {
   uint active[BRICK_VOLUME / 32];  // the brick's activity bits: no stencil read for inactive voxels
   for (int w = 0; w < BRICK_VOLUME / 32; ++w) active[w] = activity[brick_slot / 32 + w];
   uint brick_flags = FLAG_UNCONVERGED;
+  // The box of the voxels whose change was significant (brick_news; empty: lo > hi).
+  int3 changed_lo = (int3)(EDGE, EDGE, EDGE), changed_hi = (int3)(-1, -1, -1);
   ulong updates = 0;
   uint tick = 0;
 #ifdef UNIFORM_METRIC  // one stencil for every active voxel, prepared once
@@ -343,6 +345,8 @@ __kernel void relax_brick_sweep(BRICK_SWEEP_ARGUMENTS) {
           changed[slot] = stamp;
           tile_stamp[p] = stamp;
           sweep_changed = true;
+          changed_lo = min(changed_lo, c);
+          changed_hi = max(changed_hi, c);
         }
       }
     }
@@ -358,6 +362,7 @@ __kernel void relax_brick_sweep(BRICK_SWEEP_ARGUMENTS) {
     for (int l = 0; l < BRICK_VOLUME; ++l) relaxed[l] = tile[tile_index(local_coordinates(l))];
   }
   flags[brick] = (uchar)brick_flags;
+  news[brick] = brick_news(changed_lo, changed_hi, reader_reach[brick]);
   atom_add(update_counter, updates);
 }
 
@@ -514,13 +519,15 @@ __kernel void activate_bricks(int brick_count, __global const int4* brick_origin
 }
 
 // After a round (a work-item per listed brick, after commit_bricks): an unconverged brick stays
-// pending, and a brick that changed makes every brick within stencil reach pending; its flags are
+// pending, and a brick that changed makes the bricks around pending that read a changed value:
+// with use_news (the brick sweeps), those its `news` mask names (brick_layout.clh); without, or
+// when its readers reach further (FAR_READERS), every brick within stencil reach. Its flags are
 // cleared. Only the round's bricks are visited, so a round costs what it relaxes, not the canvas.
 // Concurrent work-items may set the same pending byte, always to 1.
 __kernel void spread_activation(__global const int* list, int count,
                                 __global const int4* brick_origins, __global const int* table,
                                 int4 grid, int4 reach, __global uchar* flags,
-                                __global uchar* pending) {
+                                __global uchar* pending, __global const uint* news, int use_news) {
   const int position = get_global_id(0);
   if (position >= count) return;
   const int brick = list[position];
@@ -529,6 +536,16 @@ __kernel void spread_activation(__global const int* list, int count,
   if (f & FLAG_UNCONVERGED) pending[brick] = 1;
   if (!(f & FLAG_CHANGED)) return;
   const int3 b = brick_of_voxel(brick_origins[brick].xyz);
+  const uint directions = use_news ? news[brick] : FAR_READERS;
+  if (!(directions & FAR_READERS)) {
+    for (int d = 0; d < 27; ++d) {
+      if (!((directions >> d) & 1u)) continue;
+      const int other =
+          brick_at(b + (int3)(d % 3, (d / 3) % 3, d / 9) - (int3)(1, 1, 1), grid, table);
+      if (other >= 0) pending[other] = 1;
+    }
+    return;
+  }
   for (int dz = -reach.z; dz <= reach.z; ++dz)
     for (int dy = -reach.y; dy <= reach.y; ++dy)
       for (int dx = -reach.x; dx <= reach.x; ++dx) {

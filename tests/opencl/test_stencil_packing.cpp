@@ -1,14 +1,17 @@
 // pack_stencils (host/src/opencl/device_canvas.h): every active slot's record gives back the
-// Selling stencil of its metric, through a table that holds each offset set once.
+// Selling stencil of its metric, through a table that holds each offset set once. reader_reach
+// (reader_reach.h): every brick's reach covers every stencil that reads one of its voxels.
 #include <gtest/gtest.h>
 
 #include <memory>
 #include <set>
+#include <string>
 #include <vector>
 
 #include <Eigen/LU>
 
 #include "device_canvas.h"
+#include "reader_reach.h"
 #include "rvor/canvas_builder.h"
 #include "rvor/domain.h"
 #include "rvor/metric_field.h"
@@ -91,6 +94,70 @@ TEST(StencilPacking, UniformMetricHasOneRecordAndOneShape) {
   EXPECT_EQ(packed.records.size(), std::size_t{kStencilRecord});
   EXPECT_EQ(packed.shape_count(), 1u);
   expect_packed_stencils(canvas, packed);
+}
+
+int unpacked_reach(std::uint32_t packed, int axis) {
+  return static_cast<int>((packed >> (8 * axis)) & 255u);
+}
+
+// Every stencil read, found by brute force: voxel y reads y +- e_i for each of its terms; the
+// brick holding the read voxel must have a reader reach of at least |e_i| on every axis. Returns
+// how many bricks have a reach below the canvas's largest on some axis.
+std::size_t expect_reach_covers_every_read(const Canvas& canvas) {
+  const PackedStencils packed = pack_stencils(canvas);
+  const std::vector<std::uint32_t> reach = reader_reach(canvas, packed);
+  EXPECT_EQ(reach.size(), canvas.brick_count());
+  const std::size_t volume = static_cast<std::size_t>(canvas.brick_volume());
+  std::size_t reads = 0, uncovered = 0;
+  std::string first_uncovered;
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
+    if (!canvas.active[slot]) continue;
+    const std::size_t record = packed.uniform ? 0 : slot;
+    const VoxelIndex y = canvas.voxel_of(slot);
+    for (int i = 0; i < kStencilTerms; ++i) {
+      if (packed.records[kStencilRecord * record + static_cast<std::size_t>(i)] == 0.0f) continue;
+      const int e[3] = {packed.offset(record, i, 0), packed.offset(record, i, 1),
+                        packed.offset(record, i, 2)};
+      for (int sign = -1; sign <= 1; sign += 2) {
+        const int64_t read =
+            canvas.slot_of(VoxelIndex{y.i + sign * e[0], y.j + sign * e[1], y.k + sign * e[2]});
+        if (read < 0 || !canvas.active[static_cast<std::size_t>(read)]) continue;
+        ++reads;
+        const std::uint32_t brick_reach = reach[static_cast<std::size_t>(read) / volume];
+        for (int a = 0; a < 3; ++a)
+          if (unpacked_reach(brick_reach, a) < std::abs(e[a]) && uncovered++ == 0)
+            first_uncovered = "voxel slot " + std::to_string(slot) + " reads slot " +
+                              std::to_string(read) + " with term " + std::to_string(i);
+      }
+    }
+  }
+  EXPECT_EQ(uncovered, 0u) << "first: " << first_uncovered;
+  EXPECT_GT(reads, canvas.active_voxel_count);
+  std::size_t shorter = 0;
+  for (std::uint32_t r : reach)
+    for (int a = 0; a < 3; ++a)
+      if (unpacked_reach(r, a) < packed.reach[static_cast<std::size_t>(a)]) {
+        ++shorter;
+        break;
+      }
+  return shorter;
+}
+
+TEST(ReaderReach, CoversEveryReadOfAVaryingField) {
+  // radial_shock_3d: long offsets (up to 8 voxels at 64^3) near the shock sphere only.
+  const std::size_t shorter =
+      expect_reach_covers_every_read(make_canvas("box:1,1,1,11,11,11", "radial_shock_3d", 64));
+  EXPECT_GT(shorter, 0u);  // bricks away from the shock are read by short stencils only
+}
+
+TEST(ReaderReach, CoversEveryReadInTwoDimensionsOnACurvedDomain) {
+  expect_reach_covers_every_read(make_canvas("implicit:disk", "swirl", 96));
+}
+
+TEST(ReaderReach, UniformMetricReachesAsFarEverywhere) {
+  EXPECT_EQ(
+      expect_reach_covers_every_read(make_canvas("box:-1,-1,-1,1,1,1", "uniform:10,3,5,2,1,4", 24)),
+      0u);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <Eigen/LU>
 
 #include "host_pages.h"
+#include "reader_reach.h"
 #include "rvor/error.h"
 #include "rvor/selling.h"
 
@@ -301,6 +302,8 @@ DeviceCanvas upload_canvas(const cl::Context& context, const Canvas& canvas, int
   d.changed = make_scratch(context, d.slots * sizeof(cl_uint), d.bytes);
   d.flags = make_scratch(context, d.bricks, d.bytes);
   d.touched = make_scratch(context, d.bricks, d.bytes);
+  d.reader_reach = make_buffer(context, reader_reach(canvas, stencils), d.bytes);
+  d.news = make_scratch(context, d.bricks * sizeof(cl_uint), d.bytes);
   d.pending = make_scratch(context, d.bricks, d.bytes);
   d.any_pending = make_scratch(context, sizeof(cl_int), d.bytes);
   d.list = make_scratch(context, d.bricks * sizeof(cl_int), d.bytes);

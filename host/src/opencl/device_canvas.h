@@ -57,6 +57,10 @@ struct DeviceCanvas {
   // Per brick: written since the solve or insertion began (only those are read back after an
   // insertion).
   cl::Buffer touched;
+  // Per brick: how far the stencils reading its voxels reach (reader_reach.h), and the bricks
+  // around that read a value its last relaxation changed (kernels/brick_layout.clh, brick_news),
+  // so that only those become pending.
+  cl::Buffer reader_reach, news;
   std::size_t seed_capacity = 0;
   std::uint64_t bytes = 0;  // device memory allocated for this canvas
 };

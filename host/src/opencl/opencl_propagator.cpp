@@ -152,6 +152,10 @@ class OpenCLPropagator final : public Propagator {
   // brick_sweep and brick_lanes: a work-item sweeps whole bricks, with evaluation stamps.
   bool sweeps_bricks() const { return variant_ != RelaxationVariant::voxel_phases; }
 
+  // Whether a changed brick makes pending only the bricks around that read what it changed (the
+  // sweeps record them) rather than every brick within stencil reach.
+  bool spreads_news() const { return sweeps_bricks(); }
+
   RelaxationVariant choose_variant() const {
     if (options_.variant != RelaxationVariant::automatic) return options_.variant;
     return device_.info.is_gpu ? RelaxationVariant::voxel_phases : RelaxationVariant::brick_lanes;
@@ -403,6 +407,8 @@ class OpenCLPropagator final : public Propagator {
       relax_.setArg(16, next_round_base());
       relax_.setArg(17, stamp_stride_);
       relax_.setArg(18, d.activity);
+      relax_.setArg(19, d.reader_reach);
+      relax_.setArg(20, d.news);
     } else {
       relax_.setArg(14, d.activity);
     }
@@ -420,7 +426,7 @@ class OpenCLPropagator final : public Propagator {
     queue_.enqueueNDRangeKernel(commit_, cl::NullRange, cl::NDRange(voxels),
                                 cl::NDRange(kBookkeepingGroup));
     set_args(spread_, d.list, static_cast<cl_int>(count), d.origins, d.table, d.grid, d.brick_reach,
-             d.flags, d.pending);
+             d.flags, d.pending, d.news, static_cast<cl_int>(spreads_news() ? 1 : 0));
     queue_.enqueueNDRangeKernel(spread_, cl::NullRange,
                                 cl::NDRange(round_up(count, kBookkeepingGroup)),
                                 cl::NDRange(kBookkeepingGroup));
