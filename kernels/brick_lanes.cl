@@ -790,7 +790,7 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
   int8 changed_hi_x = -1, changed_hi_y = -1, changed_hi_z = -1;
   uint tick = 0;
   for (int sweep = 0; sweep < max_sweeps && lanes_any(running); ++sweep) {
-    const int flip = corner_flip(sweep % (DIM == 3 ? 8 : 4));
+    const int flip = corner_flip(sweep_reversal(sweep));
     lane_mask sweep_changed = 0;
     for (int n = 0; n < BRICK_VOLUME; ++n) {
       ++tick;

@@ -107,6 +107,15 @@ __kernel void initialise_seeds(int first_seed, int seed_count, __global const fl
 
 #define FLAG_WRITTEN 4u /* the brick's working copy differs from the state: commit it */
 
+// The axes a relaxation's sweep reverses against its first (bit a: axis a): first the upwind
+// corner, then each axis reversed on its own, then the pairs and all three. A front that meets
+// the brick from another side along one axis (a bisector, the plane of a seed) is carried by the
+// sweep that reverses that axis alone (docs/scheme.md, "Sweeps per relaxation").
+inline int sweep_reversal(int sweep) {
+  const int order[8] = {0, 1, 2, 4, 3, 5, 6, 7};
+  return DIM == 3 ? order[sweep % 8] : sweep % 4;
+}
+
 // Most stencil neighbours lie in the 3^DIM bricks around the brick being relaxed: their indices
 // are looked up once per brick; a longer offset (strong anisotropy) goes through the table.
 #define NEAR_BRICKS 27
@@ -304,7 +313,7 @@ __kernel void relax_brick_sweep(BRICK_SWEEP_ARGUMENTS) {
   const float* eGe = 0;
 #endif
   for (int sweep = 0; sweep < max_sweeps; ++sweep) {
-    const int direction = corner ^ (sweep % (DIM == 3 ? 8 : 4));
+    const int direction = corner ^ sweep_reversal(sweep);
     bool sweep_changed = false;
     // Reversing an axis of the brick is flipping the bits of that coordinate in the local index.
     const int flip = (direction & 1 ? EDGE - 1 : 0) | (direction & 2 ? EDGE * (EDGE - 1) : 0) |

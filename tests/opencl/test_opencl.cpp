@@ -109,6 +109,8 @@ INSTANTIATE_TEST_SUITE_P(
         EngineConfig{"BrickSweepNoColouring", RelaxationVariant::brick_sweep, 2, false},
         EngineConfig{"BrickLanes", RelaxationVariant::brick_lanes, 2, true},
         EngineConfig{"BrickLanesOneSweep", RelaxationVariant::brick_lanes, 1, true},
+        EngineConfig{"BrickLanesAutomaticSweeps", RelaxationVariant::brick_lanes, 0, true},
+        EngineConfig{"BrickLanesFourSweeps", RelaxationVariant::brick_lanes, 4, true},
         EngineConfig{"BrickLanesNoColouring", RelaxationVariant::brick_lanes, 2, false}),
     [](const auto& info) { return std::string(info.param.name); });
 
@@ -210,10 +212,10 @@ void expect_option_error(const OpenCLOptions& options, const std::string& mentio
 
 TEST(OpenCLOptionsCheck, OutOfRangeScheduleOptionsAreClearErrors) {
   OpenCLOptions o;
-  o.max_sweeps = 0;  // checked before any device is looked up: no device needed
-  expect_option_error(o, "max_sweeps must be in [1, 64], got 0");
+  o.max_sweeps = -1;  // checked before any device is looked up: no device needed
+  expect_option_error(o, "max_sweeps must be in [0, 64] (0: automatic), got -1");
   o.max_sweeps = 65;  // the evaluation stamps of one relaxation would not fit their stride
-  expect_option_error(o, "max_sweeps must be in [1, 64], got 65");
+  expect_option_error(o, "max_sweeps must be in [0, 64] (0: automatic), got 65");
   o.max_sweeps = 2;
   o.phase_iterations = 0;
   expect_option_error(o, "phase_iterations must be at least 1, got 0");

@@ -17,11 +17,12 @@ enum class RelaxationVariant {
 
 struct OpenCLOptions {
   RelaxationVariant variant = RelaxationVariant::automatic;
-  // brick_sweep: sweeps per brick and round. Since sweeps start at the upwind corner, 1 and 2 tie
-  // and 4 is slower (1000 seeds, --repeat 2: euclidean 160^3 2.48/2.38/2.55 s, radial_shock_3d
-  // 128^3 3.90/3.92/5.13 s for 1/2/4); 2 needs fewer rounds, which small insertions feel.
-  // In [1, 64]; make_opencl_propagator throws otherwise.
-  int max_sweeps = 2;
+  // brick_sweep and brick_lanes: most sweeps per brick and round, in [1, 64], or 0: automatic, 4
+  // for a uniform metric with axis offsets (the isotropic case) and 2 for any other stencil
+  // (1000 seeds, 256^3 euclidean: 7.79 -> 5.09 relaxations per brick, 3.48 -> 3.21 s from 2 to 4
+  // sweeps; 128^3 radial_shock_3d: 10.6 -> 14.7 updates per voxel, 3.1 -> 3.9 s; docs/scheme.md).
+  // make_opencl_propagator throws outside [0, 64].
+  int max_sweeps = 0;
   int phase_iterations = 8;  // voxel_phases: most iterations (all phases) per round (at least 1)
   // Relax one brick colour (parities of the brick coordinates, 2^d colours) per round, so that a
   // brick reads its neighbours' fresh values. `rvor bench --resolution 96 --seeds 1000 --repeat 2`,

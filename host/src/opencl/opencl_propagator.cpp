@@ -240,6 +240,14 @@ class OpenCLPropagator final : public Propagator {
     return true;
   }
 
+  // Sweeps per relaxation (OpenCLOptions::max_sweeps): with axis offsets only, fronts cross a
+  // brick along axes, and the sweeps reversing one axis each settle most bricks in one
+  // relaxation; any other stencil computes more that later news overturns.
+  int max_sweeps() const {
+    if (options_.max_sweeps > 0) return options_.max_sweeps;
+    return axis_lanes() ? 4 : 2;
+  }
+
   // The uniform stencil's shape as constants for relax_brick_lanes (kernels/brick_lanes.cl).
   std::string uniform_stencil_options() const {
     const std::vector<int>& offsets = canvas_->uniform_offsets;
@@ -348,7 +356,7 @@ class OpenCLPropagator final : public Propagator {
   void reset_stamps() {
     // A power of two above the evaluations of one relaxation, so rounds are stamp bit masks.
     const cl_uint ticks =
-        static_cast<cl_uint>(options_.max_sweeps) * static_cast<cl_uint>(brick_volume_);
+        static_cast<cl_uint>(max_sweeps()) * static_cast<cl_uint>(brick_volume_);
     stamp_stride_ = 1;
     while (stamp_stride_ <= ticks) stamp_stride_ *= 2;
     round_base_ = 0;
@@ -400,7 +408,7 @@ class OpenCLPropagator final : public Propagator {
     const bool sweep = sweeps_bricks();
     set_args(relax_, d.list, static_cast<cl_int>(count), d.state, d.scratch, d.stencils, d.shapes,
              d.table, d.origins, d.dims, d.grid, d.seeds, d.flags, d.update_counter,
-             static_cast<cl_int>(sweep ? options_.max_sweeps : options_.phase_iterations));
+             static_cast<cl_int>(sweep ? max_sweeps() : options_.phase_iterations));
     if (sweep) {
       relax_.setArg(14, d.evaluated);
       relax_.setArg(15, d.changed);
@@ -460,9 +468,9 @@ class OpenCLPropagator final : public Propagator {
 
 std::unique_ptr<Propagator> make_opencl_propagator(const std::string& device,
                                                    const OpenCLOptions& options) {
-  if (options.max_sweeps < 1 || options.max_sweeps > kMaxSweeps)
-    throw Error("OpenCLOptions::max_sweeps must be in [1, " + std::to_string(kMaxSweeps) +
-                "], got " + std::to_string(options.max_sweeps));
+  if (options.max_sweeps < 0 || options.max_sweeps > kMaxSweeps)
+    throw Error("OpenCLOptions::max_sweeps must be in [0, " + std::to_string(kMaxSweeps) +
+                "] (0: automatic), got " + std::to_string(options.max_sweeps));
   if (options.phase_iterations < 1)
     throw Error("OpenCLOptions::phase_iterations must be at least 1, got " +
                 std::to_string(options.phase_iterations));
