@@ -355,8 +355,7 @@ class OpenCLPropagator final : public Propagator {
   // Forgets every evaluation (brick_sweep work avoidance): the next one recomputes all voxels.
   void reset_stamps() {
     // A power of two above the evaluations of one relaxation, so rounds are stamp bit masks.
-    const cl_uint ticks =
-        static_cast<cl_uint>(max_sweeps()) * static_cast<cl_uint>(brick_volume_);
+    const cl_uint ticks = static_cast<cl_uint>(max_sweeps()) * static_cast<cl_uint>(brick_volume_);
     stamp_stride_ = 1;
     while (stamp_stride_ <= ticks) stamp_stride_ *= 2;
     round_base_ = 0;
