@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <thread>
 #include <unordered_map>
 
 #include <Eigen/LU>
@@ -12,6 +11,7 @@
 #include "reader_reach.h"
 #include "rvor/error.h"
 #include "rvor/selling.h"
+#include "slot_ranges.h"
 
 namespace rvor::opencl {
 
@@ -126,24 +126,6 @@ std::vector<std::vector<std::uint32_t>> merge_shapes(const std::vector<StencilPa
   return global_index;
 }
 
-// Runs work(t, begin, end) on `threads` threads over [0, slots); rethrows the first error.
-template <typename Work>
-void for_slot_ranges(std::size_t slots, unsigned threads, Work&& work) {
-  std::vector<std::exception_ptr> errors(threads);
-  std::vector<std::thread> workers;
-  for (unsigned t = 0; t < threads; ++t)
-    workers.emplace_back([&, t] {
-      try {
-        work(t, slots * t / threads, slots * (t + 1) / threads);
-      } catch (...) {
-        errors[t] = std::current_exception();
-      }
-    });
-  for (std::thread& w : workers) w.join();
-  for (const std::exception_ptr& e : errors)
-    if (e) std::rethrow_exception(e);
-}
-
 // One stencil for the whole canvas, that of its first active voxel.
 PackedStencils pack_uniform_stencil(const Canvas& canvas) {
   PackedStencils out;
@@ -176,7 +158,7 @@ PackedStencils pack_stencils(const Canvas& canvas) {
   PackedStencils out;
   const std::size_t slots = canvas.slot_count();
   out.records.assign(kStencilRecord * slots, 0.0f);
-  const unsigned threads = std::max(1u, std::min(8u, std::thread::hardware_concurrency()));
+  const unsigned threads = slot_threads();
   std::vector<StencilPacker> packers(threads, StencilPacker(canvas, out));
   for_slot_ranges(slots, threads, [&](unsigned t, std::size_t begin, std::size_t end) {
     for (std::size_t slot = begin; slot < end; ++slot) packers[t].pack(slot, slot);

@@ -3,6 +3,8 @@
 #include <cstring>
 #include <vector>
 
+#include "slot_ranges.h"
+
 namespace rvor::opencl {
 namespace {
 
@@ -36,10 +38,8 @@ void store_word(cl_ulong word, std::size_t slot, VoronoiField& field) {
 }  // namespace
 
 std::uint64_t field_hash(const VoronoiField& field) {
-  std::uint64_t hash = 0;
-  for (std::size_t slot = 0; slot < field.distance.size(); ++slot)
-    hash += field_slot_hash(field, slot);
-  return hash;
+  return sum_over_slots(field.distance.size(),
+                        [&](std::size_t slot) { return field_slot_hash(field, slot); });
 }
 
 void upload_field(const cl::CommandQueue& queue, const cl::Buffer& state,
@@ -50,17 +50,27 @@ void upload_field(const cl::CommandQueue& queue, const cl::Buffer& state,
   queue.enqueueWriteBuffer(state, CL_TRUE, 0, words.size() * sizeof(cl_ulong), words.data());
 }
 
+// The state is mapped rather than read into a copy: on a device that uses host memory (PoCL on
+// the CPU) the words are read in place, and the conversion runs on every core.
 std::uint64_t download_field(const cl::CommandQueue& queue, const cl::Buffer& state,
                              std::size_t slots, VoronoiField& field) {
-  std::vector<cl_ulong> words(slots);
-  queue.enqueueReadBuffer(state, CL_TRUE, 0, slots * sizeof(cl_ulong), words.data());
   field.distance.resize(slots);
   field.label.resize(slots);
+  const std::size_t bytes = slots * sizeof(cl_ulong);
+  const auto* words =
+      static_cast<const cl_ulong*>(queue.enqueueMapBuffer(state, CL_TRUE, CL_MAP_READ, 0, bytes));
   std::uint64_t hash = 0;
-  for (std::size_t slot = 0; slot < slots; ++slot) {
-    store_word(words[slot], slot, field);
-    hash += field_slot_hash(field, slot);
+  try {
+    hash = sum_over_slots(slots, [&](std::size_t slot) {
+      store_word(words[slot], slot, field);
+      return field_slot_hash(field, slot);
+    });
+  } catch (...) {
+    queue.enqueueUnmapMemObject(state, const_cast<cl_ulong*>(words));
+    throw;
   }
+  queue.enqueueUnmapMemObject(state, const_cast<cl_ulong*>(words));
+  queue.finish();
   return hash;
 }
 

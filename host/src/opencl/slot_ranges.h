@@ -1,0 +1,51 @@
+#pragma once
+// Work over a canvas's slots split into contiguous ranges, one thread each (internal): packing
+// stencils and converting fields, which are per-slot and independent.
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <exception>
+#include <thread>
+#include <vector>
+
+namespace rvor::opencl {
+
+// Threads for per-slot host work: the machine's, at most 8.
+inline unsigned slot_threads() {
+  return std::max(1u, std::min(8u, std::thread::hardware_concurrency()));
+}
+
+// Runs work(t, begin, end) on `threads` threads over [0, slots); rethrows the first error.
+template <typename Work>
+void for_slot_ranges(std::size_t slots, unsigned threads, Work&& work) {
+  std::vector<std::exception_ptr> errors(threads);
+  std::vector<std::thread> workers;
+  for (unsigned t = 0; t < threads; ++t)
+    workers.emplace_back([&, t] {
+      try {
+        work(t, slots * t / threads, slots * (t + 1) / threads);
+      } catch (...) {
+        errors[t] = std::current_exception();
+      }
+    });
+  for (std::thread& w : workers) w.join();
+  for (const std::exception_ptr& e : errors)
+    if (e) std::rethrow_exception(e);
+}
+
+// The sum, wrapping, of term(slot) over [0, slots), on slot_threads() threads.
+template <typename Term>
+std::uint64_t sum_over_slots(std::size_t slots, Term&& term) {
+  const unsigned threads = slot_threads();
+  std::vector<std::uint64_t> partial(threads, 0);
+  for_slot_ranges(slots, threads, [&](unsigned t, std::size_t begin, std::size_t end) {
+    std::uint64_t sum = 0;
+    for (std::size_t slot = begin; slot < end; ++slot) sum += term(slot);
+    partial[t] = sum;
+  });
+  std::uint64_t total = 0;
+  for (std::uint64_t p : partial) total += p;
+  return total;
+}
+
+}  // namespace rvor::opencl
