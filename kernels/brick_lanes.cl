@@ -627,7 +627,8 @@ inline void load_lane_row(int k, int f, int step, int brick, int within, bool in
 inline int load_lane(int k, int brick, __global const ulong* state, __global const uint* changed,
                      __global const int* table, __global const int4* brick_origins, int4 grid,
                      uint stride, __global const uint* activity, __global const uint* evaluated,
-                     LaneTile* tile, LaneFrame* frame, LaneBricks* bricks) {
+                     __global const float* stencils, LaneTile* tile, LaneFrame* frame,
+                     LaneBricks* bricks) {
   const int3 origin = brick_origins[brick].xyz;
   int* near = bricks->near[k];
   load_near_bricks(origin, grid, table, near);
@@ -657,6 +658,15 @@ inline int load_lane(int k, int brick, __global const ulong* state, __global con
                     state, changed, stride, tile);
     }
   }
+#ifndef AXIS_LANES
+  // The sweeps read each voxel's stencil record, one lane at a time (lane_gather_one): a cache
+  // miss at each first visit once the canvas outgrows the cache (perf: the record load was the
+  // hottest instruction of radial_shock_3d's gather at 128^3). Requested for the whole brick now,
+  // the records arrive while the tile loads (docs/scheme.md, "Stencil prefetch").
+  __global const float* records = stencils + brick_slot * STENCIL_RECORD;
+  for (int i = 0; i < BRICK_VOLUME * STENCIL_RECORD; i += 64 / sizeof(float))
+    __builtin_prefetch(records + i);
+#endif
   // Inactive voxels are skipped like frozen ones; the evaluation stamps go to frame positions.
   for (int w = 0; w < BRICK_VOLUME / 32; ++w) {
     const uint bits = activity[brick_slot / 32 + w];
@@ -777,7 +787,7 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
       clear_lane(k, tile, &frame, &bricks);
     else
       corner[k] = load_lane(k, brick[k], state, changed, table, brick_origins, grid, stride,
-                            activity, evaluated, tile, &frame, &bricks);
+                            activity, evaluated, stencils, tile, &frame, &bricks);
   }
   LaneStencil st;
   prepare_lane_stencil(stencils, shapes, &st);
