@@ -7,18 +7,26 @@
 namespace rvor {
 
 namespace {
-int floor_div(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+int floor_div(int a, int b) {
+  return a >= 0 ? a / b : -((-a + b - 1) / b);
+}
 }  // namespace
+
+int32_t Canvas::brick_at(int bi, int bj, int bk) const {
+  const auto& g = brick_grid_dims;
+  if (bi < 0 || bj < 0 || bk < 0 || bi >= g[0] || bj >= g[1] || bk >= g[2]) return -1;
+  return brick_table[bi +
+                     static_cast<std::size_t>(g[0]) * (bj + static_cast<std::size_t>(g[1]) * bk)];
+}
 
 int64_t Canvas::slot_of(int i, int j, int k) const {
   if (i < 0 || j < 0 || k < 0 || i >= dims[0] || j >= dims[1] || k >= dims[2]) return -1;
   const int bz = brick_edge_z();
   const int bi = i / kBrickEdge, bj = j / kBrickEdge, bk = k / bz;
-  const int32_t brick =
-      brick_table[bi + static_cast<std::size_t>(brick_grid_dims[0]) *
-                           (bj + static_cast<std::size_t>(brick_grid_dims[1]) * bk)];
+  const int32_t brick = brick_at(bi, bj, bk);
   if (brick < 0) return -1;
-  const int local = (i - bi * kBrickEdge) + kBrickEdge * ((j - bj * kBrickEdge) + kBrickEdge * (k - bk * bz));
+  const int local =
+      (i - bi * kBrickEdge) + kBrickEdge * ((j - bj * kBrickEdge) + kBrickEdge * (k - bk * bz));
   const int64_t slot = static_cast<int64_t>(brick) * brick_volume() + local;
   return active[slot] ? slot : -1;
 }
@@ -35,7 +43,9 @@ Vec3 Canvas::world_of(const VoxelIndex& v) const {
   return origin + voxel_size * Vec3(v.i, v.j, v.k);
 }
 
-Vec3 Canvas::index_coordinates(const Vec3& world) const { return (world - origin) / voxel_size; }
+Vec3 Canvas::index_coordinates(const Vec3& world) const {
+  return (world - origin) / voxel_size;
+}
 
 VoxelIndex Canvas::voxel_containing(const Vec3& world) const {
   const Vec3 c = index_coordinates(world);
@@ -51,7 +61,8 @@ Mat3 Canvas::metric_at(std::size_t slot) const {
   return tensor_from_sol({m[0], m[1], m[2], m[3], m[4], m[5]});
 }
 
-void Canvas::allocate(int dim, double h, const Vec3& world_origin, const std::array<int, 3>& index_dims,
+void Canvas::allocate(int dim, double h, const Vec3& world_origin,
+                      const std::array<int, 3>& index_dims,
                       const std::vector<VoxelIndex>& origins) {
   if (dim != 2 && dim != 3) throw Error("canvas dimension must be 2 or 3");
   dimension = dim;
@@ -63,14 +74,14 @@ void Canvas::allocate(int dim, double h, const Vec3& world_origin, const std::ar
     const int edge = a == 2 ? brick_edge_z() : kBrickEdge;
     brick_grid_dims[a] = floor_div(dims[a] + edge - 1, edge);
   }
-  brick_table.assign(static_cast<std::size_t>(brick_grid_dims[0]) * brick_grid_dims[1] *
-                         brick_grid_dims[2],
-                     -1);
+  brick_table.assign(
+      static_cast<std::size_t>(brick_grid_dims[0]) * brick_grid_dims[1] * brick_grid_dims[2], -1);
   brick_origins = origins;
   for (std::size_t b = 0; b < origins.size(); ++b) {
     const VoxelIndex& o = origins[b];
     const int bi = o.i / kBrickEdge, bj = o.j / kBrickEdge, bk = o.k / brick_edge_z();
-    const bool aligned = o.i % kBrickEdge == 0 && o.j % kBrickEdge == 0 && o.k % brick_edge_z() == 0;
+    const bool aligned =
+        o.i % kBrickEdge == 0 && o.j % kBrickEdge == 0 && o.k % brick_edge_z() == 0;
     if (!aligned || bi < 0 || bj < 0 || bk < 0 || bi >= brick_grid_dims[0] ||
         bj >= brick_grid_dims[1] || bk >= brick_grid_dims[2])
       throw Error("canvas brick origin is not aligned or outside the index box");

@@ -2,7 +2,8 @@
 // The canvas: a sparse voxel grid covering the domain, with the metric sampled at every active
 // voxel. It is built on OpenVDB (canvas_builder.h) and stored here in the packed form the solvers
 // use: active 8^3 leaves (8x8x1 in 2D) as bricks of consecutive "slots", a dense brick table for
-// neighbour look-ups at any offset, and six floats of metric per slot. No OpenVDB type appears here.
+// neighbour look-ups at any offset, and six floats of metric per slot. No OpenVDB type appears
+// here.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -22,22 +23,24 @@ class Canvas {
   static constexpr int kBrickEdge = 8;
 
   int dimension = 3;
-  double voxel_size = 0.0;       // h, world units
-  Vec3 origin = Vec3::Zero();    // world position of the centre of voxel (0,0,0)
-  std::array<int, 3> dims{};     // index bounding box [0,dims) in voxels; dims[2] == 1 in 2D
-  std::array<int, 3> brick_grid_dims{};  // ceil(dims / brick edge) per axis
-  std::vector<int32_t> brick_table;      // brick grid (x fastest) -> brick id, -1 where empty
+  double voxel_size = 0.0;     // h, world units
+  Vec3 origin = Vec3::Zero();  // world position of the centre of voxel (0,0,0)
+  std::array<int, 3> dims{};   // index bounding box [0,dims) in voxels; dims[2] == 1 in 2D
+  std::array<int, 3> brick_grid_dims{};   // ceil(dims / brick edge) per axis
+  std::vector<int32_t> brick_table;       // brick grid (x fastest) -> brick id, -1 where empty
   std::vector<VoxelIndex> brick_origins;  // voxel index of each brick's (0,0,0) corner
   std::vector<uint8_t> active;            // per slot: 1 inside the domain
   std::vector<float> metric;              // per slot, 6 floats in .sol order (zero where inactive)
   std::size_t active_voxel_count = 0;
-  std::string description;                // domain, metric and resolution, for reports
+  std::string description;  // domain, metric and resolution, for reports
 
   int brick_edge_z() const { return dimension == 3 ? kBrickEdge : 1; }
   int brick_volume() const { return kBrickEdge * kBrickEdge * brick_edge_z(); }
   std::size_t brick_count() const { return brick_origins.size(); }
   std::size_t slot_count() const { return brick_count() * brick_volume(); }
 
+  // Id of the brick at brick-grid coordinates (bi, bj, bk): -1 outside the grid or where empty.
+  int32_t brick_at(int bi, int bj, int bk) const;
   // Slot of voxel (i,j,k): -1 outside the bounding box, in an empty brick, or inactive.
   int64_t slot_of(int i, int j, int k) const;
   int64_t slot_of(const VoxelIndex& v) const { return slot_of(v.i, v.j, v.k); }
@@ -52,8 +55,8 @@ class Canvas {
 
   // Allocates bricks for the given voxel index bounding box and brick origins, all inactive.
   // Used by builders; brick origins must be multiples of the brick edge inside the box.
-  void allocate(int dimension, double voxel_size, const Vec3& origin, const std::array<int, 3>& dims,
-                const std::vector<VoxelIndex>& brick_origins);
+  void allocate(int dimension, double voxel_size, const Vec3& origin,
+                const std::array<int, 3>& dims, const std::vector<VoxelIndex>& brick_origins);
   // Marks a voxel active with the given metric (the slot must exist).
   void set_active(std::size_t slot, const Mat3& G);
   // Recounts active voxels (after set_active calls).

@@ -41,13 +41,9 @@ std::array<int32_t, 8> neighbour_bricks(const Canvas& canvas, const VoxelIndex& 
   std::array<int32_t, 8> bricks{};
   const int bi = o.i / Canvas::kBrickEdge, bj = o.j / Canvas::kBrickEdge,
             bk = o.k / canvas.brick_edge_z();
-  const auto& g = canvas.brick_grid_dims;
   for (int d = 0; d < 8; ++d) {
     const int i = bi + (d & 1), j = bj + ((d >> 1) & 1), k = bk + (d >> 2);
-    bricks[d] = i < g[0] && j < g[1] && k < g[2]
-                    ? canvas.brick_table[i + static_cast<std::size_t>(g[0]) *
-                                                 (j + static_cast<std::size_t>(g[1]) * k)]
-                    : -1;
+    bricks[d] = canvas.brick_at(i, j, k);
   }
   return bricks;
 }
