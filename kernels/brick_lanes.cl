@@ -751,9 +751,7 @@ inline void store_lane(int k, int brick, int position, int corner, uint brick_fl
     }
 }
 
-// brick_news (brick_layout.clh) of lane k from its box of changes in frame coordinates: the box
-// in real coordinates, whose directions go to the bricks around (only the faces with axis
-// offsets, which never reach an edge or corner brick).
+// brick_news (brick_layout.clh) of lane k from its box of changes in frame coordinates.
 inline uint lane_news(int k, int corner, int lo[3][LANES], int hi[3][LANES], uint packed_reach) {
   const int last[3] = {EDGE - 1, EDGE - 1, EDGE_Z - 1};
   int real_lo[3], real_hi[3];
@@ -762,13 +760,8 @@ inline uint lane_news(int k, int corner, int lo[3][LANES], int hi[3][LANES], uin
     real_lo[a] = flipped ? last[a] - hi[a][k] : lo[a][k];
     real_hi[a] = flipped ? last[a] - lo[a][k] : hi[a][k];
   }
-  const uint news = brick_news((int3)(real_lo[0], real_lo[1], real_lo[2]),
-                               (int3)(real_hi[0], real_hi[1], real_hi[2]), packed_reach);
-#ifdef AXIS_LANES
-  return news & (FACE_DIRECTIONS | FAR_READERS);
-#else
-  return news;
-#endif
+  return brick_news((int3)(real_lo[0], real_lo[1], real_lo[2]),
+                    (int3)(real_hi[0], real_hi[1], real_hi[2]), packed_reach);
 }
 
 __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {

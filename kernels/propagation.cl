@@ -446,7 +446,7 @@ __kernel __attribute__((reqd_work_group_size(PHASE_VOXELS, 1, 1))) void relax_vo
     __global const float* stencils, __global const char* shapes, __global const int* table,
     __global const int4* brick_origins, int4 dims, int4 grid, __global const float* seeds,
     __global uchar* flags, __global ulong* update_counter, int iterations,
-    __global const uint* activity) {
+    __global const uint* activity, __global uint* news) {
   __local ulong values[BRICK_VOLUME];
   // changed_in[it % 3]: iteration `it` changed a value significantly. Iteration `it` resets the
   // flag of iteration it + 2: nobody reads it any more, and nobody sets it before a barrier.
@@ -487,6 +487,7 @@ __kernel __attribute__((reqd_work_group_size(PHASE_VOXELS, 1, 1))) void relax_vo
   if (w == 0) {
     flags[brick] =
         (uchar)((changed_ever ? FLAG_CHANGED : 0u) | (changed_last ? FLAG_UNCONVERGED : 0u));
+    news[brick] = FAR_READERS;  // no box of changes kept: every brick within reach
     atom_add(update_counter, (ulong)brick_updates);
   }
 }
@@ -529,14 +530,13 @@ __kernel void activate_bricks(int brick_count, __global const int4* brick_origin
 
 // After a round (a work-item per listed brick, after commit_bricks): an unconverged brick stays
 // pending, and a brick that changed makes the bricks around pending that read a changed value:
-// with use_news (the brick sweeps), those its `news` mask names (brick_layout.clh); without, or
-// when its readers reach further (FAR_READERS), every brick within stencil reach. Its flags are
-// cleared. Only the round's bricks are visited, so a round costs what it relaxes, not the canvas.
-// Concurrent work-items may set the same pending byte, always to 1.
+// those its `news` mask names (brick_layout.clh), or, with FAR_READERS, every brick within
+// stencil reach. Its flags are cleared. Only the round's bricks are visited, so a round costs what
+// it relaxes, not the canvas. Concurrent work-items may set the same pending byte, always to 1.
 __kernel void spread_activation(__global const int* list, int count,
                                 __global const int4* brick_origins, __global const int* table,
                                 int4 grid, int4 reach, __global uchar* flags,
-                                __global uchar* pending, __global const uint* news, int use_news) {
+                                __global uchar* pending, __global const uint* news) {
   const int position = get_global_id(0);
   if (position >= count) return;
   const int brick = list[position];
@@ -545,7 +545,7 @@ __kernel void spread_activation(__global const int* list, int count,
   if (f & FLAG_UNCONVERGED) pending[brick] = 1;
   if (!(f & FLAG_CHANGED)) return;
   const int3 b = brick_of_voxel(brick_origins[brick].xyz);
-  const uint directions = use_news ? news[brick] : FAR_READERS;
+  const uint directions = news[brick];
   if (!(directions & FAR_READERS)) {
     for (int d = 0; d < 27; ++d) {
       if (!((directions >> d) & 1u)) continue;

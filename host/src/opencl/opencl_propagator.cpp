@@ -152,10 +152,6 @@ class OpenCLPropagator final : public Propagator {
   // brick_sweep and brick_lanes: a work-item sweeps whole bricks, with evaluation stamps.
   bool sweeps_bricks() const { return variant_ != RelaxationVariant::voxel_phases; }
 
-  // Whether a changed brick makes pending only the bricks around that read what it changed (the
-  // sweeps record them) rather than every brick within stencil reach.
-  bool spreads_news() const { return sweeps_bricks(); }
-
   RelaxationVariant choose_variant() const {
     if (options_.variant != RelaxationVariant::automatic) return options_.variant;
     return device_.info.is_gpu ? RelaxationVariant::voxel_phases : RelaxationVariant::brick_lanes;
@@ -227,10 +223,11 @@ class OpenCLPropagator final : public Propagator {
     return opencl::brick_colours(canvas, options_.brick_colouring);
   }
 
-  // brick_lanes shares one stencil across the lanes, as constants, when the metric is uniform
-  // and its stencil has axis offsets only (a diagonal metric: a flipped axis offset is its
-  // opposite, the same term in every lane's frame); otherwise each lane gathers its own.
-  bool axis_lanes() const {
+  // Whether the metric is uniform and its stencil has axis offsets only (a diagonal metric, the
+  // isotropic one among them). brick_lanes then shares the stencil across the lanes, as
+  // constants (a flipped axis offset is its opposite, the same term in every lane's frame), and
+  // max_sweeps() picks 4.
+  bool uniform_axis_stencil() const {
     const std::vector<int>& offsets = canvas_->uniform_offsets;
     if (offsets.empty()) return false;
     for (std::size_t i = 0; i < offsets.size(); i += 3) {
@@ -245,13 +242,13 @@ class OpenCLPropagator final : public Propagator {
   // relaxation; any other stencil computes more that later news overturns.
   int max_sweeps() const {
     if (options_.max_sweeps > 0) return options_.max_sweeps;
-    return axis_lanes() ? 4 : 2;
+    return uniform_axis_stencil() ? 4 : 2;
   }
 
   // The uniform stencil's shape as constants for relax_brick_lanes (kernels/brick_lanes.cl).
   std::string uniform_stencil_options() const {
     const std::vector<int>& offsets = canvas_->uniform_offsets;
-    if (!axis_lanes()) return "";
+    if (!uniform_axis_stencil()) return "";
     std::string options = " -DUNIFORM_TERMS=" + std::to_string(offsets.size() / 3);
     for (std::size_t n = 0; n < 3 * std::size_t{opencl::kStencilTerms}; ++n)
       options += " -DUNIFORM_OFFSET_" + std::to_string(n / 3) + "XYZ"[n % 3] + "=" +
@@ -418,6 +415,7 @@ class OpenCLPropagator final : public Propagator {
       relax_.setArg(20, d.news);
     } else {
       relax_.setArg(14, d.activity);
+      relax_.setArg(15, d.news);
     }
     const std::size_t voxels = static_cast<std::size_t>(count) * brick_volume_;
     if (variant_ == RelaxationVariant::brick_lanes)
@@ -433,7 +431,7 @@ class OpenCLPropagator final : public Propagator {
     queue_.enqueueNDRangeKernel(commit_, cl::NullRange, cl::NDRange(voxels),
                                 cl::NDRange(kBookkeepingGroup));
     set_args(spread_, d.list, static_cast<cl_int>(count), d.origins, d.table, d.grid, d.brick_reach,
-             d.flags, d.pending, d.news, static_cast<cl_int>(spreads_news() ? 1 : 0));
+             d.flags, d.pending, d.news);
     queue_.enqueueNDRangeKernel(spread_, cl::NullRange,
                                 cl::NDRange(round_up(count, kBookkeepingGroup)),
                                 cl::NDRange(kBookkeepingGroup));
