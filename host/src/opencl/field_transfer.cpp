@@ -35,6 +35,33 @@ void store_word(cl_ulong word, std::size_t slot, VoronoiField& field) {
   field.label[slot] = label == kLabelNone ? -1 : static_cast<int32_t>(label);
 }
 
+// The state words, mapped for reading while it lives (unmapped however the scope ends).
+class MappedStates {
+ public:
+  MappedStates(const cl::CommandQueue& queue, const cl::Buffer& state, std::size_t slots)
+      : queue_(queue),
+        state_(state),
+        words_(static_cast<cl_ulong*>(
+            queue.enqueueMapBuffer(state, CL_TRUE, CL_MAP_READ, 0, slots * sizeof(cl_ulong)))) {}
+  MappedStates(const MappedStates&) = delete;
+  MappedStates& operator=(const MappedStates&) = delete;
+  // A destructor must not throw; the words were read already, so a failed unmap loses nothing
+  // (the next command on the queue reports a broken device).
+  ~MappedStates() {
+    try {
+      queue_.enqueueUnmapMemObject(state_, words_);
+      queue_.finish();
+    } catch (...) {
+    }
+  }
+  const cl_ulong* words() const { return words_; }
+
+ private:
+  const cl::CommandQueue& queue_;
+  const cl::Buffer& state_;
+  cl_ulong* words_;
+};
+
 }  // namespace
 
 std::uint64_t field_hash(const VoronoiField& field) {
@@ -56,22 +83,11 @@ std::uint64_t download_field(const cl::CommandQueue& queue, const cl::Buffer& st
                              std::size_t slots, VoronoiField& field) {
   field.distance.resize(slots);
   field.label.resize(slots);
-  const std::size_t bytes = slots * sizeof(cl_ulong);
-  const auto* words =
-      static_cast<const cl_ulong*>(queue.enqueueMapBuffer(state, CL_TRUE, CL_MAP_READ, 0, bytes));
-  std::uint64_t hash = 0;
-  try {
-    hash = sum_over_slots(slots, [&](std::size_t slot) {
-      store_word(words[slot], slot, field);
-      return field_slot_hash(field, slot);
-    });
-  } catch (...) {
-    queue.enqueueUnmapMemObject(state, const_cast<cl_ulong*>(words));
-    throw;
-  }
-  queue.enqueueUnmapMemObject(state, const_cast<cl_ulong*>(words));
-  queue.finish();
-  return hash;
+  const MappedStates mapped(queue, state, slots);
+  return sum_over_slots(slots, [&](std::size_t slot) {
+    store_word(mapped.words()[slot], slot, field);
+    return field_slot_hash(field, slot);
+  });
 }
 
 std::uint64_t download_touched_bricks(const cl::CommandQueue& queue, const cl::Buffer& state,
