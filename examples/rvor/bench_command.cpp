@@ -196,10 +196,11 @@ void add_bench_command(CLI::App& app) {
       "radial_shock_3d on box:1,1,1,11,11,11, 256^3, 1000 seeds (rng seed 1).\n"
       "Examples:\n"
       "  rvor bench --resolution 128 --no-reference --insert 3\n"
-      "  rvor bench --metric swirl --domain box:-1,-1,-1,1,1,1 --resolution 96 --json");
-  cmd->add_option("--domain", options->domain,
-                  "box:X0,Y0,Z0,X1,Y1,Z1 | mesh:FILE | implicit:NAME (default: the metric's "
-                  "domain, else box:-1,-1,-1,1,1,1)");
+      "  rvor bench --metric swirl --domain rect:-1,-1,1,1 --resolution 96 --json");
+  cmd->add_option(
+      "--domain", options->domain,
+      "box:X0,Y0,Z0,X1,Y1,Z1 | rect:X0,Y0,X1,Y1 | mesh:FILE | implicit:NAME (default: the metric's "
+      "domain, else box:-1,-1,-1,1,1,1)");
   cmd->add_option("--metric", options->metric,
                   "NAME[:key=value,...], NAME one of: " + join(analytic_metric_names()));
   cmd->add_option("--resolution", options->resolution,
