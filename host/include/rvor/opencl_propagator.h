@@ -20,7 +20,8 @@ struct OpenCLOptions {
   // brick_sweep and brick_lanes: most sweeps per brick and round, in [1, 64], or 0: automatic, 4
   // for a uniform metric with axis offsets (the isotropic case) and 2 for any other stencil
   // (1000 seeds, 256^3 euclidean: 7.79 -> 5.09 relaxations per brick, 3.48 -> 3.21 s from 2 to 4
-  // sweeps; 128^3 radial_shock_3d: 10.6 -> 14.7 updates per voxel, 3.1 -> 3.9 s; docs/scheme.md).
+  // sweeps, means of three alternating runs; 128^3 radial_shock_3d: 10.6 -> 14.7 updates per
+  // voxel, 3.1 -> 3.9 s; docs/scheme.md, "Sweeps per relaxation").
   // make_opencl_propagator throws outside [0, 64].
   int max_sweeps = 0;
   int phase_iterations = 8;  // voxel_phases: most iterations (all phases) per round (at least 1)
