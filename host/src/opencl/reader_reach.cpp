@@ -21,31 +21,48 @@ struct Readers {
   }
 };
 
-// One stencil term's offset e as Readers.
-Readers term_readers(const PackedStencils& stencils, std::size_t record, int term) {
-  Readers r;
-  int axes = 0;
-  for (int a = 0; a < 3; ++a) {
-    r.reach[a] = std::abs(stencils.offset(record, term, a));
-    axes += r.reach[a] != 0;
+// Each stencil term's offset e as Readers, per shape of the table: index kStencilTerms * shape +
+// term. Decoded once per shape, not once per slot.
+std::vector<Readers> term_readers(const PackedStencils& stencils) {
+  std::vector<Readers> terms(stencils.shapes.size() / 3);
+  for (std::size_t t = 0; t < terms.size(); ++t) {
+    int axes = 0;
+    for (int a = 0; a < 3; ++a) {
+      terms[t].reach[a] = std::abs(stencils.shapes[3 * t + static_cast<std::size_t>(a)]);
+      axes += terms[t].reach[a] != 0;
+    }
+    terms[t].axis_only = axes <= 1;
   }
-  r.axis_only = axes <= 1;
-  return r;
+  return terms;
 }
 
-// Per brick, its own active voxels' stencils (the terms of non-zero weight: the others are never
+// The readers of the stencil in `record`: its terms of non-zero weight (the others are never
 // read into a solve).
+Readers record_readers(const PackedStencils& stencils, const std::vector<Readers>& terms,
+                       std::size_t record) {
+  Readers readers;
+  const std::size_t first_term = kStencilTerms * std::size_t{stencils.shape_of(record)};
+  for (std::size_t i = 0; i < std::size_t{kStencilTerms}; ++i)
+    if (stencils.records[kStencilRecord * record + i] > 0.0f) readers.add(terms[first_term + i]);
+  return readers;
+}
+
+// Per brick, its own active voxels' stencils. A uniform metric has one stencil, whose readers are
+// those of every brick with an active voxel.
 std::vector<Readers> own_readers(const Canvas& canvas, const PackedStencils& stencils) {
+  const std::vector<Readers> terms = term_readers(stencils);
   std::vector<Readers> own(canvas.brick_count());
   const std::size_t volume = static_cast<std::size_t>(canvas.brick_volume());
+  const Readers uniform = stencils.uniform ? record_readers(stencils, terms, 0) : Readers{};
   for_slot_ranges(own.size(), slot_threads(), [&](unsigned, std::size_t begin, std::size_t end) {
     for (std::size_t b = begin; b < end; ++b)
       for (std::size_t slot = b * volume; slot < (b + 1) * volume; ++slot) {
         if (!canvas.active[slot]) continue;
-        const std::size_t record = stencils.uniform ? 0 : slot;
-        for (int i = 0; i < kStencilTerms; ++i)
-          if (stencils.records[kStencilRecord * record + static_cast<std::size_t>(i)] > 0.0f)
-            own[b].add(term_readers(stencils, record, i));
+        if (stencils.uniform) {
+          own[b] = uniform;
+          break;
+        }
+        own[b].add(record_readers(stencils, terms, slot));
       }
   });
   return own;
