@@ -29,6 +29,9 @@ struct PropagationStats {
   // OpenCL: bricks relaxed, summed over the rounds (a brick relaxed in 10 rounds counts 10);
   // the reference has no bricks: 0.
   std::uint64_t brick_relaxations = 0;
+  // OpenCL: device memory allocated for the canvas (its buffers, held between solves); the
+  // reference: 0.
+  std::uint64_t device_bytes = 0;
   double seconds = 0.0;
 };
 

@@ -8,9 +8,7 @@
 #include <memory>
 #include <sstream>
 
-#include "device_canvas.h"
 #include "fastsweeping_baseline.h"
-#include "opencl_runtime.h"
 #include "rvor/canvas_builder.h"
 #include "rvor/domain.h"
 #include "rvor/error.h"
@@ -61,19 +59,6 @@ std::unique_ptr<Propagator> make_engine(const BenchCase& c) {
   return make_opencl_propagator(c.device, options);
 }
 
-// Device memory of the canvas as the engine packs it: the same upload, measured by its buffers.
-std::uint64_t device_canvas_bytes(const std::string& device_name, const Canvas& canvas) {
-  if (device_name == "cpu") return 0;
-  try {
-    const opencl::Device device = opencl::select_device(device_name);
-    const cl::Context context = opencl::context_for(device);
-    const int colours = opencl::brick_colours(canvas, OpenCLOptions().brick_colouring);
-    return opencl::upload_canvas(context, canvas, colours).bytes;
-  } catch (const cl::Error& e) {
-    opencl::throw_opencl_error(e, "measuring the device canvas");
-  }
-}
-
 // Inserts the seeds after the first r.bench_case.seeds one at a time into the solved field.
 void time_insertion(Propagator& engine, const Canvas& canvas, const std::vector<Vec3>& all_seeds,
                     VoronoiField& field, BenchResult& r) {
@@ -103,13 +88,13 @@ void time_engine(const BenchCase& c, const Canvas& canvas, const std::vector<Vec
     r.voxel_updates = stats.voxel_updates;
     r.relaxations_per_brick = static_cast<double>(stats.brick_relaxations) /
                               static_cast<double>(std::max<std::size_t>(1, canvas.brick_count()));
+    r.device_bytes = stats.device_bytes;
   }
   r.device_description = engine->device_description();  // after a solve: the variant that ran
   VoronoiField extended = field;  // `field` stays the solve's, for the comparisons
   time_insertion(*engine, canvas, all_seeds, extended, r);
   r.voxels_per_second = per_second(r.active_voxels, r.seconds);
   r.updates_per_voxel = static_cast<double>(r.voxel_updates) / static_cast<double>(r.active_voxels);
-  r.device_bytes = device_canvas_bytes(c.device, canvas);
   r.bytes_per_voxel = static_cast<double>(r.device_bytes) / static_cast<double>(r.active_voxels);
 }
 

@@ -309,6 +309,7 @@ class OpenCLPropagator final : public Propagator {
     }
     queue_.enqueueReadBuffer(canvas_->update_counter, CL_TRUE, 0, sizeof(cl_ulong),
                              &stats.voxel_updates);
+    stats.device_bytes = canvas_->bytes;
     device_field_hash_ =
         held_field_hash ? opencl::download_touched_bricks(queue_, canvas_->state, canvas_->touched,
                                                           canvas_->bricks, brick_volume_,
