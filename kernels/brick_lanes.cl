@@ -519,11 +519,6 @@ inline lane_mask lane_significant_change(lane_float u, lane_uint u_label, lane_f
   return (u_label != t_label) | select(moved, u_inf ^ t_inf, u_inf | t_inf);
 }
 
-inline int corner_flip(int corner) {  // the local-index bits a corner flips
-  return (corner & 1 ? EDGE - 1 : 0) | (corner & 2 ? EDGE * (EDGE - 1) : 0) |
-         (corner & 4 ? EDGE * EDGE * (EDGE_Z - 1) : 0);
-}
-
 // The smallest distance in `runs` runs of `length` consecutive slots of brick `brick` (+inf
 // without one), the runs `stride` slots apart from slot `first`: a layer of the brick across an
 // axis. The distances are read as the high float halves of the state words.

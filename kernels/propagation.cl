@@ -315,9 +315,7 @@ __kernel void relax_brick_sweep(BRICK_SWEEP_ARGUMENTS) {
   for (int sweep = 0; sweep < max_sweeps; ++sweep) {
     const int direction = corner ^ sweep_reversal(sweep);
     bool sweep_changed = false;
-    // Reversing an axis of the brick is flipping the bits of that coordinate in the local index.
-    const int flip = (direction & 1 ? EDGE - 1 : 0) | (direction & 2 ? EDGE * (EDGE - 1) : 0) |
-                     (direction & 4 ? EDGE * EDGE * (EDGE_Z - 1) : 0);
+    const int flip = corner_flip(direction);
     for (int n = 0; n < BRICK_VOLUME; ++n) {
       ++tick;
       const int l = n ^ flip;
@@ -549,8 +547,7 @@ __kernel void spread_activation(__global const int* list, int count,
   if (!(directions & FAR_READERS)) {
     for (int d = 0; d < 27; ++d) {
       if (!((directions >> d) & 1u)) continue;
-      const int other =
-          brick_at(b + (int3)(d % 3, (d / 3) % 3, d / 9) - (int3)(1, 1, 1), grid, table);
+      const int other = brick_at(b + direction_offset(d), grid, table);
       if (other >= 0) pending[other] = 1;
     }
     return;
