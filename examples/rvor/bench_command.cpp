@@ -12,6 +12,7 @@
 
 #include "commands.h"
 #include "rvor/benchmark.h"
+#include "rvor/devices.h"
 #include "rvor/metric_field.h"
 #include "terminal.h"
 
@@ -24,7 +25,7 @@ struct BenchOptions {
   std::optional<int> resolution;
   std::optional<std::size_t> seeds;
   std::uint64_t rng_seed = 1;
-  std::string device = "auto";
+  std::string device = default_device_name();  // $RVOR_DEVICE, else auto
   RelaxationVariant variant = RelaxationVariant::automatic;
   int repetitions = 1;
   std::size_t inserted_seeds = 0;
@@ -210,7 +211,8 @@ void add_bench_command(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--rng-seed", options->rng_seed, "Random generator seed")->capture_default_str();
   cmd->add_option("--device", options->device,
-                  "auto | opencl | opencl:N | pocl | cpu (the reference itself)")
+                  "auto | opencl | opencl:N | pocl | cpu (the reference itself); default "
+                  "$RVOR_DEVICE or auto")
       ->capture_default_str();
   const std::map<std::string, RelaxationVariant> variants = {
       {"auto", RelaxationVariant::automatic},

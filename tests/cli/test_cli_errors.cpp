@@ -144,5 +144,16 @@ TEST_F(CliErrors, UnknownDevice) {
                "quantum");
 }
 
+// `rvor bench` takes its default device from $RVOR_DEVICE as `rvor voronoi` does, so a bad value
+// is refused there too rather than silently replaced by auto.
+TEST_F(CliErrors, BenchTakesTheDeviceFromTheEnvironment) {
+  const CommandResult result =
+      run_command("RVOR_DEVICE=quantum " + rvor_binary() +
+                  " bench --quiet --metric euclidean --domain box:0,0,0,1,1,1 --resolution 8 "
+                  "--seeds 2 --no-reference --no-fastsweeping");
+  EXPECT_EQ(result.exit_code, 1) << "stderr: " << result.err;
+  EXPECT_NE(result.err.find("unknown device 'quantum'"), std::string::npos) << result.err;
+}
+
 }  // namespace
 }  // namespace rvor::test
