@@ -639,9 +639,9 @@ inline int load_lane(int k, int brick, __global const ulong* state, __global con
       const int by = y < 0 ? 0 : y < EDGE ? 1 : 2;
       const int row = EDGE * ((y & (EDGE - 1)) + EDGE * (DIM == 3 ? z & (EDGE - 1) : 0));
       const int* bricks = near + 3 * (by + 3 * bz);  // the bricks at x - 1, x, x + 1
-      const int f_row = TILE_EDGE * ((fy ? TILE_EDGE - 1 - ty : ty) +
-                                     TILE_EDGE * (fz ? TILE_EDGE_Z - 1 - tz : tz));
-      const int f_first = f_row + (fx ? TILE_EDGE - 1 : 0), step = fx ? -1 : 1;
+      const int f_row = TILE_EDGE * (mirrored(ty, fy, TILE_EDGE - 1) +
+                                     TILE_EDGE * mirrored(tz, fz, TILE_EDGE_Z - 1));
+      const int f_first = f_row + mirrored(0, fx, TILE_EDGE - 1), step = fx ? -1 : 1;
       const bool inner = brick_row(by, bz);        // its ends are x faces
       const bool read = TILE_EDGES_READ || inner;  // else tile edges: +inf, never read
       const bool face = TILE_EDGES_READ || face_row(by, bz);
@@ -674,9 +674,9 @@ inline int load_lane(int k, int brick, __global const ulong* state, __global con
     }
   }
   const float3 o = convert_float3(origin);
-  LANE_FLOAT(&frame->base_x, 0, k) = fx ? o.x + EDGE - 1 : o.x;
-  LANE_FLOAT(&frame->base_y, 0, k) = fy ? o.y + EDGE - 1 : o.y;
-  LANE_FLOAT(&frame->base_z, 0, k) = fz ? o.z + EDGE_Z - 1 : o.z;
+  LANE_FLOAT(&frame->base_x, 0, k) = o.x + mirrored(0, fx, EDGE - 1);
+  LANE_FLOAT(&frame->base_y, 0, k) = o.y + mirrored(0, fy, EDGE - 1);
+  LANE_FLOAT(&frame->base_z, 0, k) = o.z + mirrored(0, fz, EDGE_Z - 1);
   LANE_FLOAT(&frame->sign_x, 0, k) = fx ? -1.0f : 1.0f;
   LANE_FLOAT(&frame->sign_y, 0, k) = fy ? -1.0f : 1.0f;
   LANE_FLOAT(&frame->sign_z, 0, k) = fz ? -1.0f : 1.0f;
@@ -712,12 +712,12 @@ inline void store_lane(int k, int brick, int position, int corner, uint brick_fl
     for (int y = 0; y < EDGE; ++y) {  // a row in real order, its frame positions l and p
       const int row = EDGE * (y + EDGE * z);
       const uint active = (activity[(brick_slot + row) / 32] >> (row % 32)) & 0xFFu;
-      const int3 f = (int3)(0, fy ? EDGE - 1 - y : y, fz ? EDGE_Z - 1 - z : z);
+      const int3 f = (int3)(0, mirrored(y, fy, EDGE - 1), mirrored(z, fz, EDGE_Z - 1));
       const int l_row = EDGE * (f.y + EDGE * f.z), p_row = tile_index(f);
       if (active == 0xFFu) {  // the usual case: whole rows as vectors
         uint distance[EDGE], word[EDGE], stamp[EDGE], evaluation[EDGE];
         for (int x = 0; x < EDGE; ++x) {
-          const int fxx = fx ? EDGE - 1 - x : x;
+          const int fxx = mirrored(x, fx, EDGE - 1);
           distance[x] = as_uint(LANE_FLOAT(tile->distance, p_row + fxx, k));
           word[x] = LANE_UINT(tile->word, p_row + fxx, k);
           stamp[x] = LANE_UINT(tile->stamp, p_row + fxx, k);
@@ -731,7 +731,7 @@ inline void store_lane(int k, int brick, int position, int corner, uint brick_fl
         continue;
       }
       for (int x = 0; x < EDGE; ++x) {
-        const int real = row + x, fxx = fx ? EDGE - 1 - x : x;
+        const int real = row + x, fxx = mirrored(x, fx, EDGE - 1);
         const int l = l_row + fxx, p = p_row + fxx;
         if (!((active >> x) & 1u)) {
           if (brick_flags != 0) relaxed[real] = INF_STATE;
@@ -751,9 +751,9 @@ inline uint lane_news(int k, int corner, int lo[3][LANES], int hi[3][LANES], uin
   const int last[3] = {EDGE - 1, EDGE - 1, EDGE_Z - 1};
   int real_lo[3], real_hi[3];
   for (int a = 0; a < 3; ++a) {
-    const bool flipped = (corner >> a) & 1;
-    real_lo[a] = flipped ? last[a] - hi[a][k] : lo[a][k];
-    real_hi[a] = flipped ? last[a] - lo[a][k] : hi[a][k];
+    const bool reversed = (corner >> a) & 1;  // a reversed axis swaps the box's ends
+    real_lo[a] = mirrored(reversed ? hi[a][k] : lo[a][k], reversed, last[a]);
+    real_hi[a] = mirrored(reversed ? lo[a][k] : hi[a][k], reversed, last[a]);
   }
   return brick_news((int3)(real_lo[0], real_lo[1], real_lo[2]),
                     (int3)(real_hi[0], real_hi[1], real_hi[2]), packed_reach);
