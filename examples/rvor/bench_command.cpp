@@ -152,6 +152,7 @@ nlohmann::json case_json(const BenchResult& r) {
           {"voxels_per_second", r.voxels_per_second},
           {"updates_per_voxel", r.updates_per_voxel},
           {"relaxations_per_brick", r.relaxations_per_brick},
+          {"visits_per_relaxation", r.visits_per_relaxation},
           {"device_bytes", r.device_bytes},
           {"bytes_per_voxel", r.bytes_per_voxel},
           {"inserted_seeds", r.bench_case.inserted_seeds},

@@ -47,8 +47,9 @@ struct BenchResult {
   double updates_per_voxel = 0.0;
   // OpenCL: brick relaxations of the solve per active brick (PropagationStats); cpu: 0.
   double relaxations_per_brick = 0.0;
-  std::uint64_t device_bytes = 0;  // OpenCL: the device canvas's buffers; cpu: 0
-  double bytes_per_voxel = 0.0;    // device_bytes / active voxels
+  std::uint64_t visits_per_relaxation = 0;  // PropagationStats; cpu: 0
+  std::uint64_t device_bytes = 0;           // OpenCL: the device canvas's buffers; cpu: 0
+  double bytes_per_voxel = 0.0;             // device_bytes / active voxels
 
   // Incremental insertion (inserted_seeds > 0): mean and largest seconds of one insert() call
   // (including the field's upload and download), and the mean as a fraction of the solve.

@@ -32,6 +32,10 @@ struct PropagationStats {
   // OpenCL: device memory allocated for the canvas (its buffers, held between solves); the
   // reference: 0.
   std::uint64_t device_bytes = 0;
+  // OpenCL: the most evaluations of one voxel in one brick relaxation (sweeps per relaxation, or
+  // voxel_phases iterations per round), so voxel_updates <= visits_per_relaxation * 512 *
+  // brick_relaxations; the reference: 0.
+  std::uint64_t visits_per_relaxation = 0;
   double seconds = 0.0;
 };
 

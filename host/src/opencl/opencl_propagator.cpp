@@ -245,6 +245,12 @@ class OpenCLPropagator final : public Propagator {
     return uniform_axis_stencil() ? 4 : 2;
   }
 
+  // The most times one relaxation of a brick evaluates a voxel: a sweep visits each voxel once,
+  // a voxel_phases iteration updates each once.
+  int visits_per_relaxation() const {
+    return sweeps_bricks() ? max_sweeps() : options_.phase_iterations;
+  }
+
   // The uniform stencil's shape as constants for relax_brick_lanes (kernels/brick_lanes.cl).
   std::string uniform_stencil_options() const {
     const std::vector<int>& offsets = canvas_->uniform_offsets;
@@ -310,6 +316,7 @@ class OpenCLPropagator final : public Propagator {
     queue_.enqueueReadBuffer(canvas_->update_counter, CL_TRUE, 0, sizeof(cl_ulong),
                              &stats.voxel_updates);
     stats.device_bytes = canvas_->bytes;
+    stats.visits_per_relaxation = static_cast<std::uint64_t>(visits_per_relaxation());
     device_field_hash_ =
         held_field_hash ? opencl::download_touched_bricks(queue_, canvas_->state, canvas_->touched,
                                                           canvas_->bricks, brick_volume_,
@@ -405,7 +412,7 @@ class OpenCLPropagator final : public Propagator {
     const bool sweep = sweeps_bricks();
     set_args(relax_, d.list, static_cast<cl_int>(count), d.state, d.scratch, d.stencils, d.shapes,
              d.table, d.origins, d.dims, d.grid, d.seeds, d.flags, d.update_counter,
-             static_cast<cl_int>(sweep ? max_sweeps() : options_.phase_iterations));
+             static_cast<cl_int>(visits_per_relaxation()));
     if (sweep) {
       relax_.setArg(14, d.evaluated);
       relax_.setArg(15, d.changed);
