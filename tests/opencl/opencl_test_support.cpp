@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <random>
 
 #include <Eigen/Eigenvalues>
@@ -12,6 +13,15 @@
 #include "rvor/metric_field.h"
 
 namespace rvor::test {
+
+bool engine_device_requested() {
+  const char* value = std::getenv("RVOR_TEST_DEVICE");
+  return value && *value;
+}
+
+std::string engine_device() {
+  return engine_device_requested() ? std::getenv("RVOR_TEST_DEVICE") : "pocl";
+}
 
 Canvas domain_canvas(const std::string& domain, const std::string& metric, int resolution) {
   const DomainSpec spec = parse_domain(domain);

@@ -17,15 +17,23 @@ namespace rvor::test {
 constexpr double kRelativeTolerance = 1e-4;
 constexpr int kTieReach = 3;  // voxels: how far a tie-broken label changes neighbouring values
 
-// Declares `engine` on PoCL with the default options but `variant`, or skips the test (with
-// the reason) when PoCL is not there.
-#define REQUIRE_POCL(variant) REQUIRE_POCL_WITH(test::with_variant(variant))
-#define REQUIRE_POCL_WITH(options)                           \
-  std::unique_ptr<Propagator> engine;                        \
-  try {                                                      \
-    engine = make_opencl_propagator("pocl", options);        \
-  } catch (const Error& e) {                                 \
-    GTEST_SKIP() << "no usable OpenCL device: " << e.what(); \
+// The device the engine tests run on: $RVOR_TEST_DEVICE (e.g. opencl:1 for a GPU, the names of
+// --device), else PoCL, which CI has.
+std::string engine_device();
+// Whether $RVOR_TEST_DEVICE names it: then a missing device fails the tests instead of skipping
+// them, so that a run meant for a GPU cannot pass by testing nothing.
+bool engine_device_requested();
+
+// Declares `engine` on engine_device() with the default options but `variant`, or skips the test
+// (with the reason) when that device is not there.
+#define REQUIRE_ENGINE(variant) REQUIRE_ENGINE_WITH(test::with_variant(variant))
+#define REQUIRE_ENGINE_WITH(options)                                                 \
+  std::unique_ptr<Propagator> engine;                                                \
+  try {                                                                              \
+    engine = make_opencl_propagator(test::engine_device(), options);                 \
+  } catch (const Error& e) {                                                         \
+    if (test::engine_device_requested()) FAIL() << "RVOR_TEST_DEVICE: " << e.what(); \
+    GTEST_SKIP() << "no usable OpenCL device: " << e.what();                         \
   }
 
 inline OpenCLOptions with_variant(RelaxationVariant variant) {

@@ -55,7 +55,7 @@ TEST(HugePageBuffers, HoldTheirDataTakeDeviceWritesAndReleaseTheirPages) {
 // 84^3 slots: the state buffer (8 B per slot) is above 4 MiB; radial_shock_3d at 64^3: its
 // per-voxel stencil weights (24 B per slot) and offsets (18 B) are.
 TEST(HugePageBuffers, EnginesOnThemMatchTheReference) {
-  REQUIRE_POCL_WITH(OpenCLOptions{});
+  REQUIRE_ENGINE_WITH(OpenCLOptions{});
   const Canvas uniform = test::domain_canvas("box:-1,-1,-1,1,1,1", "euclidean", 84);
   ASSERT_GE(uniform.slot_count() * sizeof(cl_ulong), std::size_t{4} << 20);
   test::expect_matches_reference(*engine, uniform, test::seeds_in(uniform, 40, 5));

@@ -54,19 +54,19 @@ class EngineConfigs : public ::testing::TestWithParam<EngineConfig> {
 };
 
 TEST_P(EngineConfigs, IsotropicOneSeed3D) {
-  REQUIRE_POCL_WITH(options());
+  REQUIRE_ENGINE_WITH(options());
   const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 32, Mat3::Identity());
   test::expect_matches_reference(*engine, canvas, {Vec3(0.1, -0.2, 0.3)});
 }
 
 TEST_P(EngineConfigs, AnisotropicManySeeds3D) {
-  REQUIRE_POCL_WITH(options());
+  REQUIRE_ENGINE_WITH(options());
   const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 32, rotated_metric(3, 6.0));
   test::expect_matches_reference(*engine, canvas, test::random_points(kLo, kHi, 3, 40, 7));
 }
 
 TEST_P(EngineConfigs, AnisotropicManySeeds2D) {
-  REQUIRE_POCL_WITH(options());
+  REQUIRE_ENGINE_WITH(options());
   const Canvas canvas = test::make_uniform_box_canvas(2, kLo, kHi, 64, rotated_metric(2, 10.0));
   test::expect_matches_reference(*engine, canvas, test::random_points(kLo, kHi, 2, 30, 11));
 }
@@ -74,21 +74,21 @@ TEST_P(EngineConfigs, AnisotropicManySeeds2D) {
 // Axis-aligned anisotropy: a diagonal metric has a stencil of axis offsets, which brick_lanes
 // shares across its lanes as constants (the rotated metrics above take its per-lane gathers).
 TEST_P(EngineConfigs, AxisAnisotropicManySeeds3D) {
-  REQUIRE_POCL_WITH(options());
+  REQUIRE_ENGINE_WITH(options());
   const Canvas canvas =
       test::make_uniform_box_canvas(3, kLo, kHi, 32, Vec3(1.0, 9.0, 4.0).asDiagonal());
   test::expect_matches_reference(*engine, canvas, test::random_points(kLo, kHi, 3, 60, 13));
 }
 
 TEST_P(EngineConfigs, AxisAnisotropicManySeeds2D) {
-  REQUIRE_POCL_WITH(options());
+  REQUIRE_ENGINE_WITH(options());
   const Canvas canvas =
       test::make_uniform_box_canvas(2, kLo, kHi, 64, Vec3(16.0, 1.0, 1.0).asDiagonal());
   test::expect_matches_reference(*engine, canvas, test::random_points(kLo, kHi, 2, 60, 19));
 }
 
 TEST_P(EngineConfigs, VaryingMetric2D) {
-  REQUIRE_POCL_WITH(options());
+  REQUIRE_ENGINE_WITH(options());
   // A smooth field whose anisotropy and direction vary: exercises per-voxel stencils.
   const Canvas canvas = test::make_box_canvas(2, kLo, kHi, 64, [](const Vec3& p) {
     return metric_from_frame(2, Vec3(std::cos(2 * p.x()), std::sin(2 * p.x()), 0),
@@ -117,7 +117,7 @@ INSTANTIATE_TEST_SUITE_P(
 // Uniform metrics get one stencil for the whole canvas and the activity bits for the domain:
 // domains with holes and curved boundaries, whose first slots are inactive.
 TEST(OpenCLUniformMetric, CurvedDomainsMatchTheReference) {
-  REQUIRE_POCL(RelaxationVariant::automatic);
+  REQUIRE_ENGINE(RelaxationVariant::automatic);
   const struct {
     const char *domain, *metric;
     int resolution, seeds;
@@ -132,7 +132,7 @@ TEST(OpenCLUniformMetric, CurvedDomainsMatchTheReference) {
 }
 
 TEST(OpenCLInsertion, OneByOneEqualsAllAtOnce) {
-  REQUIRE_POCL(RelaxationVariant::automatic);
+  REQUIRE_ENGINE(RelaxationVariant::automatic);
   const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 32, rotated_metric(3, 4.0));
   const std::vector<Vec3> seeds = test::random_points(kLo, kHi, 3, 20, 5);
   VoronoiField all;
@@ -143,7 +143,7 @@ TEST(OpenCLInsertion, OneByOneEqualsAllAtOnce) {
 // The engine keeps the field it returned on the device; a field it did not return (here the CPU
 // reference's), or one the caller replaced, must be uploaded, not assumed.
 TEST(OpenCLInsertion, IntoAFieldTheEngineDidNotReturn) {
-  REQUIRE_POCL(RelaxationVariant::automatic);
+  REQUIRE_ENGINE(RelaxationVariant::automatic);
   const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 32, rotated_metric(3, 4.0));
   const std::vector<Vec3> seeds = test::random_points(kLo, kHi, 3, 12, 21);
   const std::vector<Vec3> first(seeds.begin(), seeds.end() - 2);
@@ -164,7 +164,7 @@ TEST(OpenCLInsertion, IntoAFieldTheEngineDidNotReturn) {
 }
 
 TEST(OpenCLInsertion, TouchesLessThanASolve) {
-  REQUIRE_POCL(RelaxationVariant::automatic);
+  REQUIRE_ENGINE(RelaxationVariant::automatic);
   const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 48, Mat3::Identity());
   std::vector<Vec3> seeds = test::random_points(kLo, kHi, 3, 60, 9);
   VoronoiField field;
@@ -241,7 +241,7 @@ TEST(OpenCLPrograms, SyntaxErrorGivesTheBuildLog) {
 }
 
 TEST(OpenCLSeeds, SeedOutsideTheDomainIsAnError) {
-  REQUIRE_POCL(RelaxationVariant::automatic);
+  REQUIRE_ENGINE(RelaxationVariant::automatic);
   const Canvas canvas = test::make_uniform_box_canvas(2, kLo, kHi, 16, Mat3::Identity());
   VoronoiField field;
   EXPECT_THROW(engine->solve(canvas, {Vec3(5, 0, 0)}, field), Error);

@@ -1,5 +1,5 @@
 // Every analytic field of DESIGN.md and a uniform anisotropic metric, 2D and 3D: the OpenCL
-// engine (PoCL, both relaxation variants) equals the CPU reference with one seed and with 1000
+// engine (on test::engine_device(), PoCL unless set; every relaxation variant) equals the CPU reference with one seed and with 1000
 // seeds, and inserting 100 seeds one by one equals solving with all of them at once
 // (docs/scheme.md tolerances).
 #include <gtest/gtest.h>
@@ -54,10 +54,11 @@ Canvas field_canvas(const FieldCase& c, int resolution, Box* domain) {
 
 class EveryField : public ::testing::TestWithParam<FieldCase> {};
 
-// Solves the field's canvas with `count` random seeds with the reference and on PoCL with every
-// relaxation variant (brick_lanes in its per-lane form for every metric that is not uniform).
+// Solves the field's canvas with `count` random seeds with the reference and on the test device
+// with every relaxation variant (brick_lanes in its per-lane form for every metric that is not
+// uniform).
 void expect_seeds_match_reference(const FieldCase& c, int count, unsigned rng_seed) {
-  REQUIRE_POCL(RelaxationVariant::brick_sweep);
+  REQUIRE_ENGINE(RelaxationVariant::brick_sweep);
   Box box;
   const Canvas canvas = field_canvas(c, c.dimension == 2 ? kResolution2D : kResolution3D, &box);
   const std::vector<Vec3> seeds = test::random_points(box.lo, box.hi, c.dimension, count, rng_seed);
@@ -70,7 +71,8 @@ void expect_seeds_match_reference(const FieldCase& c, int count, unsigned rng_se
   for (const auto& [name, variant] : variants) {
     SCOPED_TRACE(name);
     VoronoiField field;
-    make_opencl_propagator("pocl", test::with_variant(variant))->solve(canvas, seeds, field);
+    make_opencl_propagator(test::engine_device(), test::with_variant(variant))
+        ->solve(canvas, seeds, field);
     test::expect_same_field(canvas, expected, field);
   }
 }
@@ -84,7 +86,7 @@ TEST_P(EveryField, ThousandSeedsMatchTheReference) {
 }
 
 TEST_P(EveryField, HundredInsertionsOneByOneEqualASolve) {
-  REQUIRE_POCL(RelaxationVariant::automatic);
+  REQUIRE_ENGINE(RelaxationVariant::automatic);
   const FieldCase& c = GetParam();
   Box box;
   const Canvas canvas =

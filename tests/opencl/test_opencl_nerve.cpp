@@ -54,7 +54,7 @@ struct NerveCase {
 class MultiLabelBricks : public ::testing::TestWithParam<NerveCase> {};
 
 TEST_P(MultiLabelBricks, KernelMatchesHostOnTheFieldTheEngineReturned) {
-  REQUIRE_POCL(RelaxationVariant::automatic);
+  REQUIRE_ENGINE(RelaxationVariant::automatic);
   const Canvas canvas =
       test::domain_canvas(GetParam().domain, GetParam().metric, GetParam().resolution);
   const std::vector<Vec3> seeds = test::seeds_in(canvas, GetParam().seeds, 3);
@@ -76,7 +76,7 @@ INSTANTIATE_TEST_SUITE_P(Domains, MultiLabelBricks, ::testing::ValuesIn(kCases),
 // A field the engine did not return (the CPU reference's) is uploaded; inserting into it
 // afterwards still equals solving with all seeds at once.
 TEST(MultiLabelBricksUpload, FieldFromTheReferenceThenInsertion) {
-  REQUIRE_POCL(RelaxationVariant::automatic);
+  REQUIRE_ENGINE(RelaxationVariant::automatic);
   const Canvas canvas = test::domain_canvas("box:-1,-1,-1,1,1,1", "uniform:4,1,2,0,0.5,1", 32);
   const std::vector<Vec3> seeds = test::seeds_in(canvas, 12, 5);
   const std::vector<Vec3> first(seeds.begin(), seeds.end() - 1);
@@ -90,7 +90,7 @@ TEST(MultiLabelBricksUpload, FieldFromTheReferenceThenInsertion) {
 }
 
 TEST(MultiLabelBricksUpload, MismatchedFieldsAndFlagsAreErrors) {
-  REQUIRE_POCL(RelaxationVariant::automatic);
+  REQUIRE_ENGINE(RelaxationVariant::automatic);
   const Canvas canvas = test::domain_canvas("rect:-1,-1,1,1", "uniform:1,0,1", 32);
   VoronoiField field;
   engine->solve(canvas, {Vec3(0.1, 0.2, 0.0), Vec3(-0.5, 0.3, 0.0)}, field);

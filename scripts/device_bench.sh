@@ -1,0 +1,107 @@
+#!/usr/bin/env bash
+# The engine on a GPU machine that cannot build rvor (no Debian packages, no network): the NVIDIA
+# machine the project's `device` tool lends to some tasks.
+#
+#   scripts/device_bench.sh pack           here, after scripts/build.sh: bundles rvor, test_opencl,
+#                                          the libraries they load and this machine's C library
+#                                          with its loader into build/device-bundle.tar.xz
+#   scripts/device_bench.sh run [BUNDLE]   there, from the repository root: unpacks the bundle,
+#                                          points the OpenCL ICD loader at NVIDIA's driver, lists
+#                                          the devices, runs test_opencl's engine tests on the GPU,
+#                                          then `rvor bench` with every variant; logs and JSON go
+#                                          to $OUT (else ./device-results)
+#
+# With the device tool: run(command="bash scripts/device_bench.sh run",
+#                           carry=["build/device-bundle.tar.xz"], timeout_s=580)
+# (at most 170 s of tests and 6 bench runs of 55 s: under 9 minutes, inside one call's 10)
+# The programs run through the bundled loader, so the other machine's C library does not matter.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+BUNDLE_DEFAULT=build/device-bundle.tar.xz
+PROGRAMS=(rvor test_opencl)
+
+pack() {
+  local stage
+  stage=$(mktemp -d)
+  mkdir -p "$stage/bin" "$stage/lib"
+  for program in "${PROGRAMS[@]}"; do
+    [[ -x build/bin/$program ]] || { echo "build/bin/$program missing: run scripts/build.sh" >&2; exit 1; }
+    cp "build/bin/$program" "$stage/bin/"
+    strip --strip-unneeded "$stage/bin/$program"
+    # Every library the dynamic loader resolves, the C library and the loader itself included.
+    ldd "build/bin/$program" | awk '/=> \//{print $3} /^\t\/lib/{print $1}' | while read -r lib; do
+      cp -Ln "$lib" "$stage/lib/" 2>/dev/null || true
+    done
+  done
+  # The driver's OpenCL library links these; they must come from the bundled C library too.
+  for compat in libdl.so.2 libpthread.so.0 librt.so.1; do
+    cp -Ln "/lib/x86_64-linux-gnu/$compat" "$stage/lib/" 2>/dev/null || true
+  done
+  tar -C "$stage" -cJf "$BUNDLE_DEFAULT" bin lib
+  rm -rf "$stage"
+  echo "$BUNDLE_DEFAULT: $(du -h "$BUNDLE_DEFAULT" | cut -f1) ($(git rev-parse --short HEAD))"
+}
+
+# NVIDIA's OpenCL library (an ICD, as /etc/OpenCL/vendors/nvidia.icd names it), or nothing.
+nvidia_opencl_library() {
+  find /usr/local/nvidia /usr/lib /usr/lib64 /lib -name 'libnvidia-opencl.so.1' 2>/dev/null | head -1
+}
+
+# Environment, for a dry run elsewhere: ICD_LIBRARY (default NVIDIA's), BENCH_DEVICE (default the
+# first GPU `rvor devices` lists), RESOLUTION (default 256, the standard cases').
+run() {
+  local bundle=${1:-$BUNDLE_DEFAULT} out=${OUT:-$PWD/device-results} root=/tmp/rvor-device
+  [[ -f $bundle ]] || { echo "no bundle at $bundle: run 'scripts/device_bench.sh pack' first" >&2; exit 1; }
+  rm -rf "$root" && mkdir -p "$out" "$root/vendors"
+  if command -v xz >/dev/null; then
+    tar -C "$root" -xJf "$bundle"
+  else
+    python3 -c "import sys, tarfile; tarfile.open(sys.argv[1]).extractall(sys.argv[2])" "$bundle" "$root"
+  fi
+  local icd=${ICD_LIBRARY:-$(nvidia_opencl_library)}
+  [[ -n $icd ]] || { echo "libnvidia-opencl.so.1 not found" >&2; exit 1; }
+  echo "$icd" >"$root/vendors/device.icd"
+  export OCL_ICD_VENDORS=$root/vendors
+  local libraries="$root/lib:$(dirname "$icd")"
+  launch_for() {  # SECONDS PROGRAM ARGS...: through the bundled loader, at most SECONDS
+    local seconds=$1 program=$2
+    shift 2
+    timeout "$seconds" "$root/lib/ld-linux-x86-64.so.2" --library-path "$libraries" \
+      "$root/bin/$program" "$@"
+  }
+
+  nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv 2>&1 | tee "$out/gpu.txt" || true
+  launch_for 60 rvor devices | tee "$out/devices.txt"
+  local device=${BENCH_DEVICE:-$(awk '/\[GPU/{print $1; exit}' "$out/devices.txt")}
+  [[ -n $device ]] || { echo "no OpenCL GPU in 'rvor devices'" >&2; exit 1; }
+
+  echo "== test_opencl on $device"
+  if RVOR_TEST_DEVICE=$device launch_for 170 test_opencl --gtest_brief=1 >"$out/test_opencl.log" 2>&1; then
+    echo passed
+  else
+    echo "FAILED or timed out (rc $?)"
+  fi
+  tail -4 "$out/test_opencl.log"
+
+  local cases=("euclidean box:-1,-1,-1,1,1,1" "radial_shock_3d box:1,1,1,11,11,11")
+  for variant in voxel_phases brick_sweep brick_lanes; do
+    for bench_case in "${cases[@]}"; do
+      set -- $bench_case
+      local name="bench_${variant}_$1"
+      echo "== rvor bench --device $device --variant $variant --metric $1"
+      launch_for 55 rvor bench --device "$device" --variant "$variant" --metric "$1" --domain "$2" \
+        --resolution "${RESOLUTION:-256}" --no-reference --insert 3 --repeat 2 --json \
+        >"$out/$name.json" 2>"$out/$name.log" || echo "rc $?: $(tail -1 "$out/$name.log")"
+      grep -E '"(seconds|voxels_per_second|updates_per_voxel|fastsweeping_ratio|insert_fraction)"' \
+        "$out/$name.json" | tr -d ' \n' || true
+      echo
+    done
+  done
+}
+
+case ${1:-} in
+  pack) pack ;;
+  run) shift; run "$@" ;;
+  *) sed -n 2,16p "$0" >&2; exit 2 ;;
+esac
