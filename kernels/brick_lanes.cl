@@ -424,14 +424,132 @@ __attribute__((always_inline)) inline bool lane_gather_one(
   return true;
 }
 
-inline lane_mask lane_gather(LANE_GATHER_ARGUMENTS) {
+#ifdef __AVX2__
+// x86 gathers (a CPU device with AVX2: PoCL compiles for the host's features): lane k's element
+// index[k] of `base`, or `fallback` where the mask is clear (nothing is read there). OpenCL C has
+// no gather, and PoCL's vectorisers do not form one from LANES scalar loads.
+typedef float v8sf __attribute__((vector_size(32)));
+typedef int v8si __attribute__((vector_size(32)));
+inline float8 gather_float8(const float* base, int8 index, lane_mask mask, float8 fallback) {
+  return __builtin_astype(
+      __builtin_ia32_gatherd_ps256(__builtin_astype(fallback, v8sf), base,
+                                   __builtin_astype(index, v8si), __builtin_astype(mask, v8sf), 4),
+      float8);
+}
+inline int8 gather_int8(const int* base, int8 index, lane_mask mask, int8 fallback) {
+  return __builtin_astype(
+      __builtin_ia32_gatherd_d256(__builtin_astype(fallback, v8si), base,
+                                  __builtin_astype(index, v8si), __builtin_astype(mask, v8si), 4),
+      int8);
+}
+// The same with a byte index (scale 1), for the shape table's chars.
+inline int8 gather_bytes8(const char* base, int8 byte_index, lane_mask mask) {
+  return __builtin_astype(__builtin_ia32_gatherd_d256(
+                              __builtin_astype((int8)0, v8si), (const int*)base,
+                              __builtin_astype(byte_index, v8si), __builtin_astype(mask, v8si), 1),
+                          int8);
+}
+// A global buffer as a plain pointer for the gathers: on a CPU device both are the same memory.
+#define AS_PLAIN(type, pointer) ((const type*)(ulong)(pointer))
+
+// Element f of every lane's private lane array: index f * LANES + k.
+inline int8 lane_elements(int8 f) {
+  return f * LANES + (int8)(0, 1, 2, 3, 4, 5, 6, 7);
+}
+
+// A visit's stencils in every lane, as gathered vectors: weights, real offsets, and the flat
+// tile offsets of the lane's frame.
+typedef struct {
+  float8 weight[STENCIL_TERMS];
+  int8 ex[STENCIL_TERMS], ey[STENCIL_TERMS], ez[STENCIL_TERMS], delta[STENCIL_TERMS];
+} LaneTerms;
+
+// The stencils of frame voxel l in the lanes of `open` (lane_gather_one's load_stencil and frame
+// offsets); returns the lanes whose stencil neighbours all lie in the tile.
+inline lane_mask lane_terms(lane_mask open, int l, int3 cf, const LaneBricks* bricks,
+                            __global const float* stencils, __global const char* shapes,
+                            LaneTerms* terms) {
+  const int8 flip = vload8(0, bricks->flip);
+#ifdef UNIFORM_METRIC
+  const int8 record = 0;
+#else
+  const int8 record = (vload8(0, bricks->brick) * BRICK_VOLUME + ((int8)l ^ flip)) * STENCIL_RECORD;
+#endif
+  const int8 sign_x = select((int8)1, (int8)-1, (flip & (EDGE - 1)) != 0);
+  const int8 sign_y = select((int8)1, (int8)-1, (flip & (EDGE * (EDGE - 1))) != 0);
+  const int8 sign_z = select((int8)1, (int8)-1, (flip & (EDGE * EDGE * (EDGE_Z - 1))) != 0);
+  const int8 shape = gather_int8(AS_PLAIN(int, stencils), record + STENCIL_TERMS, open, (int8)0);
+  const int8 shape_byte = shape * (3 * STENCIL_TERMS);
+  lane_mask inside = open;
+#pragma unroll
   for (int i = 0; i < STENCIL_TERMS; ++i) {
-    st->rho[i] = 0.0f;
-    st->ex[i] = st->ey[i] = st->ez[i] = 0.0f;
-    nb->distance[2 * i] = nb->distance[2 * i + 1] = INFINITY;
-    nb->label[2 * i] = nb->label[2 * i + 1] = LABEL_NONE;
-    nb->seed_distance[2 * i] = nb->seed_distance[2 * i + 1] = 0.0f;
+    terms->weight[i] = gather_float8(AS_PLAIN(float, stencils), record + i, open, (float8)0.0f);
+    // The term's 3 chars, read as the int that ends with them (starts with them for term 0, so
+    // that no read passes the shape's end); little-endian.
+    const int8 word =
+        gather_bytes8(AS_PLAIN(char, shapes), shape_byte + (i == 0 ? 0 : 3 * i - 1), open);
+    const int8 w = i == 0 ? word << 8 : word;
+    terms->ex[i] = (w << 16) >> 24;
+    terms->ey[i] = (w << 8) >> 24;
+    terms->ez[i] = w >> 24;
+    const int8 fx = sign_x * terms->ex[i], fy = sign_y * terms->ey[i], fz = sign_z * terms->ez[i];
+    // Both neighbours in the tile (every offset within one voxel, or a longer one that stays
+    // inside): then the tile holds their states, and their stamps as the scalar path reads them.
+    const lane_mask ahead_inside = (cf.x + fx >= -1) & (cf.x + fx <= EDGE) & (cf.y + fy >= -1) &
+                                   (cf.y + fy <= EDGE) & (cf.z + fz >= -TILE_PAD_Z) &
+                                   (cf.z + fz < EDGE_Z + TILE_PAD_Z);
+    const lane_mask behind_inside = (cf.x - fx >= -1) & (cf.x - fx <= EDGE) & (cf.y - fy >= -1) &
+                                    (cf.y - fy <= EDGE) & (cf.z - fz >= -TILE_PAD_Z) &
+                                    (cf.z - fz < EDGE_Z + TILE_PAD_Z);
+    inside &= (terms->weight[i] == 0.0f) | (ahead_inside & behind_inside);
+    terms->delta[i] = fx + TILE_EDGE * (fy + TILE_EDGE * fz);
   }
+  return inside;
+}
+
+// The lanes of `inside` where a neighbour's change stamp is newer than `last` (or that never
+// evaluated the voxel).
+inline lane_mask lane_dirty_inside(lane_mask inside, int p, lane_uint last, const LaneTile* tile,
+                                   const LaneTerms* terms) {
+  lane_mask dirty = inside & (last == 0u);
+#pragma unroll
+  for (int i = 0; i < STENCIL_TERMS; ++i) {
+    const lane_mask term = inside & (terms->weight[i] != 0.0f);
+    const int8 ahead = terms->delta[i] + p, behind = p - terms->delta[i];
+    dirty |=
+        term &
+        ((as_uint8(gather_int8((const int*)tile->stamp, lane_elements(ahead), term, 0)) > last) |
+         (as_uint8(gather_int8((const int*)tile->stamp, lane_elements(behind), term, 0)) > last));
+  }
+  return dirty;
+}
+
+// Writes every lane's stencil and neighbours: gathered from the tile in the lanes of `dirty`, the
+// values of "no term" and "no neighbour" in the others (lane_gather_one overwrites its own).
+inline void lane_fill_inside(lane_mask dirty, int p, const LaneTile* tile, const LaneTerms* terms,
+                             LaneStencil* st, LaneNeighbours* nb) {
+#pragma unroll
+  for (int i = 0; i < STENCIL_TERMS; ++i) {
+    const lane_mask term = dirty & (terms->weight[i] != 0.0f);
+    st->rho[i] = select(0.0f, terms->weight[i], term);
+    st->ex[i] = select(0.0f, convert_float8(terms->ex[i]), term);
+    st->ey[i] = select(0.0f, convert_float8(terms->ey[i]), term);
+    st->ez[i] = select(0.0f, convert_float8(terms->ez[i]), term);
+    for (int side = 0; side < 2; ++side) {
+      const int j = 2 * i + side;
+      const int8 at = lane_elements(side ? p - terms->delta[i] : p + terms->delta[i]);
+      nb->distance[j] = gather_float8((const float*)tile->distance, at, term, INFINITY);
+      nb->seed_distance[j] = gather_float8((const float*)tile->seed_distance, at, term, 0.0f);
+      nb->label[j] =
+          as_uint8(gather_int8((const int*)tile->word, at, term, (int8)LABEL_NONE)) & LABEL_NONE;
+    }
+  }
+}
+#endif
+
+// The lanes of `rest` one at a time (lane_gather_one), after lane_fill_inside or the clearing of
+// every lane's stencil and neighbours; returns those that are dirty.
+inline lane_mask lane_gather_each(LANE_GATHER_ARGUMENTS) {
   int opened[LANES];
   uint lasts[LANES];
   vstore8(open, 0, opened);
@@ -444,6 +562,32 @@ inline lane_mask lane_gather(LANE_GATHER_ARGUMENTS) {
                    ? -1
                    : 0;
   return open & vload8(0, dirty);
+}
+
+inline lane_mask lane_gather(LANE_GATHER_ARGUMENTS) {
+#ifdef __AVX2__
+  // The gathers' indices are 32-bit: the stencil records of the whole brick grid must fit.
+  if ((long)grid.x * grid.y * grid.z * (BRICK_VOLUME * STENCIL_RECORD) <= (long)INT_MAX) {
+    LaneTerms terms;
+    const lane_mask inside = lane_terms(open, l, cf, bricks, stencils, shapes, &terms);
+    const lane_mask dirty = lane_dirty_inside(inside, p, last, tile, &terms);
+    const lane_mask rest = open & ~inside;
+    if (!lanes_any(dirty | rest)) return dirty;
+    lane_fill_inside(dirty, p, tile, &terms, st, nb);
+    if (!lanes_any(rest)) return dirty;
+    return dirty | lane_gather_each(rest, l, cf, p, last, tile, bricks, seeds, stencils, shapes,
+                                    state, changed, dims, grid, table, stride, st, nb);
+  }
+#endif
+  for (int i = 0; i < STENCIL_TERMS; ++i) {
+    st->rho[i] = 0.0f;
+    st->ex[i] = st->ey[i] = st->ez[i] = 0.0f;
+    nb->distance[2 * i] = nb->distance[2 * i + 1] = INFINITY;
+    nb->label[2 * i] = nb->label[2 * i + 1] = LABEL_NONE;
+    nb->seed_distance[2 * i] = nb->seed_distance[2 * i + 1] = 0.0f;
+  }
+  return lane_gather_each(open, l, cf, p, last, tile, bricks, seeds, stencils, shapes, state,
+                          changed, dims, grid, table, stride, st, nb);
 }
 #endif
 
