@@ -16,7 +16,9 @@
 //   handling): as constants, the loops over terms unroll and the offsets fold.
 // - Any other stencil (varying metrics; uniform ones whose flipped offsets are other terms in
 //   each lane's frame): each lane loads its voxel's stencil and gathers its neighbours, reading
-//   the states only when a change stamp says the voxel is dirty; the solve is vectorised.
+//   the states only when a change stamp says the voxel is dirty; the solve is vectorised. On a
+//   device with AVX2 the lanes whose neighbours all lie in their tiles do this with x86 gathers,
+//   the others one lane at a time.
 //
 // Measured (callgrind, 64^3, 1000 seeds; docs/scheme.md): kernel instructions of the whole solve,
 // relax_brick_sweep -> this kernel, euclidean 1486M -> 664M, radial_shock_3d 4048M -> 2996M, for
