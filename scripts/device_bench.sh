@@ -63,7 +63,8 @@ run() {
   [[ -n $icd ]] || { echo "libnvidia-opencl.so.1 not found" >&2; exit 1; }
   echo "$icd" >"$root/vendors/device.icd"
   export OCL_ICD_VENDORS=$root/vendors
-  local libraries="$root/lib:$(dirname "$icd")"
+  local libraries
+  libraries="$root/lib:$(dirname "$icd")"
   launch_for() {  # SECONDS PROGRAM ARGS...: through the bundled loader, at most SECONDS
     local seconds=$1 program=$2
     shift 2
@@ -84,13 +85,13 @@ run() {
   fi
   tail -4 "$out/test_opencl.log"
 
-  local cases=("euclidean box:-1,-1,-1,1,1,1" "radial_shock_3d box:1,1,1,11,11,11")
+  local -A domains=([euclidean]="box:-1,-1,-1,1,1,1" [radial_shock_3d]="box:1,1,1,11,11,11")
   for variant in voxel_phases brick_sweep brick_lanes; do
-    for bench_case in "${cases[@]}"; do
-      set -- $bench_case
-      local name="bench_${variant}_$1"
-      echo "== rvor bench --device $device --variant $variant --metric $1"
-      launch_for 55 rvor bench --device "$device" --variant "$variant" --metric "$1" --domain "$2" \
+    for metric in euclidean radial_shock_3d; do
+      local name="bench_${variant}_$metric"
+      echo "== rvor bench --device $device --variant $variant --metric $metric"
+      launch_for 55 rvor bench --device "$device" --variant "$variant" --metric "$metric" \
+        --domain "${domains[$metric]}" \
         --resolution "${RESOLUTION:-256}" --no-reference --insert 3 --repeat 2 --json \
         >"$out/$name.json" 2>"$out/$name.log" || echo "rc $?: $(tail -1 "$out/$name.log")"
       grep -E '"(seconds|voxels_per_second|updates_per_voxel|fastsweeping_ratio|insert_fraction)"' \

@@ -19,7 +19,7 @@ classes=("" "lane slots" "running lanes" "open lanes" "evaluations" "vector visi
   "same label, 1e-5..1e-4" "same label, <= 1e-5" "relaxations changing nothing")
 for metric in "euclidean --domain box:-1,-1,-1,1,1,1" "radial_shock_3d --domain box:1,1,1,11,11,11"; do
   for n in $(seq 1 16); do
-    value=$(RVOR_LANE_COUNT=$n build/bin/rvor bench --metric $metric --resolution "$resolution" \
+    value=$(RVOR_LANE_COUNT=$n build/bin/rvor bench --metric "$metric" --resolution "$resolution" \
       --seeds "$seeds" --no-reference --no-fastsweeping --quiet | sed -n 2p | awk '{print $6}')
     unit="per voxel"
     [ "$n" = 16 ] && unit="per brick"  # counted 512 per relaxation
