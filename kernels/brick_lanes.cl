@@ -905,6 +905,19 @@ inline uint lane_news(int k, int corner, int lo[3][LANES], int hi[3][LANES], uin
                     (int3)(real_hi[0], real_hi[1], real_hi[2]), packed_reach);
 }
 
+// The stencil records of frame voxel l in every lane, requested one visit ahead, so that the
+// record gathers of the next visit find them in L1 rather than L2, where load_lane's prefetch put
+// them (docs/scheme.md, "Gathers in the general form"). Axis lanes and uniform metrics have one
+// record for the canvas.
+inline void prefetch_lane_records(int l, const LaneBricks* bricks, __global const float* stencils) {
+#if !defined(AXIS_LANES) && !defined(UNIFORM_METRIC)
+  for (int k = 0; k < LANES; ++k)
+    __builtin_prefetch(stencils +
+                       ((size_t)max(bricks->brick[k], 0) * BRICK_VOLUME + (l ^ bricks->flip[k])) *
+                           STENCIL_RECORD);
+#endif
+}
+
 __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
   const int first = get_global_id(0) * LANES;
   if (first >= count) return;
@@ -939,6 +952,7 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
     for (int n = 0; n < BRICK_VOLUME; ++n) {
       ++tick;
       const int l = n ^ flip;
+      if (n + 1 < BRICK_VOLUME) prefetch_lane_records((n + 1) ^ flip, &bricks, stencils);
       const int3 c = local_coordinates(l);
       const int p = tile_index(c);
       const lane_uint word = tile->word[p];
