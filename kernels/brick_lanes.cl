@@ -24,6 +24,12 @@
 // relax_brick_sweep -> this kernel, euclidean 1486M -> 664M, radial_shock_3d 4048M -> 2996M, for
 // the same evaluations.
 
+// x86 gathers in the general form: where the device compiles with AVX2, unless the host turned
+// them off (OpenCLOptions::x86_gathers).
+#if defined(__AVX2__) && !defined(NO_X86_GATHERS)
+#define X86_GATHERS
+#endif
+
 #if defined(UNIFORM_METRIC) && defined(UNIFORM_TERMS)
 #define AXIS_LANES /* one stencil of axis offsets, constants from the build options */
 #define LANE_TERMS UNIFORM_TERMS
@@ -426,7 +432,7 @@ __attribute__((always_inline)) inline bool lane_gather_one(
   return true;
 }
 
-#ifdef __AVX2__
+#ifdef X86_GATHERS
 // x86 gathers (a CPU device with AVX2: PoCL compiles for the host's features): lane k's element
 // index[k] of `base`, or `fallback` where the mask is clear (nothing is read there). OpenCL C has
 // no gather, and PoCL's vectorisers do not form one from LANES scalar loads.
@@ -567,7 +573,7 @@ inline lane_mask lane_gather_each(LANE_GATHER_ARGUMENTS) {
 }
 
 inline lane_mask lane_gather(LANE_GATHER_ARGUMENTS) {
-#ifdef __AVX2__
+#ifdef X86_GATHERS
   // The gathers' indices are 32-bit: the stencil records of the whole brick grid must fit.
   if ((long)grid.x * grid.y * grid.z * (BRICK_VOLUME * STENCIL_RECORD) <= (long)INT_MAX) {
     LaneTerms terms;

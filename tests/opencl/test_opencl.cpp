@@ -41,6 +41,7 @@ struct EngineConfig {
   RelaxationVariant variant;
   int max_sweeps;
   bool brick_colouring;
+  bool x86_gathers = true;
 };
 
 class EngineConfigs : public ::testing::TestWithParam<EngineConfig> {
@@ -49,6 +50,7 @@ class EngineConfigs : public ::testing::TestWithParam<EngineConfig> {
     OpenCLOptions o = test::with_variant(GetParam().variant);
     o.max_sweeps = GetParam().max_sweeps;
     o.brick_colouring = GetParam().brick_colouring;
+    o.x86_gathers = GetParam().x86_gathers;
     return o;
   }
 };
@@ -108,6 +110,8 @@ INSTANTIATE_TEST_SUITE_P(
         EngineConfig{"BrickSweepEightSweeps", RelaxationVariant::brick_sweep, 8, true},
         EngineConfig{"BrickSweepNoColouring", RelaxationVariant::brick_sweep, 2, false},
         EngineConfig{"BrickLanes", RelaxationVariant::brick_lanes, 2, true},
+        // The loop over lanes that devices without AVX2 compile (PoCL here has it).
+        EngineConfig{"BrickLanesWithoutGathers", RelaxationVariant::brick_lanes, 2, true, false},
         EngineConfig{"BrickLanesOneSweep", RelaxationVariant::brick_lanes, 1, true},
         EngineConfig{"BrickLanesAutomaticSweeps", RelaxationVariant::brick_lanes, 0, true},
         EngineConfig{"BrickLanesFourSweeps", RelaxationVariant::brick_lanes, 4, true},

@@ -30,6 +30,11 @@ struct OpenCLOptions {
   // without -> with: euclidean 12.49 -> 10.13 updates per voxel, radial_shock_3d 20.32 -> 13.53
   // (and 1.6 -> 1.2-1.5 s, 5.7-6.4 -> 4.1-4.2 s).
   bool brick_colouring = true;
+  // brick_lanes with per-voxel stencils, on a device that compiles with AVX2 (PoCL on x86): the
+  // lanes whose neighbours lie in their tiles take their stencils and neighbours by x86 gathers
+  // (radial_shock_3d 128^3: 1.85 -> 1.58 s, docs/scheme.md, "Gathers in the general form");
+  // false: one lane at a time, as every other device does.
+  bool x86_gathers = true;
 };
 
 // device: "auto", "opencl", "opencl:N" or "pocl" (see devices.h). Throws rvor::Error when the

@@ -267,6 +267,7 @@ class OpenCLPropagator final : public Propagator {
     const int dimension = canvas.dimension;
     std::string options = "-DDIM=" + std::to_string(dimension);
     if (canvas_->uniform_stencil) options += " -DUNIFORM_METRIC" + uniform_stencil_options();
+    if (!options_.x86_gathers) options += " -DNO_X86_GATHERS";
     const cl::Program program =
         opencl::build_program(context_, device_.device, propagation_source(), options);
     brick_volume_ = dimension == 3 ? 512 : 64;
