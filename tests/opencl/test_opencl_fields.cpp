@@ -1,7 +1,7 @@
 // Every analytic field of DESIGN.md and a uniform anisotropic metric, 2D and 3D: the OpenCL
-// engine (on test::engine_device(), PoCL unless set; every relaxation variant) equals the CPU reference with one seed and with 1000
-// seeds, and inserting 100 seeds one by one equals solving with all of them at once
-// (docs/scheme.md tolerances).
+// engine (on test::engine_device(), PoCL unless set; every relaxation variant) equals the CPU
+// reference with one seed and with 1000 seeds, and inserting 100 seeds one by one equals solving
+// with all of them at once (docs/scheme.md tolerances).
 #include <gtest/gtest.h>
 
 #include <string>
