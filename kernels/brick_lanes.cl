@@ -197,9 +197,6 @@ __attribute__((always_inline)) inline lane_float lane_seed_distance(lane_float s
 
 // The seed metrics h^2 G_s of `label` in each lane (NO_LANE_LABEL: seed 0's).
 inline void lane_seed_metric(lane_uint label, __global const float* seeds, lane_float* g) {
-#ifdef AXIS_LANES
-  for (int n = 0; n < 6; ++n) g[n] = seeds[8 + n];  // every seed has the canvas's metric
-#else
   const uint8 r = select(label, (lane_uint)0u, label == NO_LANE_LABEL) * SEED_RECORD + 8u;
   const float8 m0 = vload8(0, seeds + r.s0), m1 = vload8(0, seeds + r.s1),
                m2 = vload8(0, seeds + r.s2), m3 = vload8(0, seeds + r.s3),
@@ -211,17 +208,28 @@ inline void lane_seed_metric(lane_uint label, __global const float* seeds, lane_
   g[3] = LANE_COLUMN(m, s3);
   g[4] = LANE_COLUMN(m, s4);
   g[5] = LANE_COLUMN(m, s5);
-#endif
 }
 
 // u0 of frame voxel cf under `label` in each lane, with that seed's metric g and G q.
 __attribute__((always_inline)) inline lane_float lane_label_seed_distance(
     lane_uint label, const LaneFrame* frame, int3 cf, __global const float* seeds, lane_float* g,
     lane_float* gq) {
-  lane_seed_metric(label, seeds, g);
   lane_float sx, sy, sz;
   lane_seed_positions(label, seeds, &sx, &sy, &sz);
+#ifdef AXIS_LANES
+  // Every seed has the canvas's metric, which is diagonal (the host checks it): G q takes its
+  // diagonal only, the same floats as the full product, whose other terms add zeros (g is unset).
+  const lane_float qx = frame->base_x + frame->sign_x * (float)cf.x - sx;
+  const lane_float qy = frame->base_y + frame->sign_y * (float)cf.y - sy;
+  const lane_float qz = frame->base_z + frame->sign_z * (float)cf.z - sz;
+  gq[0] = seeds[8] * qx;
+  gq[1] = seeds[10] * qy;
+  gq[2] = seeds[13] * qz;
+  return sqrt(max(0.0f, qx * gq[0] + qy * gq[1] + qz * gq[2]));
+#else
+  lane_seed_metric(label, seeds, g);
   return lane_seed_distance(sx, sy, sz, frame, cf, g, gq);
+#endif
 }
 
 // The arguments of lane_gather (one per configuration): the visit (frame local index l, frame

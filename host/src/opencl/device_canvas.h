@@ -49,6 +49,8 @@ struct DeviceCanvas {
   bool uniform_stencil = false;
   // That stencil's offsets (x, y, z per term, up to its last term of non-zero weight).
   std::vector<int> uniform_offsets;
+  // The uniform metric has no off-diagonal entries (brick_lanes' axis form relies on it).
+  bool uniform_diagonal = false;
   cl::Buffer flags, list, list_count, update_counter, seeds;
   // Per brick: waiting for its colour's round (kernels/propagation.cl); whether any brick waits.
   cl::Buffer pending, any_pending;

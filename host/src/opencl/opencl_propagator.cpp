@@ -229,7 +229,8 @@ class OpenCLPropagator final : public Propagator {
   // max_sweeps() picks 4.
   bool uniform_axis_stencil() const {
     const std::vector<int>& offsets = canvas_->uniform_offsets;
-    if (offsets.empty()) return false;
+    // Axis offsets come from a diagonal metric only; the kernels use its diagonal alone.
+    if (offsets.empty() || !canvas_->uniform_diagonal) return false;
     for (std::size_t i = 0; i < offsets.size(); i += 3) {
       const int length = std::abs(offsets[i]) + std::abs(offsets[i + 1]) + std::abs(offsets[i + 2]);
       if (length != 1) return false;
