@@ -9,12 +9,14 @@
 
 namespace rvor {
 
-// Measured, not summed: peak resident memory of `rvor voronoi` on box:-1,-1,-1,1,1,1 with 100 seeds,
-// 128^3 minus 64^3 divided by the added voxels (/usr/bin/time -f %M), was 99 B per voxel with the
-// CPU reference (canvas, float and double fields, per-voxel state and the reverse stencil graph)
-// and 107 B with PoCL (whose device buffers live in host memory, next to the host canvas). 128 B
-// leaves room for the outputs written afterwards.
-std::uint64_t estimated_bytes_per_active_voxel() { return 128; }
+// Measured, not summed: peak resident memory of `rvor voronoi` on box:-1,-1,-1,1,1,1 with 100
+// seeds, 128^3 minus 64^3 divided by the added voxels (/usr/bin/time -f %M), was 99 B per voxel
+// with the CPU reference (canvas, float and double fields, per-voxel state and the reverse stencil
+// graph) and 107 B with PoCL (whose device buffers live in host memory, next to the host canvas).
+// 128 B leaves room for the outputs written afterwards.
+std::uint64_t estimated_bytes_per_active_voxel() {
+  return 128;
+}
 
 std::uint64_t default_memory_budget() {
   const long pages = sysconf(_SC_PHYS_PAGES);

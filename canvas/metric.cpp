@@ -36,7 +36,8 @@ Mat3 normalised_weighted_sum(const std::vector<Mat3>& terms, const std::vector<d
     throw Error("metric interpolation needs as many weights as metrics, and at least one");
   double total = 0;
   for (double w : weights) {
-    if (!std::isfinite(w) || w < 0) throw Error("metric interpolation weight is negative or not finite");
+    if (!std::isfinite(w) || w < 0)
+      throw Error("metric interpolation weight is negative or not finite");
     total += w;
   }
   if (total <= 0) throw Error("metric interpolation weights sum to zero");
@@ -84,7 +85,8 @@ bool is_spd(const Mat3& G) {
 
 void require_spd(const Mat3& G, const std::string& where) {
   if (!G.allFinite()) throw Error("metric " + where + " is not finite: " + describe(G));
-  if (!is_spd(G)) throw Error("metric " + where + " is not symmetric positive definite: " + describe(G));
+  if (!is_spd(G))
+    throw Error("metric " + where + " is not symmetric positive definite: " + describe(G));
 }
 
 Mat3 metric_sqrt(const Mat3& G) {
@@ -99,7 +101,9 @@ Mat3 metric_exp(const Mat3& S) {
   return spectral_map(S, [](double x) { return std::exp(x); });
 }
 
-double metric_length(const Mat3& G, const Vec3& v) { return std::sqrt(std::max(0.0, v.dot(G * v))); }
+double metric_length(const Mat3& G, const Vec3& v) {
+  return std::sqrt(std::max(0.0, v.dot(G * v)));
+}
 
 double distortion(const Mat3& G1, const Mat3& G2) {
   const Mat3 F1 = metric_sqrt(G1), F2 = metric_sqrt(G2);
@@ -110,7 +114,8 @@ double distortion(const Mat3& G1, const Mat3& G2) {
   return std::max(spectral_norm(F1 * F2.inverse()), spectral_norm(F2 * F1.inverse()));
 }
 
-Mat3 interpolate_log_euclidean(const std::vector<Mat3>& metrics, const std::vector<double>& weights) {
+Mat3 interpolate_log_euclidean(const std::vector<Mat3>& metrics,
+                               const std::vector<double>& weights) {
   std::vector<Mat3> logs;
   logs.reserve(metrics.size());
   for (const Mat3& G : metrics) logs.push_back(metric_log(G));
@@ -121,7 +126,8 @@ Mat3 interpolate_linear(const std::vector<Mat3>& metrics, const std::vector<doub
   return normalised_weighted_sum(metrics, weights);
 }
 
-Mat3 metric_from_frame(int dimension, const Vec3& v1, double a, const Vec3& v2, double b, double c) {
+Mat3 metric_from_frame(int dimension, const Vec3& v1, double a, const Vec3& v2, double b,
+                       double c) {
   Mat3 G = a * a * v1 * v1.transpose() + b * b * v2 * v2.transpose();
   if (dimension == 3) {
     const Vec3 v3 = v1.cross(v2);

@@ -25,6 +25,8 @@ std::string rvor_binary() {
   return std::string(RVOR_BINARY_DIR) + "/bin/rvor";
 }
 
-std::string debian_python() { return "/usr/bin/python3"; }
+std::string debian_python() {
+  return "/usr/bin/python3";
+}
 
 }  // namespace rvor::test

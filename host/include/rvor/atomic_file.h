@@ -9,8 +9,8 @@ namespace rvor {
 
 // Writes `path` through `writer`; throws rvor::Error naming the path when the directory is not
 // writable or the stream fails. On failure the previous file (if any) is untouched.
-void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& writer,
-                           bool binary = false);
+void write_file_atomically(const std::string& path,
+                           const std::function<void(std::ostream&)>& writer, bool binary = false);
 
 // For writers that need a file name (OpenVDB): a unique temporary name next to `path`, and the
 // rename that publishes it (throws rvor::Error naming both paths on failure).

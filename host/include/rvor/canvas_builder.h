@@ -12,7 +12,7 @@
 namespace rvor {
 
 struct CanvasOptions {
-  int resolution = 128;            // voxels along the longest side of the domain's bounding box
+  int resolution = 128;             // voxels along the longest side of the domain's bounding box
   std::uint64_t memory_budget = 0;  // bytes; 0 = 75% of physical memory
 };
 
@@ -24,6 +24,7 @@ std::uint64_t default_memory_budget();  // 75% of physical memory
 // Throws rvor::Error when the resolution is not in [2, 65536], the domain is empty, the estimate
 // exceeds the budget (the message gives the estimate and the budget), or the metric is not SPD
 // somewhere (the message gives the position).
-Canvas build_canvas(const DomainSpec& domain, const MetricField& metric, const CanvasOptions& options);
+Canvas build_canvas(const DomainSpec& domain, const MetricField& metric,
+                    const CanvasOptions& options);
 
 }  // namespace rvor

@@ -9,9 +9,9 @@ namespace rvor {
 struct DomainSpec {
   enum class Kind { Box, Rectangle, Mesh, Implicit };
   Kind kind = Kind::Box;
-  Box bounds;            // Box / Rectangle: the extent (Rectangle: z = 0); Mesh / Implicit: filled in
-                         // by the canvas builder from the mesh bounds or the shape.
-  std::string path;      // Mesh: closed triangle mesh (.off, .obj, .stl)
+  Box bounds;        // Box / Rectangle: the extent (Rectangle: z = 0); Mesh / Implicit: filled in
+                     // by the canvas builder from the mesh bounds or the shape.
+  std::string path;  // Mesh: closed triangle mesh (.off, .obj, .stl)
   std::string implicit;  // Implicit: sphere, ellipsoid, torus, disk (2D), with optional params
   int dimension() const { return kind == Kind::Rectangle || implicit_is_2d() ? 2 : 3; }
   bool implicit_is_2d() const;

@@ -17,6 +17,7 @@ struct FieldSummary {
   double mean_distance = 0.0;
 };
 
-FieldSummary summarize_field(const Canvas& canvas, const VoronoiField& field, std::size_t seed_count);
+FieldSummary summarize_field(const Canvas& canvas, const VoronoiField& field,
+                             std::size_t seed_count);
 
 }  // namespace rvor

@@ -10,10 +10,10 @@ namespace rvor {
 
 struct MeditMesh {
   int dimension = 3;
-  std::vector<Vec3> vertices;                   // z = 0 in 2D
-  std::vector<std::array<int, 3>> triangles;    // 0-based vertex indices
-  std::vector<std::array<int, 4>> tetrahedra;   // 0-based vertex indices
-  std::vector<std::array<int, 2>> edges;        // 0-based vertex indices
+  std::vector<Vec3> vertices;                                   // z = 0 in 2D
+  std::vector<std::array<int, 3>> triangles;                    // 0-based vertex indices
+  std::vector<std::array<int, 4>> tetrahedra;                   // 0-based vertex indices
+  std::vector<std::array<int, 2>> edges;                        // 0-based vertex indices
   std::vector<int> triangle_refs, tetrahedron_refs, edge_refs;  // reference tags (0 if absent)
 };
 
@@ -26,6 +26,7 @@ void write_medit_mesh(const std::string& path, const MeditMesh& mesh);  // atomi
 // the z row/column of identity). Throws on malformed input, a vertex count different from
 // `expected_vertices` (when >= 0), and non-SPD tensors ("FILE: tensor of vertex N ...").
 std::vector<Mat3> read_medit_sol_tensors(const std::string& path, int expected_vertices = -1);
-void write_medit_sol_tensors(const std::string& path, int dimension, const std::vector<Mat3>& tensors);
+void write_medit_sol_tensors(const std::string& path, int dimension,
+                             const std::vector<Mat3>& tensors);
 
 }  // namespace rvor

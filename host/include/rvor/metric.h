@@ -25,15 +25,16 @@ void require_spd(const Mat3& G, const std::string& where);
 
 // F = G^{1/2}, the symmetric square root (eigen-decomposition). d_G(x, y) = |F (x - y)|.
 Mat3 metric_sqrt(const Mat3& G);
-Mat3 metric_log(const Mat3& G);  // symmetric matrix logarithm of an SPD matrix
-Mat3 metric_exp(const Mat3& S);  // symmetric matrix exponential
+Mat3 metric_log(const Mat3& G);                      // symmetric matrix logarithm of an SPD matrix
+Mat3 metric_exp(const Mat3& S);                      // symmetric matrix exponential
 double metric_length(const Mat3& G, const Vec3& v);  // sqrt(v^T G v)
 
 // Distortion psi(G1, G2) = max(|F1 F2^-1|_2, |F2 F1^-1|_2) >= 1.
 double distortion(const Mat3& G1, const Mat3& G2);
 
 // G = exp(sum w_i log G_i); weights are normalised to sum 1. Throws on empty or mismatched input.
-Mat3 interpolate_log_euclidean(const std::vector<Mat3>& metrics, const std::vector<double>& weights);
+Mat3 interpolate_log_euclidean(const std::vector<Mat3>& metrics,
+                               const std::vector<double>& weights);
 // G = sum w_i G_i (weights normalised).
 Mat3 interpolate_linear(const std::vector<Mat3>& metrics, const std::vector<double>& weights);
 

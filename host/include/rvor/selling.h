@@ -14,8 +14,8 @@ namespace rvor {
 // 15/21 at 30, 50/71 at 100). int8 offsets are therefore safe up to anisotropy ~170. Reconstruction
 // sum rho e e^T = D holds to ~4e-16 relative up to anisotropy 100 (weights in extended precision).
 struct SellingStencil {
-  int size = 0;                              // number of terms with rho > 0 (<= 6)
-  std::array<double, 6> weight{};            // rho_i
+  int size = 0;                                // number of terms with rho > 0 (<= 6)
+  std::array<double, 6> weight{};              // rho_i
   std::array<std::array<int, 3>, 6> offset{};  // e_i (z = 0 in 2D)
 };
 
