@@ -10,6 +10,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libcli11-dev nlohmann-json3-dev libfmt-dev
   libcairo2-dev python3-meshio python3-vtk9
+  clang-format shellcheck
 )
 
 missing=()
