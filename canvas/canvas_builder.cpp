@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <mutex>
 #include <optional>
 #include <sstream>
@@ -295,6 +296,9 @@ void sample_metric(Canvas& canvas, const std::vector<const BoolLeaf*>& leaves, c
   std::mutex failure_mutex;
   std::string failure;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size()), [&](const auto& range) {
+    // The last tensor checked: a uniform metric (or a uniform region) is checked once, not at
+    // every voxel (the check is an eigenvalue solve, most of a uniform canvas's build).
+    Mat3 checked = Mat3::Constant(std::numeric_limits<double>::quiet_NaN());
     for (std::size_t brick = range.begin(); brick != range.end(); ++brick) {
       if (brick > first_failure.load()) return;
       try {
@@ -304,7 +308,8 @@ void sample_metric(Canvas& canvas, const std::vector<const BoolLeaf*>& leaves, c
           const Vec3 world = p.world(c);
           const Mat3 G = canvas_tensor(metric.at(world), p.dimension);
           // The message is built only on failure: formatting it per voxel would dominate the build.
-          if (!is_spd(G)) require_spd(G, name + " at " + format_point(world));
+          if (G != checked && !is_spd(G)) require_spd(G, name + " at " + format_point(world));
+          checked = G;
           canvas.set_active(brick * canvas.brick_volume() + local_index(c, p), G);
         }
       } catch (const Error& error) {

@@ -238,6 +238,25 @@ TEST(BuildCanvas, NonSpdMetricIsRejectedWithItsPosition) {
   EXPECT_NE(message.find("at (0.53125, 0.53125, 0.53125)"), std::string::npos) << message;
 }
 
+// The builder checks a tensor once while it repeats (a uniform region): a different tensor after
+// one, even a NaN, is still checked.
+TEST(BuildCanvas, BadTensorAfterAUniformRegionIsRejected) {
+  const FunctionMetric nan_corner(
+      3,
+      [](const Vec3& p) {
+        Mat3 G = Mat3::Identity();
+        if (p.x() > 0.5 && p.y() > 0.5 && p.z() > 0.5) G(0, 1) = G(1, 0) = std::nan("");
+        return G;
+      },
+      "nan-corner-metric");
+  CanvasOptions options;
+  options.resolution = 16;
+  const std::string message = build_error(parse_domain("box:0,0,0,1,1,1"), nan_corner, options);
+  EXPECT_NE(message.find("'nan-corner-metric' at (0.53125, 0.53125, 0.53125)"), std::string::npos)
+      << message;
+  EXPECT_NE(message.find("not finite"), std::string::npos) << message;
+}
+
 TEST(BuildCanvas, TwoDimensionalMetricOnThreeDimensionalDomainIsRejected) {
   const std::string message =
       build_error(parse_domain("box:0,0,0,1,1,1"), test::euclidean_metric(2), {});
