@@ -55,6 +55,7 @@ Mat3 checked_dual_metric(const Mat3& D, int dimension) {
 
 bool is_acute(const Vec3& a, const Vec3& b, const Mat3& D) {
   const double scalar = a.dot(D * b);
+  if (!(scalar > 0)) return false;  // most pairs; the square root below is not needed for them
   return scalar > kAcuteTolerance * std::sqrt(a.dot(D * a) * b.dot(D * b));
 }
 
@@ -71,7 +72,9 @@ double weight_of_pair(const Vec3& a, const Vec3& b, const Mat3& D) {
 
 std::array<int, 3> to_canonical_offset(const Vec3& e) {
   std::array<int, 3> offset{};
-  for (int a = 0; a < 3; ++a) offset[a] = static_cast<int>(std::lround(e[a]));
+  // e is a cross product of integer vectors held in doubles: an exact integer, so the cast is too
+  // (std::lround took a fifth of a decomposition).
+  for (int a = 0; a < 3; ++a) offset[a] = static_cast<int>(e[a]);
   // e and -e are the same stencil direction: keep the one whose first non-zero component is > 0.
   const int first = offset[0] != 0 ? offset[0] : (offset[1] != 0 ? offset[1] : offset[2]);
   if (first < 0)
