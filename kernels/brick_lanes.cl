@@ -17,8 +17,9 @@
 // - Any other stencil (varying metrics; uniform ones whose flipped offsets are other terms in
 //   each lane's frame): each lane loads its voxel's stencil and gathers its neighbours, reading
 //   the states only when a change stamp says the voxel is dirty; the solve is vectorised. On a
-//   device with AVX2 the lanes whose neighbours all lie in their tiles do this with x86 gathers,
-//   the others one lane at a time.
+//   device with AVX2 the stencils and the neighbours in the tiles come with x86 gathers, and only
+//   the neighbours beyond a tile (long offsets) one lane at a time; elsewhere each lane does it
+//   all in turn.
 //
 // Measured (callgrind, 64^3, 1000 seeds; docs/scheme.md): kernel instructions of the whole solve,
 // relax_brick_sweep -> this kernel, euclidean 1486M -> 664M, radial_shock_3d 4048M -> 2996M, for
@@ -478,6 +479,7 @@ inline int8 lane_elements(int8 f) {
 typedef struct {
   float8 weight[STENCIL_TERMS];
   int8 ex[STENCIL_TERMS], ey[STENCIL_TERMS], ez[STENCIL_TERMS], delta[STENCIL_TERMS];
+  lane_mask in_tile[2 * STENCIL_TERMS];  // side j of each lane's term j / 2 lies in its tile
 } LaneTerms;
 
 // The stencils of frame voxel l in the lanes of `open` (lane_gather_one's load_stencil and frame
@@ -517,31 +519,32 @@ inline lane_mask lane_terms(lane_mask open, int l, int3 cf, const LaneBricks* br
     const lane_mask behind_inside = (cf.x - fx >= -1) & (cf.x - fx <= EDGE) & (cf.y - fy >= -1) &
                                     (cf.y - fy <= EDGE) & (cf.z - fz >= -TILE_PAD_Z) &
                                     (cf.z - fz < EDGE_Z + TILE_PAD_Z);
-    inside &= (terms->weight[i] == 0.0f) | (ahead_inside & behind_inside);
+    const lane_mask missing = terms->weight[i] == 0.0f;
+    inside &= missing | (ahead_inside & behind_inside);
+    terms->in_tile[2 * i] = ~missing & ahead_inside;
+    terms->in_tile[2 * i + 1] = ~missing & behind_inside;
     terms->delta[i] = fx + TILE_EDGE * (fy + TILE_EDGE * fz);
   }
   return inside;
 }
 
-// The lanes of `inside` where a neighbour's change stamp is newer than `last` (or that never
-// evaluated the voxel).
-inline lane_mask lane_dirty_inside(lane_mask inside, int p, lane_uint last, const LaneTile* tile,
+// The lanes of `open` where a stencil neighbour in the tile has a change stamp newer than `last`
+// (or that never evaluated the voxel); the neighbours beyond the tile are lane_far_sides's.
+inline lane_mask lane_dirty_inside(lane_mask open, int p, lane_uint last, const LaneTile* tile,
                                    const LaneTerms* terms) {
-  lane_mask dirty = inside & (last == 0u);
+  lane_mask dirty = open & (last == 0u);
 #pragma unroll
-  for (int i = 0; i < STENCIL_TERMS; ++i) {
-    const lane_mask term = inside & (terms->weight[i] != 0.0f);
-    const int8 ahead = terms->delta[i] + p, behind = p - terms->delta[i];
+  for (int j = 0; j < 2 * STENCIL_TERMS; ++j) {
+    const lane_mask side = open & terms->in_tile[j];
+    const int8 at = j & 1 ? p - terms->delta[j / 2] : terms->delta[j / 2] + p;
     dirty |=
-        term &
-        ((as_uint8(gather_int8((const int*)tile->stamp, lane_elements(ahead), term, 0)) > last) |
-         (as_uint8(gather_int8((const int*)tile->stamp, lane_elements(behind), term, 0)) > last));
+        side & (as_uint8(gather_int8((const int*)tile->stamp, lane_elements(at), side, 0)) > last);
   }
   return dirty;
 }
 
-// Writes every lane's stencil and neighbours: gathered from the tile in the lanes of `dirty`, the
-// values of "no term" and "no neighbour" in the others (lane_gather_one overwrites its own).
+// Writes every lane's stencil and its neighbours in the tile: gathered in the lanes of `dirty`,
+// the values of "no term" and "no neighbour" elsewhere (lane_fill_far writes the others).
 inline void lane_fill_inside(lane_mask dirty, int p, const LaneTile* tile, const LaneTerms* terms,
                              LaneStencil* st, LaneNeighbours* nb) {
 #pragma unroll
@@ -553,18 +556,89 @@ inline void lane_fill_inside(lane_mask dirty, int p, const LaneTile* tile, const
     st->ez[i] = select(0.0f, convert_float8(terms->ez[i]), term);
     for (int side = 0; side < 2; ++side) {
       const int j = 2 * i + side;
+      const lane_mask read = dirty & terms->in_tile[j];
       const int8 at = lane_elements(side ? p - terms->delta[i] : p + terms->delta[i]);
-      nb->distance[j] = gather_float8((const float*)tile->distance, at, term, INFINITY);
-      nb->seed_distance[j] = gather_float8((const float*)tile->seed_distance, at, term, 0.0f);
+      nb->distance[j] = gather_float8((const float*)tile->distance, at, read, INFINITY);
+      nb->seed_distance[j] = gather_float8((const float*)tile->seed_distance, at, read, 0.0f);
       nb->label[j] =
-          as_uint8(gather_int8((const int*)tile->word, at, term, (int8)LABEL_NONE)) & LABEL_NONE;
+          as_uint8(gather_int8((const int*)tile->word, at, read, (int8)LABEL_NONE)) & LABEL_NONE;
+    }
+  }
+}
+
+// The stencil neighbours beyond the tiles of the lanes of `rest` (a term whose side j leaves the
+// tile): their slots in `far` (-1: none), and the lanes where one changed in or after the round
+// of `last` (the tile's stamps are finer, but only the tile has them).
+inline lane_mask lane_far_sides(lane_mask rest, int l, lane_uint last, const LaneBricks* bricks,
+                                const LaneTerms* terms, int4 dims, int4 grid,
+                                __global const int* table, __global const uint* changed,
+                                uint stride, long far[LANES][2 * STENCIL_TERMS]) {
+  int rests[LANES], ex[STENCIL_TERMS][LANES], ey[STENCIL_TERMS][LANES], ez[STENCIL_TERMS][LANES];
+  int in_tile[2 * STENCIL_TERMS][LANES];
+  float weight[STENCIL_TERMS][LANES];
+  uint lasts[LANES];
+  vstore8(rest, 0, rests);
+  vstore8(last, 0, lasts);
+  for (int i = 0; i < STENCIL_TERMS; ++i) {
+    vstore8(terms->ex[i], 0, ex[i]);
+    vstore8(terms->ey[i], 0, ey[i]);
+    vstore8(terms->ez[i], 0, ez[i]);
+    vstore8(terms->weight[i], 0, weight[i]);
+  }
+  for (int j = 0; j < 2 * STENCIL_TERMS; ++j) vstore8(terms->in_tile[j], 0, in_tile[j]);
+  int dirty[LANES];
+  for (int k = 0; k < LANES; ++k) {
+    dirty[k] = 0;
+    if (!rests[k]) continue;
+    const int3 position = bricks->origin[k] + local_coordinates(l ^ bricks->flip[k]);
+    const uint last_round = lasts[k] & ~(stride - 1);
+    for (int j = 0; j < 2 * STENCIL_TERMS; ++j) {
+      far[k][j] = -1;
+      const int i = j / 2;
+      if (in_tile[j][k] || weight[i][k] == 0.0f) continue;  // in the tile, or no term
+      const int3 e = (int3)(ex[i][k], ey[i][k], ez[i][k]) * (j & 1 ? -1 : 1);
+      const long other =
+          neighbour_slot(position + e, bricks->origin[k], dims, grid, table, bricks->near[k]);
+      far[k][j] = other;
+      if (other >= 0 && changed[other] >= last_round) dirty[k] = -1;
+    }
+  }
+  return rest & vload8(0, dirty);
+}
+
+// The neighbours beyond the tiles (lane_far_sides's slots) in the lanes of `dirty`: their states,
+// and their seed distances from the lane's voxel under their own labels.
+inline void lane_fill_far(lane_mask dirty, int l, const LaneBricks* bricks, const LaneTerms* terms,
+                          __global const float* seeds, __global const ulong* state,
+                          long far[LANES][2 * STENCIL_TERMS], LaneNeighbours* nb) {
+  int dirties[LANES];
+  vstore8(dirty, 0, dirties);
+  for (int k = 0; k < LANES; ++k) {
+    if (!dirties[k]) continue;
+    const int3 position = bricks->origin[k] + local_coordinates(l ^ bricks->flip[k]);
+    for (int j = 0; j < 2 * STENCIL_TERMS; ++j) {
+      const long other = far[k][j];
+      if (other < 0) continue;
+      const ulong value = state[other];
+      const uint label = (uint)value & LABEL_NONE;
+      LANE_FLOAT(nb->distance, j, k) = state_distance(value);
+      LANE_UINT(nb->label, j, k) = label;
+      if (label == LABEL_NONE) continue;
+      const int i = j / 2;
+      const int3 e =
+          (int3)(((int*)&terms->ex[i])[k], ((int*)&terms->ey[i])[k], ((int*)&terms->ez[i])[k]) *
+          (j & 1 ? -1 : 1);
+      __global const float* seed = seeds + (size_t)label * SEED_RECORD;
+      const float3 y = convert_float3(position + e);
+      LANE_FLOAT(nb->seed_distance, j, k) =
+          seed_distance(seed, y - (float3)(seed[0], seed[1], seed[2]));
     }
   }
 }
 #endif
 
-// The lanes of `rest` one at a time (lane_gather_one), after lane_fill_inside or the clearing of
-// every lane's stencil and neighbours; returns those that are dirty.
+// The lanes of `open` one at a time (lane_gather_one), after the clearing of every lane's stencil
+// and neighbours (devices without x86 gathers); returns those that are dirty.
 inline lane_mask lane_gather_each(LANE_GATHER_ARGUMENTS) {
   int opened[LANES];
   uint lasts[LANES];
@@ -586,13 +660,17 @@ inline lane_mask lane_gather(LANE_GATHER_ARGUMENTS) {
   if ((long)grid.x * grid.y * grid.z * (BRICK_VOLUME * STENCIL_RECORD) <= (long)INT_MAX) {
     LaneTerms terms;
     const lane_mask inside = lane_terms(open, l, cf, bricks, stencils, shapes, &terms);
-    const lane_mask dirty = lane_dirty_inside(inside, p, last, tile, &terms);
     const lane_mask rest = open & ~inside;
-    if (!lanes_any(dirty | rest)) return dirty;
+    lane_mask dirty = lane_dirty_inside(open, p, last, tile, &terms);
+    long far[LANES][2 * STENCIL_TERMS];
+    if (lanes_any(rest))
+      dirty |=
+          lane_far_sides(rest, l, last, bricks, &terms, dims, grid, table, changed, stride, far);
+    if (!lanes_any(dirty)) return dirty;
     lane_fill_inside(dirty, p, tile, &terms, st, nb);
-    if (!lanes_any(rest)) return dirty;
-    return dirty | lane_gather_each(rest, l, cf, p, last, tile, bricks, seeds, stencils, shapes,
-                                    state, changed, dims, grid, table, stride, st, nb);
+    if (lanes_any(rest & dirty))
+      lane_fill_far(rest & dirty, l, bricks, &terms, seeds, state, far, nb);
+    return dirty;
   }
 #endif
   for (int i = 0; i < STENCIL_TERMS; ++i) {
