@@ -566,6 +566,12 @@ inline void lane_fill_inside(lane_mask dirty, int p, const LaneTile* tile, const
   }
 }
 
+// Lane k's real offset of term i.
+inline int3 lane_term_offset(const LaneTerms* terms, int i, int k) {
+  return (int3)((int)LANE_UINT(terms->ex, i, k), (int)LANE_UINT(terms->ey, i, k),
+                (int)LANE_UINT(terms->ez, i, k));
+}
+
 // The stencil neighbours beyond the tiles of the lanes of `rest` (a term whose side j leaves the
 // tile): their slots in `far` (-1: none), and the lanes where one changed in or after the round
 // of `last` (the tile's stamps are finer, but only the tile has them).
@@ -573,19 +579,10 @@ inline lane_mask lane_far_sides(lane_mask rest, int l, lane_uint last, const Lan
                                 const LaneTerms* terms, int4 dims, int4 grid,
                                 __global const int* table, __global const uint* changed,
                                 uint stride, long far[LANES][2 * STENCIL_TERMS]) {
-  int rests[LANES], ex[STENCIL_TERMS][LANES], ey[STENCIL_TERMS][LANES], ez[STENCIL_TERMS][LANES];
-  int in_tile[2 * STENCIL_TERMS][LANES];
-  float weight[STENCIL_TERMS][LANES];
+  int rests[LANES];
   uint lasts[LANES];
   vstore8(rest, 0, rests);
   vstore8(last, 0, lasts);
-  for (int i = 0; i < STENCIL_TERMS; ++i) {
-    vstore8(terms->ex[i], 0, ex[i]);
-    vstore8(terms->ey[i], 0, ey[i]);
-    vstore8(terms->ez[i], 0, ez[i]);
-    vstore8(terms->weight[i], 0, weight[i]);
-  }
-  for (int j = 0; j < 2 * STENCIL_TERMS; ++j) vstore8(terms->in_tile[j], 0, in_tile[j]);
   int dirty[LANES];
   for (int k = 0; k < LANES; ++k) {
     dirty[k] = 0;
@@ -595,8 +592,9 @@ inline lane_mask lane_far_sides(lane_mask rest, int l, lane_uint last, const Lan
     for (int j = 0; j < 2 * STENCIL_TERMS; ++j) {
       far[k][j] = -1;
       const int i = j / 2;
-      if (in_tile[j][k] || weight[i][k] == 0.0f) continue;  // in the tile, or no term
-      const int3 e = (int3)(ex[i][k], ey[i][k], ez[i][k]) * (j & 1 ? -1 : 1);
+      if (LANE_UINT(terms->in_tile, j, k) || LANE_FLOAT(terms->weight, i, k) == 0.0f)
+        continue;  // in the tile, or no term
+      const int3 e = lane_term_offset(terms, i, k) * (j & 1 ? -1 : 1);
       const long other =
           neighbour_slot(position + e, bricks->origin[k], dims, grid, table, bricks->near[k]);
       far[k][j] = other;
@@ -624,10 +622,7 @@ inline void lane_fill_far(lane_mask dirty, int l, const LaneBricks* bricks, cons
       LANE_FLOAT(nb->distance, j, k) = state_distance(value);
       LANE_UINT(nb->label, j, k) = label;
       if (label == LABEL_NONE) continue;
-      const int i = j / 2;
-      const int3 e =
-          (int3)(((int*)&terms->ex[i])[k], ((int*)&terms->ey[i])[k], ((int*)&terms->ez[i])[k]) *
-          (j & 1 ? -1 : 1);
+      const int3 e = lane_term_offset(terms, j / 2, k) * (j & 1 ? -1 : 1);
       __global const float* seed = seeds + (size_t)label * SEED_RECORD;
       const float3 y = convert_float3(position + e);
       LANE_FLOAT(nb->seed_distance, j, k) =
