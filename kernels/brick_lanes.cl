@@ -309,10 +309,17 @@ typedef struct {
   lane_float rho[STENCIL_TERMS];  // weights rho_i / h^2, 0 past the voxel's terms
   lane_float ex[STENCIL_TERMS], ey[STENCIL_TERMS], ez[STENCIL_TERMS];  // real offsets
   lane_float d[6];                                                     // D / h^2
+  // The shape (offset set) each lane decoded last and its offsets, kept across visits: a lane's
+  // next voxel mostly has the same shape, and then lane_terms skips the shape table's gathers.
+  int8 shape_seen;
+  int8 seen_x[STENCIL_TERMS], seen_y[STENCIL_TERMS], seen_z[STENCIL_TERMS];
 } LaneStencil;
 
 inline void prepare_lane_stencil(__global const float* stencils, __global const char* shapes,
-                                 LaneStencil* st) {}
+                                 LaneStencil* st) {
+  st->shape_seen = -1;  // no shape yet
+  for (int i = 0; i < STENCIL_TERMS; ++i) st->seen_x[i] = st->seen_y[i] = st->seen_z[i] = 0;
+}
 
 // D / h^2 = sum_i rho_i e_i e_i^T per lane (stencil_dual_metric), for the factorization weight.
 inline void lane_voxel_metric(LaneStencil* st) {
@@ -486,7 +493,7 @@ typedef struct {
 // offsets); returns the lanes whose stencil neighbours all lie in the tile.
 inline lane_mask lane_terms(lane_mask open, int l, int3 cf, const LaneBricks* bricks,
                             __global const float* stencils, __global const char* shapes,
-                            LaneTerms* terms) {
+                            LaneStencil* st, LaneTerms* terms) {
   const int8 flip = vload8(0, bricks->flip);
 #ifdef UNIFORM_METRIC
   const int8 record = 0;
@@ -497,19 +504,29 @@ inline lane_mask lane_terms(lane_mask open, int l, int3 cf, const LaneBricks* br
   const int8 sign_y = select((int8)1, (int8)-1, (flip & (EDGE * (EDGE - 1))) != 0);
   const int8 sign_z = select((int8)1, (int8)-1, (flip & (EDGE * EDGE * (EDGE_Z - 1))) != 0);
   const int8 shape = gather_int8(AS_PLAIN(int, stencils), record + STENCIL_TERMS, open, (int8)0);
-  const int8 shape_byte = shape * (3 * STENCIL_TERMS);
+  const lane_mask fresh = open & (shape != st->shape_seen);
+  if (lanes_any(fresh)) {
+    const int8 shape_byte = shape * (3 * STENCIL_TERMS);
+#pragma unroll
+    for (int i = 0; i < STENCIL_TERMS; ++i) {
+      // The term's 3 chars, read as the int that ends with them (starts with them for term 0, so
+      // that no read passes the shape's end); little-endian.
+      const int8 word =
+          gather_bytes8(AS_PLAIN(char, shapes), shape_byte + (i == 0 ? 0 : 3 * i - 1), fresh);
+      const int8 w = i == 0 ? word << 8 : word;
+      st->seen_x[i] = select(st->seen_x[i], (w << 16) >> 24, fresh);
+      st->seen_y[i] = select(st->seen_y[i], (w << 8) >> 24, fresh);
+      st->seen_z[i] = select(st->seen_z[i], w >> 24, fresh);
+    }
+    st->shape_seen = select(st->shape_seen, shape, fresh);
+  }
   lane_mask inside = open;
 #pragma unroll
   for (int i = 0; i < STENCIL_TERMS; ++i) {
     terms->weight[i] = gather_float8(AS_PLAIN(float, stencils), record + i, open, (float8)0.0f);
-    // The term's 3 chars, read as the int that ends with them (starts with them for term 0, so
-    // that no read passes the shape's end); little-endian.
-    const int8 word =
-        gather_bytes8(AS_PLAIN(char, shapes), shape_byte + (i == 0 ? 0 : 3 * i - 1), open);
-    const int8 w = i == 0 ? word << 8 : word;
-    terms->ex[i] = (w << 16) >> 24;
-    terms->ey[i] = (w << 8) >> 24;
-    terms->ez[i] = w >> 24;
+    terms->ex[i] = st->seen_x[i];
+    terms->ey[i] = st->seen_y[i];
+    terms->ez[i] = st->seen_z[i];
     const int8 fx = sign_x * terms->ex[i], fy = sign_y * terms->ey[i], fz = sign_z * terms->ez[i];
     // Both neighbours in the tile (every offset within one voxel, or a longer one that stays
     // inside): then the tile holds their states, and their stamps as the scalar path reads them.
@@ -654,7 +671,7 @@ inline lane_mask lane_gather(LANE_GATHER_ARGUMENTS) {
   // The gathers' indices are 32-bit: the stencil records of the whole brick grid must fit.
   if ((long)grid.x * grid.y * grid.z * (BRICK_VOLUME * STENCIL_RECORD) <= (long)INT_MAX) {
     LaneTerms terms;
-    const lane_mask inside = lane_terms(open, l, cf, bricks, stencils, shapes, &terms);
+    const lane_mask inside = lane_terms(open, l, cf, bricks, stencils, shapes, st, &terms);
     const lane_mask rest = open & ~inside;
     lane_mask dirty = lane_dirty_inside(open, p, last, tile, &terms);
     long far[LANES][2 * STENCIL_TERMS];
