@@ -591,18 +591,18 @@ inline int3 lane_term_offset(const LaneTerms* terms, int i, int k) {
 
 // The stencil neighbours beyond the tiles of the lanes of `rest` (a term whose side j leaves the
 // tile): their slots in `far` (-1: none), and the lanes where one changed in or after the round
-// of `last` (the tile's stamps are finer, but only the tile has them).
-inline lane_mask lane_far_sides(lane_mask rest, int l, lane_uint last, const LaneBricks* bricks,
-                                const LaneTerms* terms, int4 dims, int4 grid,
-                                __global const int* table, __global const uint* changed,
+// of `last` (the tile's stamps are finer, but only the tile has them); lanes already `dirty` skip
+// that test.
+inline lane_mask lane_far_sides(lane_mask rest, lane_mask dirty_inside, int l, lane_uint last,
+                                const LaneBricks* bricks, const LaneTerms* terms, int4 dims,
+                                int4 grid, __global const int* table, __global const uint* changed,
                                 uint stride, long far[LANES][2 * STENCIL_TERMS]) {
-  int rests[LANES];
+  int rests[LANES], dirty[LANES];
   uint lasts[LANES];
   vstore8(rest, 0, rests);
   vstore8(last, 0, lasts);
-  int dirty[LANES];
+  vstore8(dirty_inside, 0, dirty);
   for (int k = 0; k < LANES; ++k) {
-    dirty[k] = 0;
     if (!rests[k]) continue;
     const int3 position = bricks->origin[k] + local_coordinates(l ^ bricks->flip[k]);
     const uint last_round = lasts[k] & ~(stride - 1);
@@ -615,7 +615,7 @@ inline lane_mask lane_far_sides(lane_mask rest, int l, lane_uint last, const Lan
       const long other =
           neighbour_slot(position + e, bricks->origin[k], dims, grid, table, bricks->near[k]);
       far[k][j] = other;
-      if (other >= 0 && changed[other] >= last_round) dirty[k] = -1;
+      if (!dirty[k] && other >= 0 && changed[other] >= last_round) dirty[k] = -1;
     }
   }
   return rest & vload8(0, dirty);
@@ -676,8 +676,8 @@ inline lane_mask lane_gather(LANE_GATHER_ARGUMENTS) {
     lane_mask dirty = lane_dirty_inside(open, p, last, tile, &terms);
     long far[LANES][2 * STENCIL_TERMS];
     if (lanes_any(rest))
-      dirty |=
-          lane_far_sides(rest, l, last, bricks, &terms, dims, grid, table, changed, stride, far);
+      dirty |= lane_far_sides(rest, dirty, l, last, bricks, &terms, dims, grid, table, changed,
+                              stride, far);
     if (!lanes_any(dirty)) return dirty;
     lane_fill_inside(dirty, p, tile, &terms, st, nb);
     if (lanes_any(rest & dirty))
