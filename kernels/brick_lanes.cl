@@ -377,6 +377,29 @@ __attribute__((always_inline)) inline lane_float lane_solve_for_label(
   return lane_solve_sorted(w, rho);
 }
 
+// Whether the voxel at `slot`, beyond a lane's tile, changed in or after the round of `last` (the
+// tile's stamps are finer, but only the tile has them).
+inline bool far_changed(__global const uint* changed, long slot, uint last, uint stride) {
+  return changed[slot] >= (last & ~(stride - 1));
+}
+
+// Neighbour j of lane k's voxel at real position `position`, the voxel `slot` at offset e beyond
+// the lane's tile: its state, and its seed distance under its own label (computed, as the tile
+// holds none for it).
+inline void put_far_neighbour(int k, int j, long slot, int3 position, int3 e,
+                              __global const ulong* state, __global const float* seeds,
+                              LaneNeighbours* nb) {
+  const ulong value = state[slot];
+  const uint label = (uint)value & LABEL_NONE;
+  LANE_FLOAT(nb->distance, j, k) = state_distance(value);
+  LANE_UINT(nb->label, j, k) = label;
+  if (label == LABEL_NONE) return;
+  __global const float* seed = seeds + (size_t)label * SEED_RECORD;
+  const float3 y = convert_float3(position + e);
+  LANE_FLOAT(nb->seed_distance, j, k) =
+      seed_distance(seed, y - (float3)(seed[0], seed[1], seed[2]));
+}
+
 // Lane k's stencil at its voxel `real` and the states of its neighbours (gather_far of
 // propagation.cl in the lane's frame: the tile where a neighbour lands in it, else the state).
 // Returns whether one changed since `last`; only then are the stencil and the states written
@@ -405,7 +428,6 @@ __attribute__((always_inline)) inline bool lane_gather_one(
     for (int j = 0; j < 2 * terms; ++j) dirty = dirty || LANE_UINT(tile->stamp, where[j], k) > last;
   } else {
     const int3 position = bricks->origin[k] + local_coordinates(real);
-    const uint last_round = last & ~(stride - 1);
     for (int j = 0; j < 2 * terms; ++j) {
       const int3 e = j & 1 ? -offset[j / 2] : offset[j / 2];
       if (inside_tile(cf + sign * e)) {  // where[j] is right
@@ -414,7 +436,7 @@ __attribute__((always_inline)) inline bool lane_gather_one(
         const long other =
             neighbour_slot(position + e, bricks->origin[k], dims, grid, table, bricks->near[k]);
         where[j] = other < 0 ? -1 : -2 - other;
-        dirty = dirty || (other >= 0 && changed[other] >= last_round);
+        dirty = dirty || (other >= 0 && far_changed(changed, other, last, stride));
       }
     }
   }
@@ -431,18 +453,9 @@ __attribute__((always_inline)) inline bool lane_gather_one(
       LANE_FLOAT(nb->distance, j, k) = LANE_FLOAT(tile->distance, w, k);
       LANE_UINT(nb->label, j, k) = LANE_UINT(tile->word, w, k) & LABEL_NONE;
       LANE_FLOAT(nb->seed_distance, j, k) = LANE_FLOAT(tile->seed_distance, w, k);
-    } else if (w < -1) {  // beyond the tile: its seed distance from here
-      const ulong value = state[-2 - w];
-      const uint label = (uint)value & LABEL_NONE;
-      LANE_FLOAT(nb->distance, j, k) = state_distance(value);
-      LANE_UINT(nb->label, j, k) = label;
-      if (label != LABEL_NONE) {
-        const int3 e = j & 1 ? -offset[j / 2] : offset[j / 2];
-        __global const float* seed = seeds + (size_t)label * SEED_RECORD;
-        const float3 y = convert_float3(bricks->origin[k] + local_coordinates(real) + e);
-        LANE_FLOAT(nb->seed_distance, j, k) =
-            seed_distance(seed, y - (float3)(seed[0], seed[1], seed[2]));
-      }
+    } else if (w < -1) {
+      put_far_neighbour(k, j, -2 - w, bricks->origin[k] + local_coordinates(real),
+                        j & 1 ? -offset[j / 2] : offset[j / 2], state, seeds, nb);
     }
   }
   return true;
@@ -485,7 +498,7 @@ inline int8 lane_elements(int8 f) {
 // tile offsets of the lane's frame.
 typedef struct {
   float8 weight[STENCIL_TERMS];
-  int8 ex[STENCIL_TERMS], ey[STENCIL_TERMS], ez[STENCIL_TERMS], delta[STENCIL_TERMS];
+  int8 delta[STENCIL_TERMS];  // flat tile offsets in each lane's frame (real offsets: st->seen_*)
   lane_mask in_tile[2 * STENCIL_TERMS];  // side j of each lane's term j / 2 lies in its tile
 } LaneTerms;
 
@@ -524,10 +537,8 @@ inline lane_mask lane_terms(lane_mask open, int l, int3 cf, const LaneBricks* br
 #pragma unroll
   for (int i = 0; i < STENCIL_TERMS; ++i) {
     terms->weight[i] = gather_float8(AS_PLAIN(float, stencils), record + i, open, (float8)0.0f);
-    terms->ex[i] = st->seen_x[i];
-    terms->ey[i] = st->seen_y[i];
-    terms->ez[i] = st->seen_z[i];
-    const int8 fx = sign_x * terms->ex[i], fy = sign_y * terms->ey[i], fz = sign_z * terms->ez[i];
+    const int8 fx = sign_x * st->seen_x[i], fy = sign_y * st->seen_y[i];
+    const int8 fz = sign_z * st->seen_z[i];
     // Both neighbours in the tile (every offset within one voxel, or a longer one that stays
     // inside): then the tile holds their states, and their stamps as the scalar path reads them.
     const lane_mask ahead_inside = (cf.x + fx >= -1) & (cf.x + fx <= EDGE) & (cf.y + fy >= -1) &
@@ -568,9 +579,9 @@ inline void lane_fill_inside(lane_mask dirty, int p, const LaneTile* tile, const
   for (int i = 0; i < STENCIL_TERMS; ++i) {
     const lane_mask term = dirty & (terms->weight[i] != 0.0f);
     st->rho[i] = select(0.0f, terms->weight[i], term);
-    st->ex[i] = select(0.0f, convert_float8(terms->ex[i]), term);
-    st->ey[i] = select(0.0f, convert_float8(terms->ey[i]), term);
-    st->ez[i] = select(0.0f, convert_float8(terms->ez[i]), term);
+    st->ex[i] = select(0.0f, convert_float8(st->seen_x[i]), term);
+    st->ey[i] = select(0.0f, convert_float8(st->seen_y[i]), term);
+    st->ez[i] = select(0.0f, convert_float8(st->seen_z[i]), term);
     for (int side = 0; side < 2; ++side) {
       const int j = 2 * i + side;
       const lane_mask read = dirty & terms->in_tile[j];
@@ -583,19 +594,19 @@ inline void lane_fill_inside(lane_mask dirty, int p, const LaneTile* tile, const
   }
 }
 
-// Lane k's real offset of term i.
-inline int3 lane_term_offset(const LaneTerms* terms, int i, int k) {
-  return (int3)((int)LANE_UINT(terms->ex, i, k), (int)LANE_UINT(terms->ey, i, k),
-                (int)LANE_UINT(terms->ez, i, k));
+// Lane k's real offset of term i (lane_terms decoded it).
+inline int3 lane_term_offset(const LaneStencil* st, int i, int k) {
+  return (int3)((int)LANE_UINT(st->seen_x, i, k), (int)LANE_UINT(st->seen_y, i, k),
+                (int)LANE_UINT(st->seen_z, i, k));
 }
 
 // The stencil neighbours beyond the tiles of the lanes of `rest` (a term whose side j leaves the
-// tile): their slots in `far` (-1: none), and the lanes where one changed in or after the round
-// of `last` (the tile's stamps are finer, but only the tile has them); lanes already `dirty` skip
-// that test.
+// tile): their slots in `far` (-1: none), and the lanes where one changed (far_changed); lanes
+// already dirty by their neighbours in the tile skip that test.
 inline lane_mask lane_far_sides(lane_mask rest, lane_mask dirty_inside, int l, lane_uint last,
-                                const LaneBricks* bricks, const LaneTerms* terms, int4 dims,
-                                int4 grid, __global const int* table, __global const uint* changed,
+                                const LaneBricks* bricks, const LaneStencil* st,
+                                const LaneTerms* terms, int4 dims, int4 grid,
+                                __global const int* table, __global const uint* changed,
                                 uint stride, long far[LANES][2 * STENCIL_TERMS]) {
   int rests[LANES], dirty[LANES];
   uint lasts[LANES];
@@ -605,17 +616,16 @@ inline lane_mask lane_far_sides(lane_mask rest, lane_mask dirty_inside, int l, l
   for (int k = 0; k < LANES; ++k) {
     if (!rests[k]) continue;
     const int3 position = bricks->origin[k] + local_coordinates(l ^ bricks->flip[k]);
-    const uint last_round = lasts[k] & ~(stride - 1);
     for (int j = 0; j < 2 * STENCIL_TERMS; ++j) {
       far[k][j] = -1;
       const int i = j / 2;
       if (LANE_UINT(terms->in_tile, j, k) || LANE_FLOAT(terms->weight, i, k) == 0.0f)
         continue;  // in the tile, or no term
-      const int3 e = lane_term_offset(terms, i, k) * (j & 1 ? -1 : 1);
+      const int3 e = lane_term_offset(st, i, k) * (j & 1 ? -1 : 1);
       const long other =
           neighbour_slot(position + e, bricks->origin[k], dims, grid, table, bricks->near[k]);
       far[k][j] = other;
-      if (!dirty[k] && other >= 0 && changed[other] >= last_round) dirty[k] = -1;
+      if (!dirty[k] && other >= 0 && far_changed(changed, other, lasts[k], stride)) dirty[k] = -1;
     }
   }
   return rest & vload8(0, dirty);
@@ -623,7 +633,7 @@ inline lane_mask lane_far_sides(lane_mask rest, lane_mask dirty_inside, int l, l
 
 // The neighbours beyond the tiles (lane_far_sides's slots) in the lanes of `dirty`: their states,
 // and their seed distances from the lane's voxel under their own labels.
-inline void lane_fill_far(lane_mask dirty, int l, const LaneBricks* bricks, const LaneTerms* terms,
+inline void lane_fill_far(lane_mask dirty, int l, const LaneBricks* bricks, const LaneStencil* st,
                           __global const float* seeds, __global const ulong* state,
                           long far[LANES][2 * STENCIL_TERMS], LaneNeighbours* nb) {
   int dirties[LANES];
@@ -631,20 +641,10 @@ inline void lane_fill_far(lane_mask dirty, int l, const LaneBricks* bricks, cons
   for (int k = 0; k < LANES; ++k) {
     if (!dirties[k]) continue;
     const int3 position = bricks->origin[k] + local_coordinates(l ^ bricks->flip[k]);
-    for (int j = 0; j < 2 * STENCIL_TERMS; ++j) {
-      const long other = far[k][j];
-      if (other < 0) continue;
-      const ulong value = state[other];
-      const uint label = (uint)value & LABEL_NONE;
-      LANE_FLOAT(nb->distance, j, k) = state_distance(value);
-      LANE_UINT(nb->label, j, k) = label;
-      if (label == LABEL_NONE) continue;
-      const int3 e = lane_term_offset(terms, j / 2, k) * (j & 1 ? -1 : 1);
-      __global const float* seed = seeds + (size_t)label * SEED_RECORD;
-      const float3 y = convert_float3(position + e);
-      LANE_FLOAT(nb->seed_distance, j, k) =
-          seed_distance(seed, y - (float3)(seed[0], seed[1], seed[2]));
-    }
+    for (int j = 0; j < 2 * STENCIL_TERMS; ++j)
+      if (far[k][j] >= 0)
+        put_far_neighbour(k, j, far[k][j], position,
+                          lane_term_offset(st, j / 2, k) * (j & 1 ? -1 : 1), state, seeds, nb);
   }
 }
 #endif
@@ -676,12 +676,11 @@ inline lane_mask lane_gather(LANE_GATHER_ARGUMENTS) {
     lane_mask dirty = lane_dirty_inside(open, p, last, tile, &terms);
     long far[LANES][2 * STENCIL_TERMS];
     if (lanes_any(rest))
-      dirty |= lane_far_sides(rest, dirty, l, last, bricks, &terms, dims, grid, table, changed,
+      dirty |= lane_far_sides(rest, dirty, l, last, bricks, st, &terms, dims, grid, table, changed,
                               stride, far);
     if (!lanes_any(dirty)) return dirty;
     lane_fill_inside(dirty, p, tile, &terms, st, nb);
-    if (lanes_any(rest & dirty))
-      lane_fill_far(rest & dirty, l, bricks, &terms, seeds, state, far, nb);
+    if (lanes_any(rest & dirty)) lane_fill_far(rest & dirty, l, bricks, st, seeds, state, far, nb);
     return dirty;
   }
 #endif
