@@ -9,12 +9,18 @@
 
 namespace rvor::cli {
 
+Progress::~Progress() {
+  if (open_ && !quiet_) std::cerr << " failed\n";
+}
+
 void Progress::begin(const std::string& stage) {
   start_ = std::chrono::steady_clock::now();
+  open_ = true;
   if (!quiet_) std::cerr << stage << " ..." << std::flush;
 }
 
 double Progress::end(const std::string& detail) {
+  open_ = false;
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   if (!quiet_) {

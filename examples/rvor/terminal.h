@@ -10,15 +10,21 @@
 
 namespace rvor::cli {
 
-// Prints "building canvas ... done in 1.23 s (detail)" lines on stderr so stdout stays clean.
+// Prints "building canvas ... done in 1.23 s (detail)" lines on stderr so stdout stays clean. A
+// stage still open when the Progress goes away (an exception on its way to the error line) ends
+// with "failed", so the error starts a line of its own.
 class Progress {
  public:
   explicit Progress(bool quiet) : quiet_(quiet) {}
+  Progress(const Progress&) = delete;
+  Progress& operator=(const Progress&) = delete;
+  ~Progress();
   void begin(const std::string& stage);
   double end(const std::string& detail);  // returns the stage's seconds
 
  private:
   bool quiet_;
+  bool open_ = false;
   std::chrono::steady_clock::time_point start_;
 };
 

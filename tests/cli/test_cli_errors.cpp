@@ -37,6 +37,18 @@ class CliErrors : public ::testing::Test {
   }
 };
 
+// Without --quiet the stages print progress on stderr; an error in the middle of one must still
+// start its own line, after the stage is marked failed.
+TEST_F(CliErrors, ErrorDuringAStageStartsItsOwnLine) {
+  const CommandResult result =
+      run_command(rvor_binary() + " voronoi --out " + out() +
+                  " --domain rect:-1,-1,1,1 --resolution 16 --metric swirly --seeds " + seeds2d());
+  EXPECT_EQ(result.exit_code, 1) << "stderr: " << result.err;
+  EXPECT_NE(result.err.find("building canvas ... failed\nrvor: error: "), std::string::npos)
+      << result.err;
+  EXPECT_EQ(result.err.back(), '\n') << result.err;
+}
+
 TEST_F(CliErrors, NonSpdUniformMetric) {
   expect_error(
       "--domain rect:-1,-1,1,1 --resolution 16 --metric uniform:1,2,1 --seeds " + seeds2d(),
