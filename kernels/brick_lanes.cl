@@ -50,6 +50,11 @@ inline int3 lane_offset(int i) {
 #endif
 
 #define LANES 8
+// Front stepping (state_word.clh): built in only for the solves that step (the host builds this
+// kernel twice), since its tests cost the other solves ~8% (euclidean 256^3).
+#ifndef FRONT_STEPPING
+#define FRONT_STEPPING 0
+#endif
 #define NO_LANE_LABEL 0xFFFFFFFFu /* a label no neighbour carries (labels have 31 bits) */
 
 typedef float8 lane_float;
@@ -393,7 +398,7 @@ inline void put_far_neighbour(int k, int j, long slot, int3 position, int3 e,
   const uint label = (uint)value & LABEL_NONE;
   LANE_FLOAT(nb->distance, j, k) = state_distance(value);
   LANE_UINT(nb->label, j, k) = label;
-  if (label == LABEL_NONE) return;
+  if (label >= TENTATIVE_LABEL) return;
   __global const float* seed = seeds + (size_t)label * SEED_RECORD;
   const float3 y = convert_float3(position + e);
   LANE_FLOAT(nb->seed_distance, j, k) =
@@ -724,7 +729,7 @@ BEST_CANDIDATE_INLINE inline void lane_best_candidate(lane_mask lanes, const Lan
 #pragma unroll
     for (int j = 0; j < neighbours; ++j)
       label = min(label, select((lane_uint)LABEL_NONE, nb->label[j], nb->label[j] >= above));
-    const lane_mask valid = lanes & (label != LABEL_NONE);
+    const lane_mask valid = lanes & (label < TENTATIVE_LABEL);  // ascending: the rest are not
     if (!lanes_any(valid)) break;
     const lane_uint solved = select((lane_uint)NO_LANE_LABEL, label, valid);
     lane_float u0;
@@ -747,7 +752,7 @@ inline void lane_tile_seed_distances(LaneTile* tile, const LaneFrame* frame,
     for (int ty = 0; ty < TILE_EDGE; ++ty)
       for (int tx = 0; tx < TILE_EDGE; ++tx, ++p) {
         const lane_uint label = tile->word[p] & LABEL_NONE;
-        const lane_mask labelled = label != LABEL_NONE;
+        const lane_mask labelled = label < TENTATIVE_LABEL;
         if (!lanes_any(labelled)) {
           tile->seed_distance[p] = 0.0f;
           continue;
@@ -766,6 +771,16 @@ inline lane_mask lane_significant_change(lane_float u, lane_uint u_label, lane_f
   const lane_mask u_inf = isinf(u), t_inf = isinf(t);
   const lane_mask moved = fabs(u - t) > RELATIVE_TOLERANCE * max(u, t);
   return (u_label != t_label) | select(moved, u_inf ^ t_inf, u_inf | t_inf);
+}
+
+// lane_significant_change between the states as readers see them: a tentative state (and an
+// unreached one) reads as +inf without a label.
+inline lane_mask lane_visible_change(lane_float u, lane_uint u_label, lane_float t,
+                                     lane_uint t_label) {
+  const lane_mask u_hidden = u_label >= TENTATIVE_LABEL, t_hidden = t_label >= TENTATIVE_LABEL;
+  return lane_significant_change(
+      select(u, (lane_float)INFINITY, u_hidden), select(u_label, (lane_uint)LABEL_NONE, u_hidden),
+      select(t, (lane_float)INFINITY, t_hidden), select(t_label, (lane_uint)LABEL_NONE, t_hidden));
 }
 
 // The smallest distance in `runs` runs of `length` consecutive slots of brick `brick` (+inf
@@ -830,19 +845,27 @@ inline void load_lane_run(int k, int f, int step, int brick, int within, int len
 
 // A row of EDGE slots of brick `brick` (-1: none) from `within` (load_lane_run): one vector load
 // of the states and of the stamps, then the lane's stores.
-inline void load_lane_row(int k, int f, int step, int brick, int within, bool inside,
-                          __global const ulong* state, __global const uint* changed, uint stride,
-                          LaneTile* tile) {
+// In the brick's own rows, tentative states at or below the threshold are released: their label
+// becomes visible and they count as changed at the round's base stamp. Returns the released
+// slots of the row (bit i: slot within + i).
+__attribute__((always_inline)) inline uint load_lane_row(
+    int k, int f, int step, int brick, int within, bool inside, __global const ulong* state,
+    __global const uint* changed, uint stride, float threshold, uint round_base, LaneTile* tile) {
   if (brick < 0) {
     load_lane_run(k, f, step, brick, within, EDGE, inside, state, changed, stride, tile);
-    return;
+    return 0u;
   }
   const size_t slot = (size_t)brick * BRICK_VOLUME + within;
   const ulong8 s = vload8(0, state + slot);
   const uint8 c = vload8(0, changed + slot);
-  const uint8 stamp = inside ? c : OUTSIDE_STAMP(c, stride);
   const float8 distance = as_float8(convert_uint8(s >> 32));
-  const uint8 word = convert_uint8(s);
+  const uint8 label = convert_uint8(s) & LABEL_NONE;
+  const int8 released =
+      FRONT_STEPPING && inside
+          ? (label >= TENTATIVE_LABEL) & (label != LABEL_NONE) & (distance <= threshold)
+          : (int8)0;
+  const uint8 stamp = select(inside ? c : OUTSIDE_STAMP(c, stride), (uint8)round_base, released);
+  const uint8 word = select(convert_uint8(s), convert_uint8(s) & ~TENTATIVE_LABEL, released);
   float d[EDGE];
   uint w[EDGE], t[EDGE];
   vstore8(distance, 0, d);
@@ -853,6 +876,10 @@ inline void load_lane_row(int k, int f, int step, int brick, int within, bool in
     LANE_UINT(tile->word, f + step * i, k) = w[i];
     LANE_UINT(tile->stamp, f + step * i, k) = t[i];
   }
+  const uint8 bits = select((uint8)0u, (uint8)(1u, 2u, 4u, 8u, 16u, 32u, 64u, 128u), released);
+  const uint4 pairs = bits.lo | bits.hi;
+  const uint2 quads = pairs.lo | pairs.hi;
+  return quads.x | quads.y;
 }
 
 // Whether a visit reads the tile's edges and corners (the voxels outside the brick that are not
@@ -871,9 +898,12 @@ inline void load_lane_row(int k, int f, int step, int brick, int within, bool in
 inline int load_lane(int k, int brick, __global const ulong* state, __global const uint* changed,
                      __global const int* table, __global const int4* brick_origins, int4 grid,
                      uint stride, __global const uint* activity, __global const uint* evaluated,
-                     __global const float* stencils, LaneTile* tile, LaneFrame* frame,
-                     LaneBricks* bricks) {
+                     __global const float* stencils, float threshold, uint round_base,
+                     LaneTile* tile, LaneFrame* frame, LaneBricks* bricks, int3* released_lo,
+                     int3* released_hi) {
   const int3 origin = brick_origins[brick].xyz;
+  *released_lo = (int3)(EDGE, EDGE, EDGE);
+  *released_hi = (int3)(-1, -1, -1);
   int* near = bricks->near[k];
   load_near_bricks(origin, grid, table, near);
   const int corner = upwind_corner_of(near, state);
@@ -896,8 +926,18 @@ inline int load_lane(int k, int brick, __global const ulong* state, __global con
       const bool face = TILE_EDGES_READ || face_row(by, bz);
       load_lane_run(k, f_first, step, read ? bricks[0] : -1, row + EDGE - 1, 1, false, state,
                     changed, stride, tile);
-      load_lane_row(k, f_first + step, step, face ? bricks[1] : -1, row, inner, state, changed,
-                    stride, tile);
+      const uint released =
+          load_lane_row(k, f_first + step, step, face ? bricks[1] : -1, row, inner, state, changed,
+                        stride, threshold, round_base, tile);
+      if (FRONT_STEPPING && released) {  // the box of released voxels, in frame coordinates
+        const int first = mirrored(ctz(released), fx, EDGE - 1);
+        const int last = mirrored(31 - clz(released), fx, EDGE - 1);
+        const int3 lo = (int3)(min(first, last), mirrored(y, fy, EDGE - 1),
+                               DIM == 3 ? mirrored(z, fz, EDGE_Z - 1) : 0);
+        const int3 hi = (int3)(max(first, last), lo.y, lo.z);
+        *released_lo = min(*released_lo, lo);
+        *released_hi = max(*released_hi, hi);
+      }
       load_lane_run(k, f_first + step * (EDGE + 1), step, read ? bricks[2] : -1, row, 1, false,
                     state, changed, stride, tile);
     }
@@ -951,9 +991,11 @@ inline void clear_lane(int k, LaneTile* tile, LaneFrame* frame, LaneBricks* bric
 
 // Writes lane k's results: the relaxed brick to scratch (when anything was written), its
 // evaluation stamps and, when a value changed significantly, its change stamps.
-inline void store_lane(int k, int brick, int position, int corner, uint brick_flags,
-                       const LaneTile* tile, __global ulong* scratch, __global uint* evaluated,
-                       __global uint* changed, __global const uint* activity) {
+// Returns the least tentative distance of the brick (+inf without one).
+inline float store_lane(int k, int brick, int position, int corner, uint brick_flags,
+                        const LaneTile* tile, __global ulong* scratch, __global uint* evaluated,
+                        __global uint* changed, __global const uint* activity) {
+  float least_tentative = INFINITY;
   const int fx = corner & 1, fy = (corner >> 1) & 1, fz = (corner >> 2) & 1;
   const size_t brick_slot = (size_t)brick * BRICK_VOLUME;
   __global ulong* relaxed = scratch + (size_t)position * BRICK_VOLUME;
@@ -969,6 +1011,9 @@ inline void store_lane(int k, int brick, int position, int corner, uint brick_fl
           const int fxx = mirrored(x, fx, EDGE - 1);
           distance[x] = as_uint(LANE_FLOAT(tile->distance, p_row + fxx, k));
           word[x] = LANE_UINT(tile->word, p_row + fxx, k);
+          const uint label = word[x] & LABEL_NONE;
+          if (FRONT_STEPPING && label >= TENTATIVE_LABEL && label != LABEL_NONE)
+            least_tentative = min(least_tentative, as_float(distance[x]));
           stamp[x] = LANE_UINT(tile->stamp, p_row + fxx, k);
           evaluation[x] = LANE_UINT(tile->evaluated, l_row + fxx, k);
         }
@@ -986,6 +1031,9 @@ inline void store_lane(int k, int brick, int position, int corner, uint brick_fl
           if (brick_flags != 0) relaxed[real] = INF_STATE;
           continue;
         }
+        const uint label = LANE_UINT(tile->word, p, k) & LABEL_NONE;
+        if (FRONT_STEPPING && label >= TENTATIVE_LABEL && label != LABEL_NONE)
+          least_tentative = min(least_tentative, LANE_FLOAT(tile->distance, p, k));
         if (brick_flags != 0)
           relaxed[real] = ((ulong)as_uint(LANE_FLOAT(tile->distance, p, k)) << 32) |
                           (ulong)LANE_UINT(tile->word, p, k);
@@ -993,6 +1041,7 @@ inline void store_lane(int k, int brick, int position, int corner, uint brick_fl
         if (brick_flags & FLAG_CHANGED) changed[brick_slot + real] = LANE_UINT(tile->stamp, p, k);
       }
     }
+  return least_tentative;
 }
 
 // brick_news (brick_layout.clh) of lane k from its box of changes in frame coordinates.
@@ -1030,14 +1079,19 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
   LaneBricks bricks;
   int corner[LANES] = {0}, brick[LANES];
   uint live[LANES];
+  int released_lo[3][LANES], released_hi[3][LANES];
   for (int k = 0; k < LANES; ++k) {
     brick[k] = first + k < count ? list[first + k] : -1;
     live[k] = brick[k] >= 0 ? 0xFFFFFFFFu : 0u;
+    int3 lo = (int3)(EDGE, EDGE, EDGE), hi = (int3)(-1, -1, -1);
     if (brick[k] < 0)
       clear_lane(k, tile, &frame, &bricks);
     else
-      corner[k] = load_lane(k, brick[k], state, changed, table, brick_origins, grid, stride,
-                            activity, evaluated, stencils, tile, &frame, &bricks);
+      corner[k] =
+          load_lane(k, brick[k], state, changed, table, brick_origins, grid, stride, activity,
+                    evaluated, stencils, threshold, round_base, tile, &frame, &bricks, &lo, &hi);
+    released_lo[0][k] = lo.x, released_lo[1][k] = lo.y, released_lo[2][k] = lo.z;
+    released_hi[0][k] = hi.x, released_hi[1][k] = hi.y, released_hi[2][k] = hi.z;
   }
   LaneStencil st;
   prepare_lane_stencil(stencils, shapes, &st);
@@ -1045,9 +1099,14 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
   lane_mask running = as_int8(vload8(0, live));
   lane_uint brick_flags = select((lane_uint)0u, (lane_uint)FLAG_UNCONVERGED, running);
   lane_uint lane_updates = 0;
-  // The box of each lane's significant changes, in frame coordinates (empty: lo > hi).
-  int8 changed_lo_x = EDGE, changed_lo_y = EDGE, changed_lo_z = EDGE;
-  int8 changed_hi_x = -1, changed_hi_y = -1, changed_hi_z = -1;
+  // The box of each lane's significant changes, in frame coordinates (empty: lo > hi); a lane
+  // that released tentative states at load counts its whole brick as changed.
+  int8 changed_lo_x = vload8(0, released_lo[0]), changed_lo_y = vload8(0, released_lo[1]);
+  int8 changed_lo_z = vload8(0, released_lo[2]);
+  int8 changed_hi_x = vload8(0, released_hi[0]), changed_hi_y = vload8(0, released_hi[1]);
+  int8 changed_hi_z = vload8(0, released_hi[2]);
+  brick_flags |=
+      select((lane_uint)0u, (lane_uint)(FLAG_WRITTEN | FLAG_CHANGED), changed_lo_x <= changed_hi_x);
   uint tick = 0;
   for (int sweep = 0; sweep < max_sweeps && lanes_any(running); ++sweep) {
     const int flip = corner_flip(sweep_reversal(sweep));
@@ -1074,6 +1133,10 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
       lane_best_candidate(lanes, &nb, &st, &frame, c, seeds, &best, &best_label,
                           &best_seed_distance);
       lane_updates -= as_uint8(lanes);
+      // Above the threshold, the value is kept tentative (state_word.clh).
+      if (FRONT_STEPPING)
+        best_label |=
+            select((lane_uint)0u, (lane_uint)TENTATIVE_LABEL, (best > threshold) & ~isinf(best));
       const lane_float current = tile->distance[p];
       const lane_uint current_label = word & LABEL_NONE;
       const lane_mask differs =
@@ -1084,7 +1147,9 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
       tile->seed_distance[p] = select(tile->seed_distance[p], best_seed_distance, differs);
       brick_flags |= select((lane_uint)0u, (lane_uint)FLAG_WRITTEN, differs);
       const lane_mask significant =
-          differs & lane_significant_change(current, current_label, best, best_label);
+          differs &
+          (FRONT_STEPPING ? lane_visible_change(current, current_label, best, best_label)
+                          : lane_significant_change(current, current_label, best, best_label));
       tile->stamp[p] = select(tile->stamp[p], (lane_uint)stamp, significant);
       sweep_changed |= significant;
       changed_lo_x = min(changed_lo_x, select((int8)EDGE, (int8)c.x, significant));
@@ -1110,8 +1175,9 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
   vstore8(changed_hi_z, 0, hi[2]);
   for (int k = 0; k < LANES; ++k) {
     if (brick[k] < 0) continue;
-    store_lane(k, brick[k], first + k, corner[k], lane_flags[k], tile, scratch, evaluated, changed,
-               activity);
+    const float least = store_lane(k, brick[k], first + k, corner[k], lane_flags[k], tile, scratch,
+                                   evaluated, changed, activity);
+    if (FRONT_STEPPING) least_tentative[brick[k]] = least;
     flags[brick[k]] = (uchar)lane_flags[k];
     news[brick[k]] = lane_news(k, corner[k], lo, hi, reader_reach[brick[k]]);
   }

@@ -279,7 +279,8 @@ inline bool gather_far(const ulong* tile, const uint* tile_stamp, int p, int3 c,
       __global const int4 *brick_origins, int4 dims, int4 grid, __global const float *seeds,  \
       __global uchar *flags, __global ulong *update_counter, int max_sweeps,                  \
       __global uint *evaluated, __global uint *changed, uint round_base, uint stride,         \
-      __global const uint *activity, __global const uint *reader_reach, __global uint *news
+      __global const uint *activity, __global const uint *reader_reach, __global uint *news,  \
+      float threshold, __global float *least_tentative
 
 __kernel void relax_brick_sweep(BRICK_SWEEP_ARGUMENTS) {
   const int position = get_global_id(0);
@@ -579,4 +580,23 @@ __kernel void compact_active(int brick_count, __global uchar* pending,
   if (colours > 1 && brick_colour(brick_of_voxel(brick_origins[brick].xyz)) != colour) return;
   pending[brick] = 0;
   list[atomic_inc(count)] = brick;
+}
+
+// Front stepping (brick_lanes, docs/scheme.md): the least tentative distance over all bricks, as
+// float bits (distances are positive, so their bits order as the floats do).
+__kernel void least_tentative_of(int brick_count, __global const float* least_tentative,
+                                 __global uint* least_bits) {
+  const int brick = get_global_id(0);
+  if (brick >= brick_count) return;
+  const float least = least_tentative[brick];
+  if (!isinf(least)) atomic_min(least_bits, as_uint(least));
+}
+
+// The bricks holding a tentative distance at or below the threshold become pending: their
+// relaxation releases it (load_lane_row, brick_lanes.cl).
+__kernel void pend_below_threshold(int brick_count, float threshold,
+                                   __global const float* least_tentative, __global uchar* pending) {
+  const int brick = get_global_id(0);
+  if (brick >= brick_count) return;
+  if (least_tentative[brick] <= threshold) pending[brick] = 1;
 }

@@ -27,6 +27,7 @@ struct BenchOptions {
   std::uint64_t rng_seed = 1;
   std::string device = default_device_name();  // $RVOR_DEVICE, else auto
   RelaxationVariant variant = RelaxationVariant::automatic;
+  std::optional<double> front_step;
   int repetitions = 1;
   std::size_t inserted_seeds = 0;
   bool no_reference = false;
@@ -61,6 +62,7 @@ std::vector<BenchCase> chosen_cases(const BenchOptions& o) {
     c.rng_seed = o.rng_seed;
     c.device = o.device;
     c.variant = o.variant;
+    if (o.front_step) c.front_step = *o.front_step;
     c.repetitions = o.repetitions;
     c.inserted_seeds = o.inserted_seeds;
     c.reference = !o.no_reference;
@@ -225,6 +227,12 @@ void add_bench_command(CLI::App& app) {
                   "brick_lanes (brick_sweep on 8 bricks per work-item, in SIMD lanes) | "
                   "brick_sweep | voxel_phases")
       ->transform(CLI::CheckedTransformer(variants));
+  cmd->add_option("--front-step", options->front_step,
+                  "brick_lanes solves: front stepping, in voxel lengths K (values above a "
+                  "threshold stay tentative; once per colour cycle it moves K past the least "
+                  "tentative value); 0: off; default automatic: 3 for non-axis stencils and "
+                  "Voronoi cells at least 50 voxels across, else off")
+      ->check(CLI::Range(0.0, 1000.0));
   cmd->add_option("--repeat", options->repetitions,
                   "Solves per case with the same engine; the fastest counts (the first includes "
                   "the canvas upload)")

@@ -1,7 +1,7 @@
 // Every analytic field of DESIGN.md and a uniform anisotropic metric, 2D and 3D: the OpenCL
-// engine (on test::engine_device(), PoCL unless set; every relaxation variant) equals the CPU
-// reference with one seed and with 1000 seeds, and inserting 100 seeds one by one equals solving
-// with all of them at once (docs/scheme.md tolerances).
+// engine (on test::engine_device(), PoCL unless set; every relaxation variant, and brick_lanes
+// with front stepping) equals the CPU reference with one seed and with 1000 seeds, and inserting
+// 100 seeds one by one equals solving with all of them at once (docs/scheme.md tolerances).
 #include <gtest/gtest.h>
 
 #include <string>
@@ -75,6 +75,12 @@ void expect_seeds_match_reference(const FieldCase& c, int count, unsigned rng_se
         ->solve(canvas, seeds, field);
     test::expect_same_field(canvas, expected, field);
   }
+  SCOPED_TRACE("brick_lanes with front stepping");  // whatever the automatic choice would be
+  OpenCLOptions stepping = test::with_variant(RelaxationVariant::brick_lanes);
+  stepping.front_step = 3.0;
+  VoronoiField field;
+  make_opencl_propagator(test::engine_device(), stepping)->solve(canvas, seeds, field);
+  test::expect_same_field(canvas, expected, field);
 }
 
 TEST_P(EveryField, OneSeedMatchesTheReference) {

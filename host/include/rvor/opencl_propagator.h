@@ -35,6 +35,13 @@ struct OpenCLOptions {
   // (radial_shock_3d 128^3: 1.85 -> 1.58 s, docs/scheme.md, "Gathers in the general form");
   // false: one lane at a time, as every other device does.
   bool x86_gathers = true;
+  // brick_lanes solves (not insertions): front stepping, in voxel lengths (docs/scheme.md, "Front
+  // stepping"): evaluations above a threshold stay tentative, hidden from their neighbours, until
+  // the threshold, moved this far past the least tentative distance once per colour cycle, passes
+  // them. 0: off; negative: automatic, 3 for stencils with non-axis offsets and Voronoi cells at
+  // least 50 voxels across, else off (swirl 1024^2, 10 seeds: 4.15 -> 2.04 s; radial_shock_3d
+  // 128^3, 10 seeds: 3.0 -> 2.5 s; off for the standard bench cases).
+  double front_step = -1.0;
 };
 
 // device: "auto", "opencl", "opencl:N" or "pocl" (see devices.h). Throws rvor::Error when the

@@ -56,6 +56,7 @@ std::unique_ptr<Propagator> make_engine(const BenchCase& c) {
   if (c.device == "cpu") return make_reference_propagator();
   OpenCLOptions options;
   options.variant = c.variant;
+  options.front_step = c.front_step;
   return make_opencl_propagator(c.device, options);
 }
 

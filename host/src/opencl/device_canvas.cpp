@@ -297,8 +297,13 @@ DeviceCanvas upload_canvas(const cl::Context& context, const Canvas& canvas, int
   d.changed = make_scratch(context, d.slots * sizeof(cl_uint), d.bytes);
   d.flags = make_scratch(context, d.bricks, d.bytes);
   d.touched = make_scratch(context, d.bricks, d.bytes);
-  d.reader_reach = make_buffer(context, reader_reach(canvas, stencils), d.bytes);
+  const std::vector<std::uint32_t> reaches = reader_reach(canvas, stencils);
+  d.axis_readers = std::all_of(reaches.begin(), reaches.end(),
+                               [](std::uint32_t r) { return (r & kAxisReaders) != 0; });
+  d.reader_reach = make_buffer(context, reaches, d.bytes);
   d.news = make_scratch(context, d.bricks * sizeof(cl_uint), d.bytes);
+  d.least_tentative = make_scratch(context, d.bricks * sizeof(cl_float), d.bytes);
+  d.least_bits = make_scratch(context, sizeof(cl_uint), d.bytes);
   d.pending = make_scratch(context, d.bricks, d.bytes);
   d.any_pending = make_scratch(context, sizeof(cl_int), d.bytes);
   d.list = make_scratch(context, d.bricks * sizeof(cl_int), d.bytes);

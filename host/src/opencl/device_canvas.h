@@ -63,6 +63,11 @@ struct DeviceCanvas {
   // around that read a value its last relaxation changed (kernels/brick_layout.clh, brick_news),
   // so that only those become pending.
   cl::Buffer reader_reach, news;
+  // Every stencil reading any voxel has axis offsets only (a diagonal metric, uniform or not).
+  bool axis_readers = false;
+  // Front stepping (brick_lanes): per brick, the least tentative distance its last relaxation
+  // left (+inf: none); the least over all bricks as float bits (least_tentative_of).
+  cl::Buffer least_tentative, least_bits;
   std::size_t seed_capacity = 0;
   std::uint64_t bytes = 0;  // device memory allocated for this canvas
 };

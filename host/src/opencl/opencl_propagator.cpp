@@ -13,6 +13,7 @@
 
 #include "device_canvas.h"
 #include "field_transfer.h"
+#include "front_step.h"
 #include "opencl_runtime.h"
 #include "rvor/embedded_kernels.h"
 #include "rvor/error.h"
@@ -23,7 +24,8 @@ namespace {
 
 // Bounds the evaluation stamps one relaxation uses (kernels/propagation.cl, work avoidance).
 constexpr int kMaxSweeps = 64;
-constexpr std::size_t kSeedRecord = 16;  // floats, see kernels/eikonal_scheme.clh
+constexpr std::size_t kSeedRecord = 16;              // floats, see kernels/eikonal_scheme.clh
+constexpr std::size_t kTentativeLabel = 0x40000000;  // TENTATIVE_LABEL, kernels/state_word.clh
 constexpr std::size_t kBookkeepingGroup = 64;
 constexpr int kLanes = 8;  // bricks per work-item of relax_brick_lanes (kernels/brick_lanes.cl)
 // A scheme that does not settle is a bug; stop with an error rather than loop forever.
@@ -97,6 +99,7 @@ class OpenCLPropagator final : public Propagator {
       queue_.enqueueFillBuffer(canvas_->state, opencl::kInfiniteState, 0,
                                canvas_->slots * sizeof(cl_ulong));
       reset_stamps();
+      step_ = front_step(canvas, seeds);
       return finish(canvas, 0, seeds.size(), field, start, std::nullopt);
     });
   }
@@ -109,6 +112,7 @@ class OpenCLPropagator final : public Propagator {
         throw Error("insert(): the field does not match the canvas (solve first)");
       if (first_new > seeds.size()) throw Error("insert(): first_new is past the last seed");
       prepare(canvas, seeds);
+      step_ = 0.0f;  // an insertion changes a region around its seeds: no stepping
       const std::optional<std::uint64_t> held_field_hash = hold_field(field);
       device_field_hash_.reset();
       return finish(canvas, first_new, seeds.size(), field, start, held_field_hash);
@@ -158,6 +162,10 @@ class OpenCLPropagator final : public Propagator {
   }
 
   void prepare(const Canvas& canvas, const std::vector<Vec3>& seeds) {
+    // Labels leave TENTATIVE_LABEL (kernels/state_word.clh) free for front stepping.
+    if (seeds.size() >= kTentativeLabel)
+      throw Error("too many seeds: " + std::to_string(seeds.size()) + " (the OpenCL engine takes " +
+                  std::to_string(kTentativeLabel - 1) + " at most)");
     const std::vector<float> records = seed_records(canvas, seeds);
     hold_canvas(canvas);
     if (canvas_->seed_capacity < seeds.size()) {
@@ -271,6 +279,8 @@ class OpenCLPropagator final : public Propagator {
     if (!options_.x86_gathers) options += " -DNO_X86_GATHERS";
     const cl::Program program =
         opencl::build_program(context_, device_.device, propagation_source(), options);
+    build_options_ = options;
+    relax_stepping_ = cl::Kernel();  // built when a solve first steps its front
     brick_volume_ = dimension == 3 ? 512 : 64;
     variant_ = choose_variant();  // per canvas: the fallback below depends on it
     if (variant_ == RelaxationVariant::voxel_phases &&
@@ -286,6 +296,8 @@ class OpenCLPropagator final : public Propagator {
     activate_ = cl::Kernel(program, "activate_bricks");
     compact_ = cl::Kernel(program, "compact_active");
     spread_ = cl::Kernel(program, "spread_activation");
+    least_of_ = cl::Kernel(program, "least_tentative_of");
+    pend_below_ = cl::Kernel(program, "pend_below_threshold");
     flag_multi_label_ = cl::Kernel();  // built when first used (only the nerve needs it)
   }
 
@@ -298,6 +310,9 @@ class OpenCLPropagator final : public Propagator {
     queue_.enqueueFillBuffer(canvas_->touched, cl_uchar{0}, 0, canvas_->bricks);
     queue_.enqueueFillBuffer(canvas_->flags, cl_uchar{0}, 0, canvas_->bricks);
     queue_.enqueueFillBuffer(canvas_->pending, cl_uchar{0}, 0, canvas_->bricks);
+    queue_.enqueueFillBuffer(canvas_->least_tentative, std::numeric_limits<cl_float>::infinity(), 0,
+                             canvas_->bricks * sizeof(cl_float));
+    threshold_ = step_ > 0.0f ? step_ : std::numeric_limits<float>::infinity();
     const cl_uint seed_stamp = next_round_base();
     if (first_seed > 0) prepare_seed_blocks(0, first_seed, true, seed_stamp);
     prepare_seed_blocks(first_seed, seed_count, false, seed_stamp);
@@ -306,15 +321,18 @@ class OpenCLPropagator final : public Propagator {
     PropagationStats stats;
     const int colour_count = colours(canvas);
     int colour = 0;
-    for (int count = 0; next_active_list(colour_count, colour, count);
-         colour = (colour + 1) % colour_count) {
-      if (count == 0) continue;
-      relax(count);
-      stats.brick_relaxations += static_cast<std::uint64_t>(count);
-      if (++stats.iterations > kMaxRounds)
-        throw Error("the OpenCL propagation did not converge in " + std::to_string(kMaxRounds) +
-                    " rounds");
-    }
+    do {
+      for (int count = 0; next_active_list(colour_count, colour, count);
+           colour = (colour + 1) % colour_count) {
+        if (colour == 0 && step_ > 0.0f) raise_threshold();
+        if (count == 0) continue;
+        relax(count);
+        stats.brick_relaxations += static_cast<std::uint64_t>(count);
+        if (++stats.iterations > kMaxRounds)
+          throw Error("the OpenCL propagation did not converge in " + std::to_string(kMaxRounds) +
+                      " rounds");
+      }
+    } while (step_ > 0.0f && raise_threshold());
     queue_.enqueueReadBuffer(canvas_->update_counter, CL_TRUE, 0, sizeof(cl_ulong),
                              &stats.voxel_updates);
     stats.device_bytes = canvas_->bytes;
@@ -409,32 +427,74 @@ class OpenCLPropagator final : public Propagator {
     return any_pending != 0;
   }
 
+  // Front stepping, once per colour cycle and when nothing is pending: the threshold moves to the
+  // least tentative distance plus the step (it never falls), and the bricks holding tentative
+  // distances below it become pending. Returns whether any tentative distance is left.
+  bool raise_threshold() {
+    const DeviceCanvasRef d = *canvas_;
+    const cl_uint none = 0xFFFFFFFFu;
+    queue_.enqueueFillBuffer(d.least_bits, none, 0, sizeof(cl_uint));
+    set_args(least_of_, static_cast<cl_int>(d.bricks), d.least_tentative, d.least_bits);
+    queue_.enqueueNDRangeKernel(least_of_, cl::NullRange,
+                                cl::NDRange(round_up(d.bricks, kBookkeepingGroup)),
+                                cl::NDRange(kBookkeepingGroup));
+    cl_uint least_bits = none;
+    queue_.enqueueReadBuffer(d.least_bits, CL_TRUE, 0, sizeof(cl_uint), &least_bits);
+    if (least_bits == none) return false;
+    float least = 0.0f;
+    std::memcpy(&least, &least_bits, sizeof(float));
+    threshold_ = std::max(threshold_, least + step_);
+    set_args(pend_below_, static_cast<cl_int>(d.bricks), threshold_, d.least_tentative, d.pending);
+    queue_.enqueueNDRangeKernel(pend_below_, cl::NullRange,
+                                cl::NDRange(round_up(d.bricks, kBookkeepingGroup)),
+                                cl::NDRange(kBookkeepingGroup));
+    return true;
+  }
+
+  // The front step of a solve in distance units (0: none; front_step.h).
+  float front_step(const Canvas& canvas, const std::vector<Vec3>& seeds) {
+    if (variant_ != RelaxationVariant::brick_lanes) return 0.0f;
+    const double voxels =
+        opencl::front_step_voxels(options_.front_step, canvas.dimension, canvas.active_voxel_count,
+                                  seeds.size(), canvas_->axis_readers);
+    if (voxels <= 0.0) return 0.0f;
+    if (!relax_stepping_()) {  // relax_brick_lanes with the stepping built in (FRONT_STEPPING)
+      const cl::Program program = opencl::build_program(
+          context_, device_.device, propagation_source(), build_options_ + " -DFRONT_STEPPING=1");
+      relax_stepping_ = cl::Kernel(program, "relax_brick_lanes");
+    }
+    return static_cast<float>(voxels * opencl::voxel_length(canvas, seeds));
+  }
+
   void relax(int count) {
     const DeviceCanvasRef d = *canvas_;
     const bool sweep = sweeps_bricks();
-    set_args(relax_, d.list, static_cast<cl_int>(count), d.state, d.scratch, d.stencils, d.shapes,
+    cl::Kernel& kernel = step_ > 0.0f ? relax_stepping_ : relax_;
+    set_args(kernel, d.list, static_cast<cl_int>(count), d.state, d.scratch, d.stencils, d.shapes,
              d.table, d.origins, d.dims, d.grid, d.seeds, d.flags, d.update_counter,
              static_cast<cl_int>(visits_per_relaxation()));
     if (sweep) {
-      relax_.setArg(14, d.evaluated);
-      relax_.setArg(15, d.changed);
-      relax_.setArg(16, next_round_base());
-      relax_.setArg(17, stamp_stride_);
-      relax_.setArg(18, d.activity);
-      relax_.setArg(19, d.reader_reach);
-      relax_.setArg(20, d.news);
+      kernel.setArg(14, d.evaluated);
+      kernel.setArg(15, d.changed);
+      kernel.setArg(16, next_round_base());
+      kernel.setArg(17, stamp_stride_);
+      kernel.setArg(18, d.activity);
+      kernel.setArg(19, d.reader_reach);
+      kernel.setArg(20, d.news);
+      kernel.setArg(21, threshold_);
+      kernel.setArg(22, d.least_tentative);
     } else {
-      relax_.setArg(14, d.activity);
-      relax_.setArg(15, d.news);
+      kernel.setArg(14, d.activity);
+      kernel.setArg(15, d.news);
     }
     const std::size_t voxels = static_cast<std::size_t>(count) * brick_volume_;
     if (variant_ == RelaxationVariant::brick_lanes)
-      queue_.enqueueNDRangeKernel(relax_, cl::NullRange, cl::NDRange((count + kLanes - 1) / kLanes),
+      queue_.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange((count + kLanes - 1) / kLanes),
                                   cl::NDRange(1));
     else if (sweep)
-      queue_.enqueueNDRangeKernel(relax_, cl::NullRange, cl::NDRange(count), cl::NDRange(1));
+      queue_.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(count), cl::NDRange(1));
     else
-      queue_.enqueueNDRangeKernel(relax_, cl::NullRange,
+      queue_.enqueueNDRangeKernel(kernel, cl::NullRange,
                                   cl::NDRange(static_cast<std::size_t>(count) * phase_group_size()),
                                   cl::NDRange(phase_group_size()));
     set_args(commit_, d.list, static_cast<cl_int>(count), d.scratch, d.state, d.flags, d.touched);
@@ -469,6 +529,11 @@ class OpenCLPropagator final : public Propagator {
   // field_hash of the field finish() returned last, while the device state is still that field.
   std::optional<std::uint64_t> device_field_hash_;
   cl::Kernel freeze_, init_, relax_, commit_, activate_, compact_, spread_, flag_multi_label_;
+  cl::Kernel least_of_, pend_below_, relax_stepping_;
+  std::string build_options_;  // of the program the kernels above come from
+  // Front stepping: evaluations above the threshold stay tentative (kernels/state_word.clh);
+  // +inf: off. step_: how far the threshold moves past the least tentative distance.
+  float threshold_ = std::numeric_limits<float>::infinity(), step_ = 0.0f;
 };
 
 }  // namespace
