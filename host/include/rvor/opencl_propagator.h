@@ -39,8 +39,8 @@ struct OpenCLOptions {
   // stepping"): evaluations above a threshold stay tentative, hidden from their neighbours, until
   // the threshold, moved this far past the least tentative distance once per colour cycle, passes
   // them. 0: off; negative: automatic, 3 for stencils with non-axis offsets and Voronoi cells at
-  // least 50 voxels across, else off (swirl 1024^2, 10 seeds: 4.15 -> 2.04 s; radial_shock_3d
-  // 128^3, 10 seeds: 3.0 -> 2.5 s; off for the standard bench cases).
+  // least 50 voxels across, else off (swirl 1024^2, 10 seeds: 5.5 -> 3.1 s; radial_shock_3d
+  // 128^3, 10 seeds: 4.7 -> 3.5 s; off for the standard bench cases).
   double front_step = -1.0;
 };
 
