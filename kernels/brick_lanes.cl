@@ -861,9 +861,7 @@ __attribute__((always_inline)) inline uint load_lane_row(
   const float8 distance = as_float8(convert_uint8(s >> 32));
   const uint8 label = convert_uint8(s) & LABEL_NONE;
   const int8 released =
-      FRONT_STEPPING && inside
-          ? (label >= TENTATIVE_LABEL) & (label != LABEL_NONE) & (distance <= threshold)
-          : (int8)0;
+      FRONT_STEPPING && inside ? TENTATIVE(label) & (distance <= threshold) : (int8)0;
   const uint8 stamp = select(inside ? c : OUTSIDE_STAMP(c, stride), (uint8)round_base, released);
   const uint8 word = select(convert_uint8(s), convert_uint8(s) & ~TENTATIVE_LABEL, released);
   float d[EDGE];
@@ -1011,8 +1009,7 @@ inline float store_lane(int k, int brick, int position, int corner, uint brick_f
           const int fxx = mirrored(x, fx, EDGE - 1);
           distance[x] = as_uint(LANE_FLOAT(tile->distance, p_row + fxx, k));
           word[x] = LANE_UINT(tile->word, p_row + fxx, k);
-          const uint label = word[x] & LABEL_NONE;
-          if (FRONT_STEPPING && label >= TENTATIVE_LABEL && label != LABEL_NONE)
+          if (FRONT_STEPPING && TENTATIVE(word[x] & LABEL_NONE))
             least_tentative = min(least_tentative, as_float(distance[x]));
           stamp[x] = LANE_UINT(tile->stamp, p_row + fxx, k);
           evaluation[x] = LANE_UINT(tile->evaluated, l_row + fxx, k);
@@ -1031,8 +1028,7 @@ inline float store_lane(int k, int brick, int position, int corner, uint brick_f
           if (brick_flags != 0) relaxed[real] = INF_STATE;
           continue;
         }
-        const uint label = LANE_UINT(tile->word, p, k) & LABEL_NONE;
-        if (FRONT_STEPPING && label >= TENTATIVE_LABEL && label != LABEL_NONE)
+        if (FRONT_STEPPING && TENTATIVE(LANE_UINT(tile->word, p, k) & LABEL_NONE))
           least_tentative = min(least_tentative, LANE_FLOAT(tile->distance, p, k));
         if (brick_flags != 0)
           relaxed[real] = ((ulong)as_uint(LANE_FLOAT(tile->distance, p, k)) << 32) |
@@ -1099,8 +1095,8 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
   lane_mask running = as_int8(vload8(0, live));
   lane_uint brick_flags = select((lane_uint)0u, (lane_uint)FLAG_UNCONVERGED, running);
   lane_uint lane_updates = 0;
-  // The box of each lane's significant changes, in frame coordinates (empty: lo > hi); a lane
-  // that released tentative states at load counts its whole brick as changed.
+  // The box of each lane's significant changes, in frame coordinates (empty: lo > hi), starting
+  // from the tentative states its load released.
   int8 changed_lo_x = vload8(0, released_lo[0]), changed_lo_y = vload8(0, released_lo[1]);
   int8 changed_lo_z = vload8(0, released_lo[2]);
   int8 changed_hi_x = vload8(0, released_hi[0]), changed_hi_y = vload8(0, released_hi[1]);

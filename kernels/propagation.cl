@@ -272,7 +272,8 @@ inline bool gather_far(const ulong* tile, const uint* tile_stamp, int p, int3 c,
 }
 
 // The arguments of the brick-sweeping kernels (this one and relax_brick_lanes, brick_lanes.cl),
-// which the host sets alike.
+// which the host sets alike; threshold and least_tentative serve front stepping, which only
+// relax_brick_lanes does.
 #define BRICK_SWEEP_ARGUMENTS                                                                 \
   __global const int *list, int count, __global const ulong *state, __global ulong *scratch,  \
       __global const float *stencils, __global const char *shapes, __global const int *table, \

@@ -21,7 +21,8 @@ struct BenchCase {
   std::uint64_t rng_seed = 1;
   std::string device = "auto";  // make_propagator() names; "cpu" times the reference itself
   RelaxationVariant variant = RelaxationVariant::automatic;  // OpenCL devices only
-  double front_step = -1.0;  // OpenCL brick_lanes solves: OpenCLOptions::front_step
+  // OpenCL brick_lanes solves: OpenCLOptions::front_step (automatic by default).
+  double front_step = OpenCLOptions{}.front_step;
   bool reference = true;     // also time the CPU reference (slow at 256^3)
   bool fastsweeping = true;  // also time OpenVDB FastSweeping (3D canvases)
   int repetitions = 1;       // solves with the same propagator; the fastest counts

@@ -17,7 +17,7 @@ double front_step_voxels(double requested, int dimension, std::size_t active_vox
                          std::size_t seeds, bool axis_readers);
 
 // A voxel length in distance units: the median over the seeds of the shortest axis step in the
-// seed's metric, h sqrt(min_i G_ii).
+// seed's metric, h sqrt(min_i G_ii). The seeds must lie in the canvas (seed_records checks them).
 double voxel_length(const Canvas& canvas, const std::vector<Vec3>& seeds);
 
 }  // namespace rvor::opencl

@@ -100,6 +100,7 @@ class OpenCLPropagator final : public Propagator {
                                canvas_->slots * sizeof(cl_ulong));
       reset_stamps();
       step_ = front_step(canvas, seeds);
+      if (step_ > 0.0f) build_stepping_kernel();
       return finish(canvas, 0, seeds.size(), field, start, std::nullopt);
     });
   }
@@ -310,9 +311,12 @@ class OpenCLPropagator final : public Propagator {
     queue_.enqueueFillBuffer(canvas_->touched, cl_uchar{0}, 0, canvas_->bricks);
     queue_.enqueueFillBuffer(canvas_->flags, cl_uchar{0}, 0, canvas_->bricks);
     queue_.enqueueFillBuffer(canvas_->pending, cl_uchar{0}, 0, canvas_->bricks);
-    queue_.enqueueFillBuffer(canvas_->least_tentative, std::numeric_limits<cl_float>::infinity(), 0,
-                             canvas_->bricks * sizeof(cl_float));
-    threshold_ = step_ > 0.0f ? step_ : std::numeric_limits<float>::infinity();
+    threshold_ = std::numeric_limits<float>::infinity();
+    if (step_ > 0.0f) {  // only a stepping relax_brick_lanes writes least_tentative
+      threshold_ = step_;
+      queue_.enqueueFillBuffer(canvas_->least_tentative, std::numeric_limits<cl_float>::infinity(),
+                               0, canvas_->bricks * sizeof(cl_float));
+    }
     const cl_uint seed_stamp = next_round_base();
     if (first_seed > 0) prepare_seed_blocks(0, first_seed, true, seed_stamp);
     prepare_seed_blocks(first_seed, seed_count, false, seed_stamp);
@@ -452,18 +456,20 @@ class OpenCLPropagator final : public Propagator {
   }
 
   // The front step of a solve in distance units (0: none; front_step.h).
-  float front_step(const Canvas& canvas, const std::vector<Vec3>& seeds) {
+  float front_step(const Canvas& canvas, const std::vector<Vec3>& seeds) const {
     if (variant_ != RelaxationVariant::brick_lanes) return 0.0f;
     const double voxels =
         opencl::front_step_voxels(options_.front_step, canvas.dimension, canvas.active_voxel_count,
                                   seeds.size(), canvas_->axis_readers);
-    if (voxels <= 0.0) return 0.0f;
-    if (!relax_stepping_()) {  // relax_brick_lanes with the stepping built in (FRONT_STEPPING)
-      const cl::Program program = opencl::build_program(
-          context_, device_.device, propagation_source(), build_options_ + " -DFRONT_STEPPING=1");
-      relax_stepping_ = cl::Kernel(program, "relax_brick_lanes");
-    }
-    return static_cast<float>(voxels * opencl::voxel_length(canvas, seeds));
+    return voxels > 0.0 ? static_cast<float>(voxels * opencl::voxel_length(canvas, seeds)) : 0.0f;
+  }
+
+  // relax_brick_lanes with the stepping built in (FRONT_STEPPING), once per canvas.
+  void build_stepping_kernel() {
+    if (relax_stepping_()) return;
+    const cl::Program program = opencl::build_program(
+        context_, device_.device, propagation_source(), build_options_ + " -DFRONT_STEPPING=1");
+    relax_stepping_ = cl::Kernel(program, "relax_brick_lanes");
   }
 
   void relax(int count) {
