@@ -243,6 +243,32 @@ TEST(CurvedDual, LocalFieldsAreTheSeedsOwnDistancesOverTheirStars) {
   EXPECT_LT(max_error, 2e-3);
 }
 
+// A seed with no Delaunay neighbour (alone, or sharing its voxel with another seed, so that its
+// cell is empty) has no star: its local field is empty and the dual is built without it.
+TEST(CurvedDual, SeedsWithoutNeighboursHaveEmptyLocalFields) {
+  const Mat3 F = Mat3::Identity();
+  const Canvas canvas =
+      test::make_uniform_box_canvas(2, Vec3(0, 0, 0), Vec3(1, 1, 1), 32, Mat3::Identity());
+  const std::vector<Vec3> alone{Vec3(0.3, 0.6, 0)};
+  const VoronoiField alone_field = test::exact_uniform_field(canvas, alone, F);
+  const Nerve alone_nerve = extract_nerve(canvas, alone_field, alone.size());
+  const LocalFields alone_locals = compute_local_fields(canvas, alone_nerve, alone);
+  ASSERT_EQ(alone_locals.fields.size(), 1u);
+  EXPECT_TRUE(alone_locals.fields[0].distance.empty());
+  EXPECT_TRUE(std::isinf(alone_locals.fields[0].at(canvas.voxel_containing(alone[0]))));
+
+  const std::vector<Vec3> seeds{Vec3(0.25, 0.5, 0), Vec3(0.25, 0.5, 0), Vec3(0.75, 0.5, 0)};
+  const VoronoiField field = test::exact_uniform_field(canvas, seeds, F);
+  const Nerve nerve = extract_nerve(canvas, field, seeds.size());
+  const LocalFields locals = compute_local_fields(canvas, nerve, seeds);
+  ASSERT_EQ(locals.fields.size(), 3u);
+  EXPECT_TRUE(locals.fields[1].distance.empty());  // seed 0 holds the shared voxel
+  EXPECT_FALSE(locals.fields[0].distance.empty());
+  const CurvedDual dual = build_curved_dual(canvas, field, nerve, seeds, &locals);
+  ASSERT_EQ(dual.edges.size(), 1u);
+  EXPECT_TRUE(dual.edges[0].reached());
+}
+
 TEST(CurvedDual, RejectsMismatchedSeeds) {
   const Mat3 F = Mat3::Identity();
   const Canvas canvas =

@@ -186,6 +186,9 @@ LocalFields compute_local_fields(const Canvas& canvas, const Nerve& nerve,
   out.fields.resize(seeds.size());
   // One seed per task: solves are independent and each is large enough to amortise a thread.
   detail::parallel_for(seeds.size(), 1, [&](std::size_t s) {
+    // A seed without Delaunay neighbours (a lone seed, or one whose cell is empty: it shares its
+    // voxel with another) needs no geodesics: its field stays empty, +inf everywhere.
+    if (stars[s].empty()) return;
     out.fields[s] = solve_local(canvas, boxes[s], stars[s], seeds[s], limits[s]);
   });
   for (const LocalField& f : out.fields) {
