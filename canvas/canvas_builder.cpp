@@ -99,6 +99,26 @@ ResolvedDomain resolve(const DomainSpec& domain) {
   return resolved;
 }
 
+// What the numbers can hold: OpenVDB transforms (the canvas's, the .vdb written) refuse voxels
+// with h^3 < 3e-15; voxel indices are 32-bit; distances are floats.
+void check_scale(const DomainSpec& domain, const Box& bounds, double h) {
+  constexpr double kSmallestVoxel = 1.5e-5, kFarthestVoxel = 1e9, kLargestCoordinate = 1e15;
+  const double farthest =
+      std::max(bounds.lo.cwiseAbs().maxCoeff(), bounds.hi.cwiseAbs().maxCoeff());
+  std::ostringstream problem;
+  if (farthest > kLargestCoordinate)
+    problem << "has coordinates beyond +-" << kLargestCoordinate
+            << " (distances are 32-bit floats): express it in larger units";
+  else if (h < kSmallestVoxel)
+    problem << "gives voxels of size " << h << ", below " << kSmallestVoxel
+            << ", the smallest an OpenVDB transform takes: express it in smaller units or lower "
+               "the resolution";
+  else if (farthest / h > kFarthestVoxel)
+    problem << "lies " << farthest / h << " voxels from the origin, beyond the " << kFarthestVoxel
+            << " that voxel indices and double coordinates resolve: move it nearer the origin";
+  if (!problem.str().empty()) throw Error("domain " + domain.description() + " " + problem.str());
+}
+
 Placement place_voxels(const ResolvedDomain& domain, int resolution) {
   Placement p;
   p.dimension = domain.dimension;
@@ -106,6 +126,7 @@ Placement place_voxels(const ResolvedDomain& domain, int resolution) {
   const double longest = p.dimension == 3 ? extent.maxCoeff() : std::max(extent.x(), extent.y());
   if (!(longest > 0) || !std::isfinite(longest)) fail_empty(*domain.spec, resolution);
   p.h = longest / resolution;
+  check_scale(*domain.spec, domain.bounds, p.h);
   for (int a = 0; a < 3; ++a)
     p.dims[a] = std::max(1, static_cast<int>(std::lround(std::max(0.0, extent[a]) / p.h)));
   if (p.dimension == 2) p.dims[2] = 1;

@@ -13,6 +13,7 @@
 #include "commands.h"
 #include "rvor/benchmark.h"
 #include "rvor/devices.h"
+#include "rvor/error.h"
 #include "rvor/metric_field.h"
 #include "terminal.h"
 
@@ -21,7 +22,7 @@ namespace rvor::cli {
 namespace {
 
 struct BenchOptions {
-  std::string domain, metric;
+  std::optional<std::string> domain, metric;
   std::optional<int> resolution;
   std::optional<std::size_t> seeds;
   std::uint64_t rng_seed = 1;
@@ -36,24 +37,53 @@ struct BenchOptions {
   bool quiet = false;
 };
 
-// Without --domain the metric's own domain (radial_shock_3d: [1,11]^3), else [-1,1]^3.
+// The field for the default domain: in 3D where it has a 3D form, else in 2D.
+std::unique_ptr<MetricField> field_for_default_domain(const std::string& metric) {
+  try {
+    return make_analytic_metric(metric, 3);
+  } catch (const Error& error_in_3d) {
+    try {
+      return make_analytic_metric(metric, 2);
+    } catch (const Error&) {
+      throw error_in_3d;
+    }
+  }
+}
+
+// Without --domain the metric's own domain (radial_shock_3d: [1,11]^3, swirl: [-1,1]^2), else
+// [-1,1]^3, or [-1,1]^2 for a field with a 2D form only.
 std::string domain_for(const std::string& metric) {
-  const std::optional<Box> natural = make_analytic_metric(metric, 3)->natural_domain();
-  if (!natural) return BenchCase().domain;
-  const Vec3 lo = natural->lo, hi = natural->hi;
-  return "box:" + std::to_string(lo.x()) + "," + std::to_string(lo.y()) + "," +
-         std::to_string(lo.z()) + "," + std::to_string(hi.x()) + "," + std::to_string(hi.y()) +
-         "," + std::to_string(hi.z());
+  const std::unique_ptr<MetricField> field = field_for_default_domain(metric);
+  const Box box = field->natural_domain().value_or(Box{Vec3(-1, -1, -1), Vec3(1, 1, 1)});
+  auto text = [](double x) { return std::to_string(x); };
+  if (field->dimension() == 2)
+    return "rect:" + text(box.lo.x()) + "," + text(box.lo.y()) + "," + text(box.hi.x()) + "," +
+           text(box.hi.y());
+  return "box:" + text(box.lo.x()) + "," + text(box.lo.y()) + "," + text(box.lo.z()) + "," +
+         text(box.hi.x()) + "," + text(box.hi.y()) + "," + text(box.hi.z());
+}
+
+// Front stepping is a brick_lanes schedule: an explicit other variant would ignore it.
+void check_front_step(const BenchOptions& o) {
+  const bool other_variant =
+      o.variant == RelaxationVariant::brick_sweep || o.variant == RelaxationVariant::voxel_phases;
+  if (o.front_step && *o.front_step > 0 && other_variant)
+    throw Error(
+        "--front-step applies to brick_lanes solves only, not to --variant " +
+        std::string(o.variant == RelaxationVariant::brick_sweep ? "brick_sweep" : "voxel_phases"));
 }
 
 std::vector<BenchCase> chosen_cases(const BenchOptions& o) {
+  check_front_step(o);
+  if ((o.domain && o.domain->empty()) || (o.metric && o.metric->empty()))
+    throw Error(std::string(o.domain && o.domain->empty() ? "--domain" : "--metric") + " is empty");
   std::vector<BenchCase> cases;
-  if (o.domain.empty() && o.metric.empty()) {
+  if (!o.domain && !o.metric) {
     cases = standard_bench_cases();
   } else {
     BenchCase custom;
-    custom.metric = o.metric.empty() ? custom.metric : o.metric;
-    custom.domain = o.domain.empty() ? domain_for(custom.metric) : o.domain;
+    custom.metric = o.metric.value_or(custom.metric);
+    custom.domain = o.domain ? *o.domain : domain_for(custom.metric);
     cases.push_back(custom);
   }
   for (BenchCase& c : cases) {
@@ -204,15 +234,17 @@ void add_bench_command(CLI::App& app) {
   cmd->add_option(
       "--domain", options->domain,
       "box:X0,Y0,Z0,X1,Y1,Z1 | rect:X0,Y0,X1,Y1 | mesh:FILE | implicit:NAME (default: the metric's "
-      "domain, else box:-1,-1,-1,1,1,1)");
+      "domain, else box:-1,-1,-1,1,1,1, or rect:-1,-1,1,1 for a 2D field)");
   cmd->add_option("--metric", options->metric,
                   "NAME[:key=value,...], NAME one of: " + join(analytic_metric_names()));
   cmd->add_option("--resolution", options->resolution,
                   "Voxels along the longest side (default 256)")
       ->check(CLI::Range(2, 65536));
   cmd->add_option("--seeds", options->seeds, "Number of random seeds (default 1000)")
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--rng-seed", options->rng_seed, "Random generator seed")->capture_default_str();
+      ->check(seed_count(1));
+  cmd->add_option("--rng-seed", options->rng_seed, "Random generator seed")
+      ->check(rng_seed_value())
+      ->capture_default_str();
   cmd->add_option("--device", options->device,
                   "auto | opencl | opencl:N | pocl | cpu (the reference itself); default "
                   "$RVOR_DEVICE or auto")
@@ -232,7 +264,7 @@ void add_bench_command(CLI::App& app) {
                   "threshold stay tentative; once per colour cycle it moves K past the least "
                   "tentative value); 0: off; default automatic: 3 for non-axis stencils and "
                   "Voronoi cells at least 50 voxels across, else off")
-      ->check(CLI::Range(0.0, 1000.0));
+      ->check(finite_number & CLI::Range(0.0, 1000.0));
   cmd->add_option("--repeat", options->repetitions,
                   "Solves per case with the same engine; the fastest counts (the first includes "
                   "the canvas upload)")
@@ -241,6 +273,7 @@ void add_bench_command(CLI::App& app) {
   cmd->add_option("--insert", options->inserted_seeds,
                   "Then insert N more seeds one at a time into the solved canvas; the table's "
                   "`insert` column is the mean insert time as a percentage of the solve")
+      ->check(seed_count(0))
       ->capture_default_str();
   cmd->add_flag("--no-reference", options->no_reference, "Skip the CPU reference (slow at 256^3)");
   cmd->add_flag("--no-fastsweeping", options->no_fastsweeping, "Skip OpenVDB FastSweeping");

@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "commands.h"
+#include "terminal.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"rvor: Riemannian Voronoi diagrams and Delaunay duals on sparse canvases"};
@@ -25,7 +26,9 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help
+    std::cerr << "rvor: error: " << rvor::cli::parse_error_text(app, e, argc, argv) << "\n";
+    return 1;
   } catch (const std::exception& e) {
     std::cerr << "rvor: error: " << e.what() << "\n";
     return 1;

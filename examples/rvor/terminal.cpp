@@ -1,5 +1,6 @@
 #include "terminal.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <iomanip>
@@ -51,6 +52,46 @@ std::uint64_t parse_byte_size(const std::string& text) {
   return static_cast<std::uint64_t>(value * factor);
 }
 
+std::string parse_error_text(const CLI::App& app, const CLI::ParseError& error, int argc,
+                             char** argv) {
+  const std::vector<CLI::App*> chosen = app.get_subcommands();
+  if (chosen.empty() && argc > 1 && argv[1][0] != '-') {
+    std::vector<std::string> names;
+    for (const CLI::App* sub : app.get_subcommands({})) names.push_back(sub->get_name());
+    return "unknown sub-command '" + std::string(argv[1]) + "' (one of " + join(names) + ")";
+  }
+  std::string text = error.what();
+  std::replace(text.begin(), text.end(), '\n', ' ');
+  if (text.size() > 200) text = text.substr(0, 200) + "...";
+  const std::string help =
+      chosen.empty() ? "rvor --help" : "rvor " + chosen[0]->get_name() + " --help";
+  return text + " (see `" + help + "`)";
+}
+
+CLI::Validator whole_number_in(double least, double most, const std::string& most_text) {
+  return CLI::Validator(
+      [=](const std::string& text) -> std::string {
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        if (end == text.c_str() || *end != '\0' || !(value >= least) || value > most ||
+            std::floor(value) != value)
+          return "'" + text.substr(0, 40) + "' is not a whole number from " +
+                 std::to_string(static_cast<long long>(least)) + " to " + most_text;
+        return "";
+      },
+      "COUNT");
+}
+
+const CLI::Validator finite_number(
+    [](const std::string& text) -> std::string {
+      char* end = nullptr;
+      const double value = std::strtod(text.c_str(), &end);
+      if (end == text.c_str() || *end != '\0' || !std::isfinite(value))
+        return "'" + text.substr(0, 40) + "' is not a finite number";
+      return "";
+    },
+    "FINITE");
+
 std::string join(const std::vector<std::string>& items, const std::string& separator) {
   std::string joined;
   for (const std::string& item : items) joined += (joined.empty() ? "" : separator) + item;
@@ -72,9 +113,14 @@ void print_voronoi_summary(std::ostream& out, const std::string& out_dir,
       << summary.largest_cell << " voxels each)\n";
   out << "  farthest voxel from its seed: " << summary.max_distance
       << " (metric units); mean distance " << summary.mean_distance << "\n";
+  if (summary.empty_cells > 0)
+    out << "  warning: " << summary.empty_cells << " seed" << (summary.empty_cells > 1 ? "s" : "")
+        << " (seed " << summary.first_empty_cell << " first) own no voxel: each shares its voxel "
+        << "with another seed, or lies nearer to one than the resolution separates\n";
   if (summary.unreached_voxels > 0)
     out << "  warning: " << summary.unreached_voxels
-        << " voxels were reached by no seed (a domain component without seeds)\n";
+        << " voxels were reached by no seed (a domain component without seeds, or, under strong "
+           "anisotropy, voxels no stencil of the canvas reaches)\n";
   const double rate = propagation_seconds > 0 ? active_voxels / propagation_seconds : 0.0;
   const bool millions = rate >= 1e6;  // small canvases: thousands, not "0.0 M"
   out << "  propagation " << std::fixed << std::setprecision(2) << propagation_seconds << " s ("

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <CLI/CLI.hpp>
+
 #include "rvor/field_summary.h"
 
 namespace rvor::cli {
@@ -31,6 +33,21 @@ class Progress {
 // "512M", "2G", "1.5T" or plain bytes. Throws rvor::Error on anything else.
 std::uint64_t parse_byte_size(const std::string& text);
 std::string join(const std::vector<std::string>& items, const std::string& separator = ", ");
+// A command-line parse error as one line: CLI11's message, or "unknown sub-command" for a word it
+// took for one, and where to read the options.
+std::string parse_error_text(const CLI::App& app, const CLI::ParseError& error, int argc,
+                             char** argv);
+// Option validators: a whole number in [least, most] (CLI11 takes "-1" for the largest unsigned),
+// a finite number (its ranges let NaN through).
+CLI::Validator whole_number_in(double least, double most, const std::string& most_text);
+// The most seeds (the OpenCL engine keeps labels below 2^30), and any 64-bit random seed.
+inline CLI::Validator seed_count(double least) {
+  return whole_number_in(least, 1073741823.0, "1073741823");
+}
+inline CLI::Validator rng_seed_value() {
+  return whole_number_in(0, 18446744073709551615.0, "2^64 - 1");
+}
+extern const CLI::Validator finite_number;
 
 std::string device_option_help();
 

@@ -24,6 +24,7 @@
 #include "rvor/local_fields.h"
 #include "rvor/metric_field.h"
 #include "rvor/nerve.h"
+#include "rvor/output_set.h"
 #include "rvor/propagation.h"
 #include "rvor/seeds.h"
 #include "rvor/vdb_io.h"
@@ -46,7 +47,7 @@ struct VoronoiOptions {
   std::string out_dir = "rvor-out";
   bool vtu = false;
   bool overwrite = false;
-  std::string memory_budget;
+  std::optional<std::string> memory_budget;
   std::string dual;  // "", "straight", "curved" or "both"
   bool png = false;
   bool quiet = false;
@@ -62,46 +63,44 @@ std::unique_ptr<MetricField> load_metric(const VoronoiOptions& o, int dimension)
   return make_analytic_metric(o.metric, dimension);
 }
 
-std::vector<std::string> output_names(const VoronoiOptions& o) {
-  std::vector<std::string> names = {"voronoi.vdb", "report.json", "seeds.xyz"};
-  if (o.vtu) names.push_back("canvas.vtu");
-  if (!o.probe_file.empty()) names.push_back("probe.csv");
-  if (o.dual == "straight" || o.dual == "both") {
-    names.push_back("dual.vtu");
-    names.push_back("dual.mesh");
-    names.push_back("dual_flagged.vtu");
-  }
-  if (o.dual == "curved" || o.dual == "both") {
-    names.push_back("curved_dual.vtu");
-    names.push_back("curved_faces.vtu");
-  }
-  if (o.png) names.push_back("voronoi.png");
-  return names;
+// Every file rvor voronoi may write, and whether this run's options write it.
+std::vector<std::pair<std::string, bool>> output_table(const VoronoiOptions& o) {
+  const bool straight = o.dual == "straight" || o.dual == "both";
+  const bool curved = o.dual == "curved" || o.dual == "both";
+  return {{"voronoi.vdb", true},
+          {"report.json", true},
+          {"seeds.xyz", true},
+          {"canvas.vtu", o.vtu},
+          {"probe.csv", !o.probe_file.empty()},
+          {"dual.vtu", straight},
+          {"dual.mesh", straight},
+          {"dual_flagged.vtu", straight},
+          {"curved_dual.vtu", curved},
+          {"curved_faces.vtu", curved},
+          {"voronoi.png", o.png}};
 }
 
-// Refuses to replace files a previous run (or the user) left, unless --overwrite was given.
-void check_outputs_free(const VoronoiOptions& o) {
-  if (o.overwrite) return;
-  for (const std::string& name : output_names(o)) {
-    const std::string path = (std::filesystem::path(o.out_dir) / name).string();
-    if (std::filesystem::exists(path))
-      throw Error(path + " already exists; pass --overwrite to replace it");
-  }
+// This run's outputs; with `every`, all that any run may leave.
+std::vector<std::string> output_names(const VoronoiOptions& o, bool every = false) {
+  std::vector<std::string> names;
+  for (const auto& [name, written] : output_table(o))
+    if (written || every) names.push_back(name);
+  return names;
 }
 
 std::vector<Vec3> choose_seeds(const VoronoiOptions& o, const Canvas& canvas) {
   if (!o.seeds_file.empty() && o.random_seed_count > 0)
     throw Error("give either --seeds or --random-seeds, not both");
-  if (!o.seeds_file.empty()) return read_xyz(o.seeds_file);
+  if (!o.seeds_file.empty()) return read_xyz(o.seeds_file, canvas.dimension);
   if (o.random_seed_count > 0) return random_seeds(canvas, o.random_seed_count, o.rng_seed);
   throw Error("no seeds: give --seeds FILE.xyz or --random-seeds N");
 }
 
 nlohmann::json summary_json(const FieldSummary& s) {
-  return {{"reached_voxels", s.reached_voxels},    {"unreached_voxels", s.unreached_voxels},
-          {"non_empty_cells", s.non_empty_cells},  {"smallest_cell_voxels", s.smallest_cell},
-          {"largest_cell_voxels", s.largest_cell}, {"max_distance", s.max_distance},
-          {"mean_distance", s.mean_distance}};
+  return {{"reached_voxels", s.reached_voxels},      {"unreached_voxels", s.unreached_voxels},
+          {"non_empty_cells", s.non_empty_cells},    {"empty_cells", s.empty_cells},
+          {"smallest_cell_voxels", s.smallest_cell}, {"largest_cell_voxels", s.largest_cell},
+          {"max_distance", s.max_distance},          {"mean_distance", s.mean_distance}};
 }
 
 // The curved dual with its faces: per-seed local fields first (one small solve per seed, on the
@@ -131,17 +130,19 @@ void run_voronoi(const VoronoiOptions& o) {
   Progress progress(o.quiet);
   const std::string out = o.out_dir;
   prepare_output_directory(out);
-  check_outputs_free(o);
-  auto path = [&](const std::string& name) { return (std::filesystem::path(out) / name).string(); };
+  OutputSet outputs(out, output_names(o), o.overwrite);  // in place once everything succeeded
+  auto path = [&](const std::string& name) { return outputs.path(name); };
 
   progress.begin("building canvas");
   const DomainSpec domain = parse_domain(o.domain);
   if (o.png && domain.dimension() != 2)
     throw Error("--png draws 2D results only: use a rect: domain (3D results: --vtu for ParaView)");
+  const std::vector<Vec3> probes =
+      o.probe_file.empty() ? std::vector<Vec3>{} : read_xyz(o.probe_file, domain.dimension());
   const std::unique_ptr<MetricField> metric = load_metric(o, domain.dimension());
   CanvasOptions canvas_options;
   canvas_options.resolution = o.resolution;
-  if (!o.memory_budget.empty()) canvas_options.memory_budget = parse_byte_size(o.memory_budget);
+  if (o.memory_budget) canvas_options.memory_budget = parse_byte_size(*o.memory_budget);
   const Canvas canvas = build_canvas(domain, *metric, canvas_options);
   const double canvas_seconds =
       progress.end(std::to_string(canvas.active_voxel_count) + " active voxels");
@@ -158,8 +159,7 @@ void run_voronoi(const VoronoiOptions& o) {
   write_voronoi_vdb(path("voronoi.vdb"), canvas, field);
   write_xyz(path("seeds.xyz"), seeds, canvas.dimension);
   if (o.vtu) write_canvas_vtu(path("canvas.vtu"), canvas, field);
-  if (!o.probe_file.empty())
-    write_probe_csv(path("probe.csv"), probe_field(canvas, field, read_xyz(o.probe_file)));
+  if (!o.probe_file.empty()) write_probe_csv(path("probe.csv"), probe_field(canvas, field, probes));
   const FieldSummary summary = summarize_field(canvas, field, seeds.size());
   const double output_seconds = progress.end("");
 
@@ -223,6 +223,7 @@ void run_voronoi(const VoronoiOptions& o) {
   if (!dual_report.is_null()) report["dual"] = dual_report;
   if (!curved_report.is_null()) report["curved_dual"] = curved_report;
   write_file_atomically(path("report.json"), [&](std::ostream& s) { s << report.dump(2) << "\n"; });
+  outputs.commit(output_names(o, /*every=*/true));
   if (!o.quiet)
     print_voronoi_summary(std::cout, out, output_names(o), canvas.active_voxel_count, seeds.size(),
                           summary, propagation_seconds, total);
@@ -254,21 +255,28 @@ void add_voronoi_command(CLI::App& app) {
   cmd->add_option("--resolution", options->resolution,
                   "Voxels along the longest side of the domain")
       ->capture_default_str();
-  cmd->add_option("--metric", options->metric,
-                  "NAME[:key=value,...], NAME one of: " + join(analytic_metric_names()) +
-                      "; every field takes scale=S; uniform:m11,m12,m22 (2D) or "
-                      "uniform:m11,m12,m22,m13,m23,m33 (3D)")
-      ->capture_default_str();
-  cmd->add_option("--metric-file", options->metric_sol,
-                  "Metric tensors at mesh vertices (Medit .sol)");
-  cmd->add_option("--metric-mesh", options->metric_mesh,
-                  "The Medit .mesh the --metric-file lives on");
-  cmd->add_option("--metric-vdb", options->metric_vdb,
-                  "Metric as six float grids m11 m12 m22 m13 m23 m33 in a .vdb");
+  CLI::Option* metric_option =
+      cmd->add_option("--metric", options->metric,
+                      "NAME[:key=value,...], NAME one of: " + join(analytic_metric_names()) +
+                          "; every field takes scale=S; uniform:m11,m12,m22 (2D) or "
+                          "uniform:m11,m12,m22,m13,m23,m33 (3D)")
+          ->capture_default_str();
+  CLI::Option* sol_option = cmd->add_option("--metric-file", options->metric_sol,
+                                            "Metric tensors at mesh vertices (Medit .sol)");
+  CLI::Option* mesh_option = cmd->add_option("--metric-mesh", options->metric_mesh,
+                                             "The Medit .mesh the --metric-file lives on");
+  CLI::Option* vdb_option =
+      cmd->add_option("--metric-vdb", options->metric_vdb,
+                      "Metric as six float grids m11 m12 m22 m13 m23 m33 in a .vdb");
+  // One source of the metric: a second one would be ignored.
+  metric_option->excludes(sol_option)->excludes(mesh_option)->excludes(vdb_option);
+  vdb_option->excludes(sol_option)->excludes(mesh_option);
   cmd->add_option("--seeds", options->seeds_file, "Seeds, one point per line (2 or 3 coordinates)");
   cmd->add_option("--random-seeds", options->random_seed_count,
-                  "Draw N seeds uniformly in the domain");
+                  "Draw N seeds uniformly in the domain")
+      ->check(seed_count(0));
   cmd->add_option("--rng-seed", options->rng_seed, "Random generator seed for --random-seeds")
+      ->check(rng_seed_value())
       ->capture_default_str();
   cmd->add_option("--device", options->device, device_option_help())->capture_default_str();
   cmd->add_option(
@@ -289,7 +297,9 @@ void add_voronoi_command(CLI::App& app) {
       "2D only: also write voronoi.png, the cells shaded by distance bands, the seeds, and "
       "the dual when --dual is given (straight: dark segments, curved: red geodesics)");
   cmd->add_flag("--vtu", options->vtu, "Also write the labeled canvas as canvas.vtu (ParaView)");
-  cmd->add_flag("--overwrite", options->overwrite, "Replace output files left by an earlier run");
+  cmd->add_flag("--overwrite", options->overwrite,
+                "Replace the outputs of an earlier run in --out; its files that this run does "
+                "not write are removed, so that the directory holds one run's outputs");
   cmd->add_option("--memory-budget", options->memory_budget,
                   "Refuse canvases needing more memory than this (bytes, or with K/M/G/T); "
                   "default 75% of physical memory");

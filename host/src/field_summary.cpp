@@ -26,8 +26,12 @@ FieldSummary summarize_field(const Canvas& canvas, const VoronoiField& field,
   }
   if (summary.reached_voxels > 0) summary.mean_distance = distance_sum / summary.reached_voxels;
   summary.smallest_cell = summary.reached_voxels;
-  for (std::size_t size : cell_sizes) {
-    if (size == 0) continue;
+  for (std::size_t seed = 0; seed < seed_count; ++seed) {
+    const std::size_t size = cell_sizes[seed];
+    if (size == 0) {
+      if (summary.empty_cells++ == 0) summary.first_empty_cell = seed;
+      continue;
+    }
     ++summary.non_empty_cells;
     summary.smallest_cell = std::min(summary.smallest_cell, size);
     summary.largest_cell = std::max(summary.largest_cell, size);

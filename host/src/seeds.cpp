@@ -1,6 +1,7 @@
 #include "rvor/seeds.h"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <random>
@@ -19,8 +20,9 @@ std::string format_point(const Vec3& p) {
   return out.str();
 }
 
-// Parses 2 or 3 numbers separated by whitespace and/or commas; nothing else may follow.
-bool parse_point(std::string line, Vec3& point) {
+// Parses 2 or 3 numbers separated by whitespace and/or commas; nothing else may follow. Returns
+// how many, 0 on a malformed line.
+int parse_point(std::string line, Vec3& point) {
   for (char& c : line)
     if (c == ',' || c == ';' || c == '\t') c = ' ';
   std::istringstream in(line);
@@ -28,38 +30,68 @@ bool parse_point(std::string line, Vec3& point) {
   int count = 0;
   std::string token;
   while (in >> token) {
-    if (count == 4) return false;
+    if (count == 4) return 0;
     char* end = nullptr;
     values[count] = std::strtod(token.c_str(), &end);
-    if (end == token.c_str() || *end != '\0') return false;
+    if (end == token.c_str() || *end != '\0') return 0;
     ++count;
   }
-  if (count != 2 && count != 3) return false;
+  if (count != 2 && count != 3) return 0;
   point = Vec3(values[0], values[1], count == 3 ? values[2] : 0.0);
-  return true;
+  return count;
 }
 
-}  // namespace
+// A line quoted in an error message, cut short.
+std::string quoted_line(const std::string& line) {
+  return "'" + (line.size() > 80 ? line.substr(0, 80) + "..." : line) + "'";
+}
 
-std::vector<Vec3> read_xyz(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error("cannot read point file " + path);
+struct PointFile {
   std::vector<Vec3> points;
+  int columns = 0;  // coordinates per line, the same on every line
+};
+
+PointFile read_point_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in || std::filesystem::is_directory(path)) throw Error("cannot read point file " + path);
+  PointFile file;
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
     const auto first = line.find_first_not_of(" \t\r");
     if (first == std::string::npos || line[first] == '#') continue;
     if (!line.empty() && line.back() == '\r') line.pop_back();
+    const std::string where = path + ":" + std::to_string(number) + ": ";
     Vec3 point;
-    if (!parse_point(line, point))
-      throw Error(path + ":" + std::to_string(number) +
-                  ": expected 2 or 3 numbers per line, got '" + line + "'");
-    if (!point.allFinite())
-      throw Error(path + ":" + std::to_string(number) + ": coordinate is not finite");
-    points.push_back(point);
+    const int columns = parse_point(line, point);
+    if (columns == 0)
+      throw Error(where + "expected 2 or 3 numbers per line, got " + quoted_line(line));
+    if (file.columns != 0 && columns != file.columns)
+      throw Error(where + std::to_string(columns) + " coordinates, but the lines before have " +
+                  std::to_string(file.columns));
+    if (!point.allFinite()) throw Error(where + "coordinate is not finite");
+    file.columns = columns;
+    file.points.push_back(point);
   }
-  if (points.empty()) throw Error(path + ": no points in file");
-  return points;
+  if (file.points.empty()) throw Error(path + ": no points in file");
+  return file;
+}
+
+}  // namespace
+
+std::vector<Vec3> read_xyz(const std::string& path) {
+  return read_point_file(path).points;
+}
+
+std::vector<Vec3> read_xyz(const std::string& path, int dimension) {
+  PointFile file = read_point_file(path);
+  if (dimension == 3 && file.columns != 3)
+    throw Error(path + ": 2 coordinates per point, but the domain is 3D (give x y z)");
+  if (dimension == 2)
+    for (std::size_t n = 0; n < file.points.size(); ++n)
+      if (file.points[n].z() != 0.0)
+        throw Error(path + ": point " + std::to_string(n + 1) + " has z = " +
+                    std::to_string(file.points[n].z()) + ", but the domain is 2D (z must be 0)");
+  return std::move(file.points);
 }
 
 void write_xyz(const std::string& path, const std::vector<Vec3>& points, int dimension) {
@@ -87,6 +119,10 @@ void validate_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds) {
 
 std::vector<Vec3> random_seeds(const Canvas& canvas, std::size_t count, std::uint64_t rng_seed) {
   if (canvas.active_voxel_count == 0) throw Error("cannot draw seeds on an empty canvas");
+  if (count > canvas.active_voxel_count)
+    throw Error("cannot draw " + std::to_string(count) + " seeds on a canvas of " +
+                std::to_string(canvas.active_voxel_count) +
+                " active voxels: seeds sharing a voxel have empty cells");
   std::vector<std::size_t> active_slots;
   active_slots.reserve(canvas.active_voxel_count);
   for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot)

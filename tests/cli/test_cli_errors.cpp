@@ -156,6 +156,87 @@ TEST_F(CliErrors, UnknownDevice) {
                "quantum");
 }
 
+// A run that fails after some outputs could have been written (here the probe file) leaves an
+// earlier run's outputs as they were, even with --overwrite: outputs move in together at the end.
+TEST_F(CliErrors, FailingRunWithOverwriteKeepsTheEarlierOutputs) {
+  ASSERT_EQ(run_command(voronoi("--domain rect:-1,-1,1,1 --resolution 16 --seeds " + seeds2d()))
+                .exit_code,
+            0);
+  const std::string report = read_text(out() + "/report.json");
+  const std::string vdb = read_text(out() + "/voronoi.vdb");
+  write_text(dir.file("bad.xyz"), "hello world\n");
+  const CommandResult result =
+      run_command(voronoi("--domain rect:-1,-1,1,1 --resolution 16 --random-seeds 3 --overwrite "
+                          "--probe " +
+                          dir.file("bad.xyz")));
+  EXPECT_EQ(result.exit_code, 1) << result.err;
+  EXPECT_NE(result.err.find("bad.xyz:1"), std::string::npos) << result.err;
+  EXPECT_EQ(read_text(out() + "/report.json"), report);
+  EXPECT_EQ(read_text(out() + "/voronoi.vdb"), vdb);
+  EXPECT_FALSE(std::filesystem::exists(out() + "/probe.csv"));
+  for (const auto& entry : std::filesystem::directory_iterator(out()))  // no staging left
+    EXPECT_NE(entry.path().filename().string()[0], '.') << entry.path();
+}
+
+TEST_F(CliErrors, OutputNameTakenByADirectory) {
+  std::filesystem::create_directories(out() + "/report.json");
+  const CommandResult result = run_command(
+      voronoi("--domain rect:-1,-1,1,1 --resolution 16 --overwrite --seeds " + seeds2d()));
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_NE(result.err.find("is not a regular file"), std::string::npos) << result.err;
+  EXPECT_FALSE(std::filesystem::exists(out() + "/voronoi.vdb"));
+}
+
+// Command-line parse errors follow the tool's rule too: one line, exit code 1.
+TEST_F(CliErrors, ParseErrorsAreOneLineWithExitCodeOne) {
+  const std::string tool = rvor_binary();
+  for (const std::string& args :
+       {std::string("voronoi --domain rect:-1,-1,1,1 --resolution abc"),
+        std::string("voronoi --domain rect:-1,-1,1,1 --no-such-option"), std::string("frobnicate"),
+        std::string(""), std::string("voronoi --domain rect:-1,-1,1,1 --random-seeds -1"),
+        std::string("bench --insert -1"), std::string("bench --seeds 0"),
+        std::string("bench --rng-seed 99999999999999999999"), std::string("bench --front-step nan"),
+        std::string("voronoi --domain rect:-1,-1,1,1 --metric uniform:1,0,1 --metric-vdb m.vdb")}) {
+    const CommandResult result = run_command(tool + " " + args);
+    EXPECT_EQ(result.exit_code, 1) << args << ": " << result.err;
+    ASSERT_FALSE(result.err.empty()) << args;
+    EXPECT_EQ(result.err.find('\n'), result.err.size() - 1) << args << ": " << result.err;
+    EXPECT_EQ(result.err.rfind("rvor: error: ", 0), 0u) << args << ": " << result.err;
+  }
+  EXPECT_NE(run_command(tool + " frobnicate").err.find("unknown sub-command 'frobnicate'"),
+            std::string::npos);
+}
+
+TEST_F(CliErrors, SeedOffThePlaneOfA2DDomain) {
+  write_text(dir.file("z.xyz"), "0 0 0.5\n");
+  expect_error("--domain rect:-1,-1,1,1 --resolution 16 --seeds " + dir.file("z.xyz"),
+               "the domain is 2D");
+}
+
+TEST_F(CliErrors, SeedFileWithMixedColumnCounts) {
+  write_text(dir.file("mixed.xyz"), "0 0 0\n0.5 0.5\n");
+  expect_error("--domain box:-1,-1,-1,1,1,1 --resolution 16 --seeds " + dir.file("mixed.xyz"),
+               "mixed.xyz:2");
+}
+
+TEST_F(CliErrors, TwoCoordinateSeedsOnA3DDomain) {
+  expect_error("--domain box:-1,-1,-1,1,1,1 --resolution 16 --seeds " + seeds2d(),
+               "the domain is 3D");
+}
+
+TEST_F(CliErrors, MoreRandomSeedsThanVoxels) {
+  expect_error("--domain rect:-1,-1,1,1 --resolution 4 --random-seeds 100", "16 active voxels");
+}
+
+// Coordinates that double indices, float distances or OpenVDB transforms cannot hold are refused
+// when the canvas is placed, not after the solve.
+TEST_F(CliErrors, DomainScalesTheNumbersCannotHold) {
+  expect_error("--domain rect:0,0,1e39,1e39 --resolution 16 --random-seeds 3", "beyond");
+  expect_error("--domain rect:0,0,1e-20,1e-20 --resolution 16 --random-seeds 3", "OpenVDB");
+  expect_error("--domain box:1e14,0,0,100000000000001,1,1 --resolution 16 --random-seeds 3",
+               "voxels from the origin");
+}
+
 // `rvor bench` takes its default device from $RVOR_DEVICE as `rvor voronoi` does, so a bad value
 // is refused there too rather than silently replaced by auto.
 TEST_F(CliErrors, BenchTakesTheDeviceFromTheEnvironment) {

@@ -168,10 +168,42 @@ TEST_F(CliOutputs, BothDualsAreWrittenAndReported) {
     EXPECT_TRUE(std::filesystem::exists(out() + "/" + file)) << file;
 }
 
+// --overwrite replaces the earlier run's set: its files that this run does not write go, so that
+// report.json describes everything in the directory.
 TEST_F(CliOutputs, OverwriteReplacesAnEarlierRun) {
-  ASSERT_EQ(run_uniform_2d("").exit_code, 0);
+  ASSERT_EQ(run_uniform_2d("--vtu").exit_code, 0);
+  ASSERT_TRUE(std::filesystem::exists(out() + "/canvas.vtu"));
   EXPECT_NE(run_uniform_2d("").exit_code, 0);
   EXPECT_EQ(run_uniform_2d("--overwrite").exit_code, 0);
+  EXPECT_FALSE(std::filesystem::exists(out() + "/canvas.vtu"));
+  EXPECT_TRUE(std::filesystem::exists(out() + "/probe.csv"));
+}
+
+// Seeds that share a voxel leave all but one with an empty cell: said on the terminal and counted
+// in report.json, not silent.
+TEST_F(CliOutputs, SeedsSharingAVoxelAreReported) {
+  write_text(dir.file("seeds.xyz"), "0.1 0.1\n0.1 0.1\n0.5 0.5\n");
+  const CommandResult result =
+      run_command(rvor_binary() + " voronoi --out " + out() +
+                  " --domain rect:-1,-1,1,1 --resolution 16 --seeds " + dir.file("seeds.xyz"));
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find("warning: 1 seed (seed 1 first) own no voxel"), std::string::npos)
+      << result.out;
+  std::ifstream in(out() + "/report.json");
+  const auto report = nlohmann::json::parse(in);
+  EXPECT_EQ(report["field"]["empty_cells"].get<int>(), 1);
+  EXPECT_EQ(report["field"]["non_empty_cells"].get<int>(), 2);
+}
+
+// Without --domain, bench takes the metric's own domain, in 2D for a field with a 2D form only.
+TEST_F(CliOutputs, BenchDefaultDomainOfA2DField) {
+  const CommandResult result =
+      run_command(rvor_binary() +
+                  " bench --quiet --metric swirl --resolution 16 --seeds 3 --no-reference "
+                  "--no-fastsweeping --json");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const auto report = nlohmann::json::parse(result.out);
+  EXPECT_EQ(report["cases"][0]["domain"].get<std::string>().rfind("rect:", 0), 0u) << result.out;
 }
 
 TEST_F(CliOutputs, TopLevelHelpListsSubcommandsWithExamples) {

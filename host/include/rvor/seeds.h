@@ -8,20 +8,23 @@
 
 namespace rvor {
 
-// Reads a .xyz file: one point per line, 2 or 3 whitespace- or comma-separated coordinates;
-// blank lines and lines starting with '#' are skipped. Throws "FILE:LINE: ..." on malformed lines
-// and on an empty file.
+// Reads a .xyz file: one point per line, 2 or 3 whitespace- or comma-separated coordinates, the
+// same count on every line; blank lines and lines starting with '#' are skipped. Throws
+// "FILE:LINE: ..." on malformed lines and on an empty file.
 std::vector<Vec3> read_xyz(const std::string& path);
+// The same for a domain of `dimension`: 3D needs 3 coordinates; 2D takes 2, or 3 with z = 0.
+std::vector<Vec3> read_xyz(const std::string& path, int dimension);
 // Writes points atomically, 2 or 3 coordinates per line (by dimension), full precision.
 void write_xyz(const std::string& path, const std::vector<Vec3>& points, int dimension);
 
 // Throws rvor::Error "seed N at (x, y, z) is outside the domain" when a seed's containing voxel
 // is not an active canvas voxel, or its coordinates are not finite; and on an empty seed list.
+// A 2D canvas ignores z (read_xyz with a dimension checks files).
 void validate_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds);
 
 // `count` points: an active voxel drawn uniformly, then a point within 0.49 voxel of its centre
 // along each axis, so the seed's containing voxel is that active voxel; deterministic in
-// `rng_seed`.
+// `rng_seed`. Throws when `count` exceeds the active voxels (seeds sharing a voxel).
 std::vector<Vec3> random_seeds(const Canvas& canvas, std::size_t count, std::uint64_t rng_seed);
 
 }  // namespace rvor

@@ -1,0 +1,34 @@
+#pragma once
+// A run's output files as one set: they are written into a staging directory inside the output
+// directory and moved into place together once the run has succeeded, so a run that fails (a bad
+// input found late, a writer that throws) leaves the earlier outputs as they were.
+#include <string>
+#include <vector>
+
+namespace rvor {
+
+class OutputSet {
+ public:
+  // `names`: the files this run writes into `dir` (which must exist: prepare_output_directory).
+  // `replace`: earlier files of those names may be replaced; otherwise their presence is an
+  // error. Throws rvor::Error before anything is written when a name is taken by something that
+  // is not a regular file, or exists without `replace`.
+  OutputSet(std::string dir, std::vector<std::string> names, bool replace);
+  OutputSet(const OutputSet&) = delete;
+  OutputSet& operator=(const OutputSet&) = delete;
+  ~OutputSet();  // removes what is still staged: before commit(), `dir` is as it was
+
+  // Where the writer of `name` (one of the names) writes it until commit().
+  std::string path(const std::string& name) const;
+  // Moves every staged file into `dir`; then, when replacing, removes the files of
+  // `earlier_names` that this run did not write (the rest of an earlier run's set). Throws
+  // rvor::Error when a name was not written.
+  void commit(const std::vector<std::string>& earlier_names = {});
+
+ private:
+  std::string dir_, staging_;
+  std::vector<std::string> names_;
+  bool replace_;
+};
+
+}  // namespace rvor

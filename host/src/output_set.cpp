@@ -1,0 +1,57 @@
+#include "rvor/output_set.h"
+
+#include <algorithm>
+#include <filesystem>
+
+#include "rvor/atomic_file.h"
+#include "rvor/error.h"
+
+namespace fs = std::filesystem;
+
+namespace rvor {
+
+OutputSet::OutputSet(std::string dir, std::vector<std::string> names, bool replace)
+    : dir_(std::move(dir)), names_(std::move(names)), replace_(replace) {
+  for (const std::string& name : names_) {
+    const fs::path target = fs::path(dir_) / name;
+    std::error_code error;
+    const fs::file_status status = fs::symlink_status(target, error);
+    if (!fs::exists(status)) continue;
+    if (!fs::is_regular_file(status))
+      throw Error(target.string() +
+                  " exists and is not a regular file; remove it or choose "
+                  "another --out");
+    if (!replace_) throw Error(target.string() + " already exists; pass --overwrite to replace it");
+  }
+  staging_ = temporary_path_for((fs::path(dir_) / "outputs").string());
+  std::error_code error;
+  if (!fs::create_directory(staging_, error))
+    throw Error("cannot write to output directory " + dir_ + ": " +
+                (error ? error.message() : "cannot create a staging directory"));
+}
+
+OutputSet::~OutputSet() {
+  std::error_code ignored;
+  fs::remove_all(staging_, ignored);
+}
+
+std::string OutputSet::path(const std::string& name) const {
+  return (fs::path(staging_) / name).string();
+}
+
+void OutputSet::commit(const std::vector<std::string>& earlier_names) {
+  for (const std::string& name : names_)
+    if (!fs::is_regular_file(path(name)))
+      throw Error("internal error: output " + name + " was not written");
+  for (const std::string& name : names_)
+    publish_temporary(path(name), (fs::path(dir_) / name).string());
+  if (replace_)
+    for (const std::string& name : earlier_names) {
+      if (std::find(names_.begin(), names_.end(), name) != names_.end()) continue;
+      const fs::path stale = fs::path(dir_) / name;
+      std::error_code error;
+      if (fs::is_regular_file(fs::symlink_status(stale, error))) fs::remove(stale, error);
+    }
+}
+
+}  // namespace rvor
