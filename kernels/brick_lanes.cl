@@ -186,15 +186,14 @@ inline void lane_seed_positions(lane_uint label, __global const float* seeds, la
 }
 
 // u0 = |x - s|_{G_s} of frame voxel cf in each lane (x its real coordinates, s = (sx, sy, sz) a
-// seed, g = h^2 G_s), and G q with q = x - s.
-__attribute__((always_inline)) inline lane_float lane_seed_distance(lane_float sx, lane_float sy,
-                                                                    lane_float sz,
-                                                                    const LaneFrame* frame, int3 cf,
-                                                                    const lane_float* g,
-                                                                    lane_float* gq) {
+// seed, g = h^2 G_s), G q with q = x - s, and |q|^2.
+__attribute__((always_inline)) inline lane_float lane_seed_distance(
+    lane_float sx, lane_float sy, lane_float sz, const LaneFrame* frame, int3 cf,
+    const lane_float* g, lane_float* gq, lane_float* q_norm2) {
   const lane_float qx = frame->base_x + frame->sign_x * (float)cf.x - sx;
   const lane_float qy = frame->base_y + frame->sign_y * (float)cf.y - sy;
   const lane_float qz = frame->base_z + frame->sign_z * (float)cf.z - sz;
+  *q_norm2 = qx * qx + qy * qy + qz * qz;
   gq[0] = g[0] * qx + g[1] * qy + g[3] * qz;
   gq[1] = g[1] * qx + g[2] * qy + g[4] * qz;
   gq[2] = g[3] * qx + g[4] * qy + g[5] * qz;
@@ -216,10 +215,11 @@ inline void lane_seed_metric(lane_uint label, __global const float* seeds, lane_
   g[5] = LANE_COLUMN(m, s5);
 }
 
-// u0 of frame voxel cf under `label` in each lane, with that seed's metric g and G q.
+// u0 of frame voxel cf under `label` in each lane, with that seed's metric g, G q and |q|^2 (the
+// axis form leaves q_norm2 unset: its offsets have length 1, always fully factorized).
 __attribute__((always_inline)) inline lane_float lane_label_seed_distance(
     lane_uint label, const LaneFrame* frame, int3 cf, __global const float* seeds, lane_float* g,
-    lane_float* gq) {
+    lane_float* gq, lane_float* q_norm2) {
   lane_float sx, sy, sz;
   lane_seed_positions(label, seeds, &sx, &sy, &sz);
 #ifdef AXIS_LANES
@@ -234,7 +234,7 @@ __attribute__((always_inline)) inline lane_float lane_label_seed_distance(
   return sqrt(max(0.0f, qx * gq[0] + qy * gq[1] + qz * gq[2]));
 #else
   lane_seed_metric(label, seeds, g);
-  return lane_seed_distance(sx, sy, sz, frame, cf, g, gq);
+  return lane_seed_distance(sx, sy, sz, frame, cf, g, gq, q_norm2);
 #endif
 }
 
@@ -267,7 +267,8 @@ __attribute__((always_inline)) inline lane_float lane_solve_for_label(
     lane_uint label, const LaneNeighbours* nb, const LaneStencil* st, const LaneFrame* frame,
     int3 cf, __global const float* seeds, lane_float* seed_distance) {
   lane_float g[6], gq[3];
-  const lane_float u0 = lane_label_seed_distance(label, frame, cf, seeds, g, gq);
+  lane_float q_norm2;  // not needed: unit offsets, factorized in full (offset_factorization_weight)
+  const lane_float u0 = lane_label_seed_distance(label, frame, cf, seeds, g, gq, &q_norm2);
   *seed_distance = u0;
   const lane_mask factored = u0 > 0.0f;
   const lane_float inverse_u0 = select((lane_float)0.0f, 1.0f / u0, factored);
@@ -360,11 +361,17 @@ inline lane_float lane_factorization_weight(const lane_float* d, const lane_floa
   return clamp((0.09f - m2) / 0.05f, 0.0f, 1.0f);
 }
 
+// offset_factorization_weight (eikonal_scheme.clh) per lane.
+inline lane_float lane_offset_factorization_weight(lane_float p_norm2, lane_float e_norm2) {
+  return clamp((p_norm2 - e_norm2) / (1.25f * e_norm2), 0.0f, 1.0f);
+}
+
 __attribute__((always_inline)) inline lane_float lane_solve_for_label(
     lane_uint label, const LaneNeighbours* nb, const LaneStencil* st, const LaneFrame* frame,
     int3 cf, __global const float* seeds, lane_float* seed_distance) {
   lane_float g[6], gq[3];
-  const lane_float u0 = lane_label_seed_distance(label, frame, cf, seeds, g, gq);
+  lane_float q_norm2;
+  const lane_float u0 = lane_label_seed_distance(label, frame, cf, seeds, g, gq, &q_norm2);
   *seed_distance = u0;
   const lane_float alpha = select((lane_float)0.0f, lane_factorization_weight(st->d, g), u0 > 0.0f);
   const lane_mask factored = alpha > 0.0f;
@@ -373,9 +380,13 @@ __attribute__((always_inline)) inline lane_float lane_solve_for_label(
 #pragma unroll
   for (int i = 0; i < STENCIL_TERMS; ++i) {
     const lane_float eGq = st->ex[i] * gq[0] + st->ey[i] * gq[1] + st->ez[i] * gq[2];
+    const lane_float e_norm2 =
+        st->ex[i] * st->ex[i] + st->ey[i] * st->ey[i] + st->ez[i] * st->ez[i];
+    const lane_float term_alpha = alpha * lane_offset_factorization_weight(q_norm2, e_norm2);
     // A missing term (weight 0) is left out, as past the scalar stencil's term count.
-    w[i] = select(lane_term_value(nb, i, label, u0, eGq * inverse_u0, alpha, factored),
-                  (lane_float)INFINITY, st->rho[i] == 0.0f);
+    w[i] =
+        select(lane_term_value(nb, i, label, u0, eGq * inverse_u0, term_alpha, term_alpha > 0.0f),
+               (lane_float)INFINITY, st->rho[i] == 0.0f);
     rho[i] = st->rho[i];
   }
   lane_sort(w, rho);
@@ -758,10 +769,11 @@ inline void lane_tile_seed_distances(LaneTile* tile, const LaneFrame* frame,
           continue;
         }
         const lane_uint seed = select((lane_uint)NO_LANE_LABEL, label, labelled);
-        lane_float g[6], gq[3];
+        lane_float g[6], gq[3], q_norm2;
         const int3 cf = (int3)(tx - 1, ty - 1, tz - TILE_PAD_Z);
-        tile->seed_distance[p] = select(
-            (lane_float)0.0f, lane_label_seed_distance(seed, frame, cf, seeds, g, gq), labelled);
+        tile->seed_distance[p] =
+            select((lane_float)0.0f,
+                   lane_label_seed_distance(seed, frame, cf, seeds, g, gq, &q_norm2), labelled);
       }
 }
 

@@ -73,6 +73,7 @@ class ReferenceSolver {
     double u0;
     double inverse_u0;  // 0 at the seed itself (no correction there)
     double weight;      // of the factorization correction, in [0, 1] (docs/scheme.md, step 2)
+    double p_norm2;     // |x - s|^2 (world)
   };
   SourceFrame source_frame(int32_t voxel, int32_t label) const;
   double factorization_weight(const Seed& seed, const Mat3& D) const;
