@@ -57,16 +57,23 @@ VoxelStencil to_voxel_stencil(const SellingStencil& selling, const Mat3& D) {
 }
 
 // Solves sum_k rho_k max(0, t - w_k)^2 = h^2 for its largest root, w sorted ascending (n >= 1).
-// Solved for tau = t - w_0 so that large distances do not cancel catastrophically.
+// Solved for tau = t - w_0 so that large distances do not cancel catastrophically, with the
+// discriminant b^2 - a c written as a h^2 - sum_{i<j} rho_i rho_j (w_i - w_j)^2 (as the kernels'
+// solve_sorted): b^2 and a c cancel when a term of tiny weight lies far below the others (strong
+// anisotropy nearly along an axis), and their rounding, 1e-11 of t at anisotropy 1000, kept two
+// voxels re-evaluating each other above the 1e-12 change threshold forever.
 double solve_sorted_quadratic(const double* w, const double* rho, int n, double h) {
-  double a = 0, b = 0, c = -h * h;
+  double a = 0, b = 0, pair_sum = 0;
   double tau = 0;
   for (int k = 0; k < n; ++k) {
     const double delta = w[k] - w[0];
+    for (int i = 0; i < k; ++i) {
+      const double d = w[i] - w[k];
+      pair_sum += rho[i] * rho[k] * d * d;
+    }
     a += rho[k];
     b += rho[k] * delta;
-    c += rho[k] * delta * delta;
-    tau = (b + std::sqrt(std::max(0.0, b * b - a * c))) / a;
+    tau = (b + std::sqrt(std::max(0.0, a * h * h - pair_sum))) / a;
     if (k + 1 == n || w[0] + tau <= w[k + 1]) break;
   }
   return w[0] + tau;

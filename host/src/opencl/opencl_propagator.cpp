@@ -334,7 +334,9 @@ class OpenCLPropagator final : public Propagator {
         stats.brick_relaxations += static_cast<std::uint64_t>(count);
         if (++stats.iterations > kMaxRounds)
           throw Error("the OpenCL propagation did not converge in " + std::to_string(kMaxRounds) +
-                      " rounds");
+                      " rounds (float rounding can keep voxels changing under very strong "
+                      "anisotropy along a grid axis, docs/scheme.md 'Convergence'; --device cpu "
+                      "solves in double)");
       }
     } while (step_ > 0.0f && raise_threshold());
     queue_.enqueueReadBuffer(canvas_->update_counter, CL_TRUE, 0, sizeof(cl_ulong),
