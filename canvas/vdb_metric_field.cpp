@@ -1,4 +1,5 @@
 #include <array>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -47,6 +48,39 @@ void extend_by_one_voxel(FloatGrid& grid) {
   for (const auto& [c, value] : extension) output.setValue(c, value);
 }
 
+std::string voxel_text(const openvdb::Coord& c) {
+  return "(" + std::to_string(c.x()) + ", " + std::to_string(c.y()) + ", " + std::to_string(c.z()) +
+         ")";
+}
+
+// Every stored tensor, not only those the canvas happens to sample: a bad voxel between the
+// samples would still bend the interpolated field. Identical neighbours are checked once.
+void validate_stored_tensors(const std::string& path, const std::array<FloatGrid::Ptr, 6>& grids,
+                             int dimension) {
+  std::array<FloatGrid::ConstAccessor, 6> accessors{
+      grids[0]->getConstAccessor(), grids[1]->getConstAccessor(), grids[2]->getConstAccessor(),
+      grids[3]->getConstAccessor(), grids[4]->getConstAccessor(), grids[5]->getConstAccessor()};
+  SolTensor checked{};
+  bool any_checked = false;
+  for (auto voxel = grids[0]->cbeginValueOn(); voxel; ++voxel) {
+    if (!voxel.isVoxelValue()) continue;  // tiles: voxelizeActiveTiles ran before
+    const openvdb::Coord c = voxel.getCoord();
+    SolTensor t{};
+    for (int n = 0; n < 6; ++n) {
+      float value = 0;
+      if (!accessors[n].probeValue(c, value) && !(dimension == 2 && n >= 3))
+        throw Error("VDB metric file " + path + ": grid '" + kMetricGridNames[n] +
+                    "' has no value at voxel " + voxel_text(c) + ", where 'm11' has one");
+      t[n] = value;
+    }
+    if (dimension == 2) t[3] = t[4] = 0, t[5] = 1;
+    if (any_checked && t == checked) continue;
+    require_spd(tensor_from_sol(t), "in VDB file " + path + " at voxel " + voxel_text(c));
+    checked = t;
+    any_checked = true;
+  }
+}
+
 int stored_dimension(const FloatGrid& grid) {
   if (const auto meta = grid.getMetadata<openvdb::Int32Metadata>("rvor_dimension"))
     return meta->value() == 2 ? 2 : 3;
@@ -65,8 +99,10 @@ class VdbMetricField : public MetricField {
     for (const auto& grid : grids_) {
       if (grid->transform() != grids_[0]->transform())
         throw Error("VDB metric file " + path + ": grids m11 ... m33 have different transforms");
-      extend_by_one_voxel(*grid);
+      grid->tree().voxelizeActiveTiles();
     }
+    validate_stored_tensors(path, grids_, dimension_);
+    for (const auto& grid : grids_) extend_by_one_voxel(*grid);
   }
 
   int dimension() const override { return dimension_; }
@@ -76,6 +112,7 @@ class VdbMetricField : public MetricField {
   Mat3 at(const Vec3& p) const override {
     openvdb::Vec3d index = grids_[0]->transform().worldToIndex(openvdb::Vec3d(p.x(), p.y(), p.z()));
     if (dimension_ == 2) index.z() = layer_z_;  // a 2D field is one voxel layer
+    require_covered(index, p);
     SolTensor c{};
     for (int n = 0; n < 6; ++n) {
       // A private, unregistered accessor per call: thread-safe, and its cache serves the eight
@@ -91,6 +128,21 @@ class VdbMetricField : public MetricField {
   }
 
  private:
+  // The interpolation's eight corners must hold values (stored, or the shell around them), else
+  // it blends in the background 0, which is no metric.
+  void require_covered(const openvdb::Vec3d& index, const Vec3& p) const {
+    const openvdb::Coord lo = openvdb::Coord::floor(index);
+    UnsafeAccessor accessor(grids_[0]->tree());
+    for (int corner = 0; corner < 8; ++corner) {
+      const openvdb::Coord c =
+          lo.offsetBy(corner & 1, (corner >> 1) & 1, dimension_ == 2 ? 0 : (corner >> 2) & 1);
+      if (!accessor.isValueOn(c))
+        throw Error("the metric of VDB file " + path_ + " does not cover (" +
+                    std::to_string(p.x()) + ", " + std::to_string(p.y()) + ", " +
+                    std::to_string(p.z()) + "): the domain reaches beyond its grids' values");
+    }
+  }
+
   Box world_bounds(const openvdb::CoordBBox& box) const {
     const auto& transform = grids_[0]->transform();
     const auto lo = transform.indexToWorld(box.min().asVec3d() - openvdb::Vec3d(0.5));

@@ -132,6 +132,29 @@ TEST(VdbIo, MetricRoundTrip2D) {
   EXPECT_TRUE(field->at(Vec3(1.3, 0.6, 5)).isApprox(planar(Vec3(1.3, 0.6, 0)), 1e-5));  // z ignored
 }
 
+// Every stored tensor is checked when the file is read, not only those a canvas samples; and a
+// domain that reaches beyond the stored values is named, not read as the background 0 tensor.
+TEST(VdbIo, BadStoredTensorsAndUncoveredPointsAreNamed) {
+  test::TempDir dir;
+  Canvas canvas = test::make_box_canvas(3, Vec3(0, 0, 0), Vec3(1, 1, 1), 16, linear_in_x);
+  std::size_t slot = 0;
+  while (!canvas.active[slot]) ++slot;
+  canvas.metric[6 * (slot + 37)] = -1.0f;  // m11 < 0 at one voxel
+  write_metric_vdb(dir.file("bad.vdb"), canvas);
+  const std::string bad = error_of([&] { load_vdb_metric(dir.file("bad.vdb")); });
+  EXPECT_NE(bad.find("bad.vdb at voxel"), std::string::npos) << bad;
+  EXPECT_NE(bad.find("not symmetric positive definite"), std::string::npos) << bad;
+
+  const Canvas good = test::make_box_canvas(3, Vec3(0, 0, 0), Vec3(1, 1, 1), 16, linear_in_x);
+  write_metric_vdb(dir.file("good.vdb"), good);
+  const auto field = load_vdb_metric(dir.file("good.vdb"));
+  CanvasOptions options;
+  options.resolution = 16;
+  const std::string uncovered =
+      error_of([&] { build_canvas(parse_domain("box:0,0,0,2,1,1"), *field, options); });
+  EXPECT_NE(uncovered.find("does not cover"), std::string::npos) << uncovered;
+}
+
 TEST(VdbIo, MissingFilesAndGridsAreNamed) {
   test::TempDir dir;
   const std::string missing = error_of([&] { load_vdb_metric(dir.file("none.vdb")); });
