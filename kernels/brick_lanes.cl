@@ -779,21 +779,41 @@ inline void lane_tile_seed_distances(LaneTile* tile, const LaneFrame* frame,
 
 // significant_change (eikonal_scheme.clh) per lane.
 inline lane_mask lane_significant_change(lane_float u, lane_uint u_label, lane_float t,
-                                         lane_uint t_label) {
+                                         lane_uint t_label, lane_float tolerance) {
   const lane_mask u_inf = isinf(u), t_inf = isinf(t);
-  const lane_mask moved = fabs(u - t) > RELATIVE_TOLERANCE * max(u, t);
+  const lane_mask moved = fabs(u - t) > tolerance * max(u, t);
   return (u_label != t_label) | select(moved, u_inf ^ t_inf, u_inf | t_inf);
 }
 
 // lane_significant_change between the states as readers see them: a tentative state (and an
 // unreached one) reads as +inf without a label.
 inline lane_mask lane_visible_change(lane_float u, lane_uint u_label, lane_float t,
-                                     lane_uint t_label) {
+                                     lane_uint t_label, lane_float tolerance) {
   const lane_mask u_hidden = u_label >= TENTATIVE_LABEL, t_hidden = t_label >= TENTATIVE_LABEL;
-  return lane_significant_change(
-      select(u, (lane_float)INFINITY, u_hidden), select(u_label, (lane_uint)LABEL_NONE, u_hidden),
-      select(t, (lane_float)INFINITY, t_hidden), select(t_label, (lane_uint)LABEL_NONE, t_hidden));
+  return lane_significant_change(select(u, (lane_float)INFINITY, u_hidden),
+                                 select(u_label, (lane_uint)LABEL_NONE, u_hidden),
+                                 select(t, (lane_float)INFINITY, t_hidden),
+                                 select(t_label, (lane_uint)LABEL_NONE, t_hidden), tolerance);
 }
+
+// change_tolerance (eikonal_scheme.clh) of each lane's stencil at the visit just solved.
+#ifdef AXIS_LANES
+inline lane_float lane_change_tolerance(const LaneStencil* st) {
+  return change_tolerance(st->weight, LANE_TERMS);
+}
+#else
+inline lane_float lane_change_tolerance(const LaneStencil* st) {
+  lane_float least = INFINITY, most = 0.0f;
+#pragma unroll
+  for (int i = 0; i < STENCIL_TERMS; ++i) {
+    least = min(least, select((lane_float)INFINITY, st->rho[i], st->rho[i] > 0.0f));
+    most = max(most, st->rho[i]);
+  }
+  return select((lane_float)RELATIVE_TOLERANCE,
+                max((lane_float)RELATIVE_TOLERANCE, 0.5f * FLT_EPSILON * sqrt(most / least)),
+                most > 0.0f);
+}
+#endif
 
 // The smallest distance in `runs` runs of `length` consecutive slots of brick `brick` (+inf
 // without one), the runs `stride` slots apart from slot `first`: a layer of the brick across an
@@ -1156,8 +1176,10 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
       brick_flags |= select((lane_uint)0u, (lane_uint)FLAG_WRITTEN, differs);
       const lane_mask significant =
           differs &
-          (FRONT_STEPPING ? lane_visible_change(current, current_label, best, best_label)
-                          : lane_significant_change(current, current_label, best, best_label));
+          (FRONT_STEPPING ? lane_visible_change(current, current_label, best, best_label,
+                                                lane_change_tolerance(&st))
+                          : lane_significant_change(current, current_label, best, best_label,
+                                                    lane_change_tolerance(&st)));
       tile->stamp[p] = select(tile->stamp[p], (lane_uint)stamp, significant);
       sweep_changed |= significant;
       changed_lo_x = min(changed_lo_x, select((int8)EDGE, (int8)c.x, significant));

@@ -350,7 +350,7 @@ __kernel void relax_brick_sweep(BRICK_SWEEP_ARGUMENTS) {
       if (best != current) {  // T(x) replaces the state, larger or not
         tile[p] = best;
         brick_flags |= FLAG_WRITTEN;
-        if (significant_change(current, best)) {
+        if (significant_change(current, best, change_tolerance(weight, terms))) {
           changed[slot] = stamp;
           tile_stamp[p] = stamp;
           sweep_changed = true;
@@ -421,7 +421,7 @@ inline ulong phase_update(int l, size_t brick_slot, int3 origin, __local const u
                           __global const ulong* state, __global const float* stencils,
                           __global const char* shapes, __global const uint* activity, int4 dims,
                           int4 grid, __global const int* table, __global const float* seeds,
-                          uint* updates) {
+                          uint* updates, float* tolerance) {
   const ulong current = values[l];
   if (state_frozen(current) || !slot_active(activity, brick_slot + l)) return current;
   float weight[STENCIL_TERMS];
@@ -432,6 +432,7 @@ inline ulong phase_update(int l, size_t brick_slot, int3 origin, __local const u
   ulong nb[2 * STENCIL_TERMS];
   gather_for_phases(v, origin, offset, terms, values, state, dims, grid, table, nb);
   ++*updates;
+  *tolerance = change_tolerance(weight, terms);
 #ifdef UNIFORM_METRIC
   float eGe[STENCIL_TERMS];
   term_lengths_squared(seeds, offset, terms, eGe);
@@ -467,10 +468,11 @@ __kernel __attribute__((reqd_work_group_size(PHASE_VOXELS, 1, 1))) void relax_vo
   for (int it = 0; it < iterations; ++it) {
     for (int p = 0; p < PHASES; ++p) {
       const int l = phase_voxel(w, p);
+      float tolerance = RELATIVE_TOLERANCE;
       const ulong best = phase_update(l, brick_slot, origin, values, state, stencils, shapes,
-                                      activity, dims, grid, table, seeds, &updates);
+                                      activity, dims, grid, table, seeds, &updates, &tolerance);
       if (best != values[l]) {
-        if (significant_change(values[l], best)) changed_in[it % 3] = 1;
+        if (significant_change(values[l], best, tolerance)) changed_in[it % 3] = 1;
         values[l] = best;
       }
       barrier(CLK_LOCAL_MEM_FENCE);
