@@ -810,7 +810,8 @@ inline lane_float lane_change_tolerance(const LaneStencil* st) {
     most = max(most, st->rho[i]);
   }
   return select((lane_float)RELATIVE_TOLERANCE,
-                max((lane_float)RELATIVE_TOLERANCE, 0.5f * FLT_EPSILON * sqrt(most / least)),
+                clamp(0.5f * FLT_EPSILON * sqrt(most / least), (lane_float)RELATIVE_TOLERANCE,
+                      (lane_float)MOST_CHANGE_TOLERANCE),
                 most > 0.0f);
 }
 #endif
