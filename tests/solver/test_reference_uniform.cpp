@@ -77,6 +77,13 @@ TEST(ReferencePropagator, PublicInterfaceMatchesExactSolver) {
   }
 }
 
+// A one-seed reference solve's voxel updates per active voxel.
+double reference_updates_per_voxel(const Canvas& canvas, const Vec3& seed) {
+  VoronoiField field;
+  const PropagationStats stats = make_reference_propagator()->solve(canvas, {seed}, field);
+  return static_cast<double>(stats.voxel_updates) / static_cast<double>(canvas.active_voxel_count);
+}
+
 // Strong anisotropy nearly along an axis has long stencil offsets; their source factorization
 // near the seed is weighted down (docs/scheme.md, "Local update", step 2), without which this
 // solve stopped after 1000 recomputations per voxel.
@@ -88,11 +95,7 @@ TEST(ReferencePropagator, SettlesUnderStrongAnisotropyNearlyAlongAnAxis) {
     const Mat3 G = anisotropy * anisotropy * along * along.transpose() +
                    across * across.transpose() + Vec3::UnitZ() * Vec3::UnitZ().transpose();
     const Canvas canvas = make_uniform_box_canvas(2, Vec3(-1, -1, 0), Vec3(1, 1, 0), 127, G);
-    VoronoiField field;
-    const PropagationStats stats =
-        make_reference_propagator()->solve(canvas, {Vec3(0.13, -0.21, 0)}, field);
-    const double per_voxel =
-        static_cast<double>(stats.voxel_updates) / static_cast<double>(canvas.active_voxel_count);
+    const double per_voxel = reference_updates_per_voxel(canvas, Vec3(0.13, -0.21, 0));
     std::printf("[ measured ] anisotropy %.0f: %.1f updates per voxel\n", anisotropy, per_voxel);
     EXPECT_LT(per_voxel, 20.0) << "anisotropy " << anisotropy;
   }
@@ -106,11 +109,7 @@ TEST(ReferencePropagator, SettlesUnderAnisotropy1000AlongAnAxis) {
     const Mat3 G = Vec3(1e6, 1, 1).asDiagonal();
     const Canvas canvas = make_uniform_box_canvas(dimension, Vec3(-1, -1, -1), Vec3(1, 1, 1),
                                                   dimension == 2 ? 32 : 24, G);
-    VoronoiField field;
-    const PropagationStats stats =
-        make_reference_propagator()->solve(canvas, {Vec3(0.03, -0.11, 0.05)}, field);
-    const double per_voxel =
-        static_cast<double>(stats.voxel_updates) / static_cast<double>(canvas.active_voxel_count);
+    const double per_voxel = reference_updates_per_voxel(canvas, Vec3(0.03, -0.11, 0.05));
     std::printf("[ measured ] %dD anisotropy 1000: %.1f updates per voxel\n", dimension, per_voxel);
     EXPECT_LT(per_voxel, 20.0) << dimension << "D";
   }
