@@ -261,8 +261,10 @@ void add_voronoi_command(CLI::App& app) {
                           "; every field takes scale=S; uniform:m11,m12,m22 (2D) or "
                           "uniform:m11,m12,m22,m13,m23,m33 (3D)")
           ->capture_default_str();
-  CLI::Option* sol_option = cmd->add_option("--metric-file", options->metric_sol,
-                                            "Metric tensors at mesh vertices (Medit .sol)");
+  CLI::Option* sol_option =
+      cmd->add_option("--metric-file", options->metric_sol,
+                      "Metric tensors at mesh vertices (Medit .sol), interpolated; points "
+                      "outside the mesh take its nearest element's metric");
   CLI::Option* mesh_option = cmd->add_option("--metric-mesh", options->metric_mesh,
                                              "The Medit .mesh the --metric-file lives on");
   CLI::Option* vdb_option =
