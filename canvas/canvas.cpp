@@ -49,11 +49,19 @@ Vec3 Canvas::index_coordinates(const Vec3& world) const {
 
 VoxelIndex Canvas::voxel_containing(const Vec3& world) const {
   const Vec3 c = index_coordinates(world);
-  auto to_int = [](double x) {
+  // Cells are half-open, so a point on the index box's upper face (a box domain's upper side)
+  // would round one past the last voxel, and rounding can put one on the lower face just below
+  // the first: within a millionth of a voxel of the box, such a point belongs to the boundary
+  // voxel.
+  constexpr double kOnTheFace = 1e-6;
+  auto to_int = [](double x, int count) {
+    if (x >= count - 0.5 && x <= count - 0.5 + kOnTheFace) return count - 1;
+    if (x < -0.5 && x >= -0.5 - kOnTheFace) return 0;
     const double r = std::floor(x + 0.5);
     return r > 2e9 ? 2000000000 : (r < -2e9 ? -2000000000 : static_cast<int>(r));
   };
-  return {to_int(c.x()), to_int(c.y()), dimension == 3 ? to_int(c.z()) : 0};
+  return {to_int(c.x(), dims[0]), to_int(c.y(), dims[1]),
+          dimension == 3 ? to_int(c.z(), dims[2]) : 0};
 }
 
 Mat3 Canvas::metric_at(std::size_t slot) const {

@@ -64,6 +64,24 @@ TEST(BuildCanvas, BoxMatchesTheDenseTestCanvas) {
   EXPECT_NE(built.description.find("resolution 40"), std::string::npos);
 }
 
+// A box domain is closed: points on its faces, the upper ones included, lie in boundary voxels
+// (cells are half-open, so x = hi used to round one past the last voxel); a point off the box by
+// more than rounding does not.
+TEST(BuildCanvas, PointsOnTheBoxFacesLieInBoundaryVoxels) {
+  const FunctionMetric metric(3, [](const Vec3&) { return Mat3::Identity(); });
+  for (const int resolution : {16, 17}) {
+    const Canvas canvas = build("box:-1,-1,-1,1,1,1", resolution, metric);
+    const int last = resolution - 1;
+    for (const Vec3& corner : {Vec3(-1, -1, -1), Vec3(1, 1, 1), Vec3(1, -1, 0.3)}) {
+      const VoxelIndex v = canvas.voxel_containing(corner);
+      EXPECT_GE(canvas.slot_of(v), 0) << resolution << ": " << corner.transpose();
+      for (const int index : {v.i, v.j, v.k}) EXPECT_TRUE(index >= 0 && index <= last);
+    }
+    EXPECT_LT(canvas.slot_of(canvas.voxel_containing(Vec3(1.01, 0, 0))), 0);
+    EXPECT_LT(canvas.slot_of(canvas.voxel_containing(Vec3(0, -1.01, 0))), 0);
+  }
+}
+
 TEST(BuildCanvas, RectangleIsOneLayer) {
   const FunctionMetric metric(2, [](const Vec3& p) {
     Mat3 G = Mat3::Identity();

@@ -49,7 +49,8 @@ class Canvas {
   Vec3 world_of(std::size_t slot) const { return world_of(voxel_of(slot)); }
   // Continuous index coordinates of a world point (voxel centres are at integers).
   Vec3 index_coordinates(const Vec3& world) const;
-  // The voxel whose cell contains the world point (rounded index; may lie outside dims).
+  // The voxel whose cell contains the world point (rounded index; may lie outside dims). A point
+  // on the index box's faces, to a millionth of a voxel, belongs to the boundary voxel.
   VoxelIndex voxel_containing(const Vec3& world) const;
   Mat3 metric_at(std::size_t slot) const;
 
