@@ -106,6 +106,8 @@ SurfaceMesh read_off(const std::string& path) {
         reader.fail("vertex index missing or out of range");
     add_polygon(mesh, polygon);
   }
+  if (next_content(reader, line))
+    reader.fail("more content than the header's " + std::to_string(face_count) + " faces");
   return mesh;
 }
 
@@ -199,14 +201,15 @@ SurfaceMesh read_ascii_stl(const std::string& path) {
   SurfaceMesh mesh;
   VertexWelder welder(mesh);
   std::vector<int> loop;
-  bool seen_solid = false;
+  bool seen_solid = false, in_loop = false;
   for (std::string line; reader.next(line);) {
     std::istringstream fields(line);
     std::string keyword;
     if (!(fields >> keyword)) continue;
     if (keyword == "solid") seen_solid = true;
     if (!seen_solid) reader.fail("expected 'solid' (ASCII STL) or a binary STL");
-    if (keyword == "outer") loop.clear();
+    if (keyword == "outer") loop.clear(), in_loop = true;
+    if (keyword == "endloop") in_loop = false;
     if (keyword == "vertex") loop.push_back(welder.index_of(parse_point(reader, fields)));
     if (keyword == "endloop") {
       if (loop.size() < 3) reader.fail("facet with fewer than 3 vertices");
@@ -215,6 +218,7 @@ SurfaceMesh read_ascii_stl(const std::string& path) {
     }
   }
   if (!seen_solid) throw Error(path + ": empty STL file");
+  if (in_loop) reader.fail("the file ends inside a facet (truncated?)");
   return mesh;
 }
 

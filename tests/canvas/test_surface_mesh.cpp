@@ -65,6 +65,15 @@ TEST(SurfaceMesh, ErrorsNameFileAndLine) {
             std::string::npos);
   EXPECT_NE(error_of([&] { read_surface_mesh(dir.file("missing.off")); }).find("missing.off"),
             std::string::npos);
+  // Content the header does not count, and a file that ends inside a facet: truncated or
+  // malformed, not a smaller mesh.
+  test::write_text(dir.file("extra.off"), "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 2 1 0\n");
+  EXPECT_NE(error_of([&] { read_surface_mesh(dir.file("extra.off")); }).find("extra.off:7:"),
+            std::string::npos);
+  test::write_text(dir.file("cut.stl"),
+                   "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n");
+  EXPECT_NE(error_of([&] { read_surface_mesh(dir.file("cut.stl")); }).find("ends inside a facet"),
+            std::string::npos);
 }
 
 }  // namespace
