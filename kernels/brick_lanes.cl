@@ -253,12 +253,14 @@ __attribute__((always_inline)) inline lane_float lane_label_seed_distance(
 // The stencil of a uniform metric as every lane sees it.
 typedef struct {
   float weight[STENCIL_TERMS];
+  float tolerance;  // change_tolerance of the stencil
 } LaneStencil;
 
 inline void prepare_lane_stencil(__global const float* stencils, __global const char* shapes,
                                  LaneStencil* st) {
   int3 offset[STENCIL_TERMS];
   load_stencil(stencils, shapes, 0, st->weight, offset);
+  st->tolerance = change_tolerance(st->weight, LANE_TERMS);
 }
 
 // Candidate distance for label L in each lane (NO_LANE_LABEL: none) at frame voxel cf, from its
@@ -799,7 +801,7 @@ inline lane_mask lane_visible_change(lane_float u, lane_uint u_label, lane_float
 // change_tolerance (eikonal_scheme.clh) of each lane's stencil at the visit just solved.
 #ifdef AXIS_LANES
 inline lane_float lane_change_tolerance(const LaneStencil* st) {
-  return change_tolerance(st->weight, LANE_TERMS);
+  return st->tolerance;  // one stencil: computed once (prepare_lane_stencil)
 }
 #else
 inline lane_float lane_change_tolerance(const LaneStencil* st) {
@@ -1175,12 +1177,12 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
       tile->word[p] = select(word, best_label, differs);
       tile->seed_distance[p] = select(tile->seed_distance[p], best_seed_distance, differs);
       brick_flags |= select((lane_uint)0u, (lane_uint)FLAG_WRITTEN, differs);
+      const lane_float tolerance = lane_change_tolerance(&st);
       const lane_mask significant =
           differs &
-          (FRONT_STEPPING ? lane_visible_change(current, current_label, best, best_label,
-                                                lane_change_tolerance(&st))
-                          : lane_significant_change(current, current_label, best, best_label,
-                                                    lane_change_tolerance(&st)));
+          (FRONT_STEPPING
+               ? lane_visible_change(current, current_label, best, best_label, tolerance)
+               : lane_significant_change(current, current_label, best, best_label, tolerance));
       tile->stamp[p] = select(tile->stamp[p], (lane_uint)stamp, significant);
       sweep_changed |= significant;
       changed_lo_x = min(changed_lo_x, select((int8)EDGE, (int8)c.x, significant));

@@ -416,7 +416,8 @@ inline void gather_for_phases(int3 v, int3 origin, const int3* offset, int terms
   }
 }
 
-// The new state of brick voxel l (unchanged when frozen or inactive); counts an update in *updates.
+// The new state of brick voxel l (unchanged when frozen or inactive); counts an update in *updates
+// and, when the state changes, gives the change tolerance of its stencil in *tolerance.
 inline ulong phase_update(int l, size_t brick_slot, int3 origin, __local const ulong* values,
                           __global const ulong* state, __global const float* stencils,
                           __global const char* shapes, __global const uint* activity, int4 dims,
@@ -432,14 +433,15 @@ inline ulong phase_update(int l, size_t brick_slot, int3 origin, __local const u
   ulong nb[2 * STENCIL_TERMS];
   gather_for_phases(v, origin, offset, terms, values, state, dims, grid, table, nb);
   ++*updates;
-  *tolerance = change_tolerance(weight, terms);
 #ifdef UNIFORM_METRIC
   float eGe[STENCIL_TERMS];
   term_lengths_squared(seeds, offset, terms, eGe);
 #else
   const float* eGe = 0;
 #endif
-  return best_candidate(nb, weight, offset, terms, convert_float3(v), seeds, eGe);
+  const ulong best = best_candidate(nb, weight, offset, terms, convert_float3(v), seeds, eGe);
+  if (best != current) *tolerance = change_tolerance(weight, terms);  // only a change needs it
+  return best;
 }
 
 __kernel __attribute__((reqd_work_group_size(PHASE_VOXELS, 1, 1))) void relax_voxel_phases(
