@@ -286,18 +286,23 @@ inline Vec3 ReferenceSolver::stencil_step(int32_t voxel, int term) const {
 
 // Source factorization of a neighbour value v at y = x + sign * step:
 // v + u0(x) - u0(y) + <grad u0(x), y - x> (unchanged at the seed itself, where u0(x) = 0), with
-// the frame's weight times the offset's (offset_factorization_weight).
+// `weight`, the frame's times the offset's (term_factorization_weight).
 inline double ReferenceSolver::corrected_value(const SourceFrame& frame, const Vec3& step,
-                                               double sign, double value) const {
-  if (!(frame.inverse_u0 > 0)) return value;
-  const double weight =
-      frame.weight * offset_factorization_weight(frame.p_norm2, step.squaredNorm());
+                                               double sign, double value, double weight) const {
   if (!(weight > 0)) return value;
   const double step_dot_Gp = step.dot(frame.Gp);        // h e^T G_s p
   const double step_norm2 = step.dot(*frame.G * step);  // h^2 e^T G_s e
   const double u0_y =
       std::sqrt(std::max(0.0, frame.u0_squared + 2 * sign * step_dot_Gp + step_norm2));
   return value + weight * (frame.u0 - u0_y + sign * step_dot_Gp * frame.inverse_u0);
+}
+
+// The weight of the correction for a term with this step: the frame's times the offset's
+// (offset_factorization_weight); 0 at the seed itself.
+inline double ReferenceSolver::term_factorization_weight(const SourceFrame& frame,
+                                                         const Vec3& step) const {
+  if (!(frame.inverse_u0 > 0)) return 0;
+  return frame.weight * offset_factorization_weight(frame.p_norm2, step.squaredNorm());
 }
 
 // Worklist in value order (Dijkstra-like): pop the smallest changed voxel y and recompute every
@@ -372,12 +377,13 @@ double ReferenceSolver::local_solve(int32_t voxel, int32_t label) const {
   int n = 0;
   for (int t = 0; t < stencil.size; ++t) {
     const Vec3 step = stencil_step(voxel, t);
+    const double weight = term_factorization_weight(frame, step);
     double best = kInfinity;
     for (int side = 0; side < 2; ++side) {
       const int32_t y = neighbour_slot(x, stencil.offset[t], side == 0 ? 1 : -1);
       if (y < 0 || state_[y].label != label) continue;
       const double corrected =
-          corrected_value(frame, step, side == 0 ? 1.0 : -1.0, state_[y].value);
+          corrected_value(frame, step, side == 0 ? 1.0 : -1.0, state_[y].value, weight);
       best = std::min(best, corrected);
     }
     if (best == kInfinity) continue;

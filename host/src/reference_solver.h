@@ -79,8 +79,9 @@ class ReferenceSolver {
   double factorization_weight(const Seed& seed, const Mat3& D) const;
   // h e_t of the voxel's stencil term t, in world units.
   Vec3 stencil_step(int32_t voxel, int term) const;
-  double corrected_value(const SourceFrame& frame, const Vec3& step, double sign,
-                         double value) const;
+  double term_factorization_weight(const SourceFrame& frame, const Vec3& step) const;
+  double corrected_value(const SourceFrame& frame, const Vec3& step, double sign, double value,
+                         double weight) const;
   // Recomputes x from its neighbours: the smallest candidate over the labels of its stencil
   // neighbours (ties: smaller label). Returns whether (value, label) changed.
   bool recompute(int32_t x);
