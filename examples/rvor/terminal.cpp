@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 
 #include "rvor/error.h"
 
@@ -68,13 +69,23 @@ std::string parse_error_text(const CLI::App& app, const CLI::ParseError& error, 
   return text + " (see `" + help + "`)";
 }
 
+namespace {
+
+// The whole text as a number, or nothing.
+std::optional<double> number_of(const std::string& text) {
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  if (end == text.c_str() || *end != '\0') return std::nullopt;
+  return value;
+}
+
+}  // namespace
+
 CLI::Validator whole_number_in(double least, double most, const std::string& most_text) {
   return CLI::Validator(
       [=](const std::string& text) -> std::string {
-        char* end = nullptr;
-        const double value = std::strtod(text.c_str(), &end);
-        if (end == text.c_str() || *end != '\0' || !(value >= least) || value > most ||
-            std::floor(value) != value)
+        const std::optional<double> value = number_of(text);
+        if (!value || !(*value >= least) || *value > most || std::floor(*value) != *value)
           return "'" + text.substr(0, 40) + "' is not a whole number from " +
                  std::to_string(static_cast<long long>(least)) + " to " + most_text;
         return "";
@@ -84,9 +95,8 @@ CLI::Validator whole_number_in(double least, double most, const std::string& mos
 
 const CLI::Validator finite_number(
     [](const std::string& text) -> std::string {
-      char* end = nullptr;
-      const double value = std::strtod(text.c_str(), &end);
-      if (end == text.c_str() || *end != '\0' || !std::isfinite(value))
+      const std::optional<double> value = number_of(text);
+      if (!value || !std::isfinite(*value))
         return "'" + text.substr(0, 40) + "' is not a finite number";
       return "";
     },

@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "rvor/field_summary.h"
+#include "rvor/opencl_propagator.h"
 
 namespace rvor::cli {
 
@@ -40,9 +41,10 @@ std::string parse_error_text(const CLI::App& app, const CLI::ParseError& error, 
 // Option validators: a whole number in [least, most] (CLI11 takes "-1" for the largest unsigned),
 // a finite number (its ranges let NaN through).
 CLI::Validator whole_number_in(double least, double most, const std::string& most_text);
-// The most seeds (the OpenCL engine keeps labels below 2^30), and any 64-bit random seed.
+// Seed counts up to the OpenCL engine's most, and any 64-bit random seed.
 inline CLI::Validator seed_count(double least) {
-  return whole_number_in(least, 1073741823.0, "1073741823");
+  return whole_number_in(least, static_cast<double>(kMostOpenCLSeeds),
+                         std::to_string(kMostOpenCLSeeds));
 }
 inline CLI::Validator rng_seed_value() {
   return whole_number_in(0, 18446744073709551615.0, "2^64 - 1");

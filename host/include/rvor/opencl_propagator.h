@@ -1,4 +1,5 @@
 #pragma once
+#include <cstddef>
 // The OpenCL propagation engine (docs/scheme.md as kernels, block Fast Iterative Method on bricks).
 #include <memory>
 #include <string>
@@ -6,6 +7,10 @@
 #include "rvor/propagation.h"
 
 namespace rvor {
+
+// The most seeds an OpenCL solve takes: labels stay below the kernels' TENTATIVE_LABEL bit, 2^30
+// (kernels/state_word.clh).
+constexpr std::size_t kMostOpenCLSeeds = (std::size_t{1} << 30) - 1;
 
 enum class RelaxationVariant {
   automatic,     // brick_lanes on CPU devices, voxel_phases on GPUs

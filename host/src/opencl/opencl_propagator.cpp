@@ -24,8 +24,7 @@ namespace {
 
 // Bounds the evaluation stamps one relaxation uses (kernels/propagation.cl, work avoidance).
 constexpr int kMaxSweeps = 64;
-constexpr std::size_t kSeedRecord = 16;              // floats, see kernels/eikonal_scheme.clh
-constexpr std::size_t kTentativeLabel = 0x40000000;  // TENTATIVE_LABEL, kernels/state_word.clh
+constexpr std::size_t kSeedRecord = 16;  // floats, see kernels/eikonal_scheme.clh
 constexpr std::size_t kBookkeepingGroup = 64;
 constexpr int kLanes = 8;  // bricks per work-item of relax_brick_lanes (kernels/brick_lanes.cl)
 // A scheme that does not settle is a bug; stop with an error rather than loop forever.
@@ -164,9 +163,9 @@ class OpenCLPropagator final : public Propagator {
 
   void prepare(const Canvas& canvas, const std::vector<Vec3>& seeds) {
     // Labels leave TENTATIVE_LABEL (kernels/state_word.clh) free for front stepping.
-    if (seeds.size() >= kTentativeLabel)
+    if (seeds.size() > kMostOpenCLSeeds)
       throw Error("too many seeds: " + std::to_string(seeds.size()) + " (the OpenCL engine takes " +
-                  std::to_string(kTentativeLabel - 1) + " at most)");
+                  std::to_string(kMostOpenCLSeeds) + " at most)");
     const std::vector<float> records = seed_records(canvas, seeds);
     hold_canvas(canvas);
     if (canvas_->seed_capacity < seeds.size()) {
