@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "output_set.h"
 #include "rvor/atomic_file.h"
 #include "rvor/canvas_builder.h"
 #include "rvor/canvas_output.h"
@@ -24,7 +25,6 @@
 #include "rvor/local_fields.h"
 #include "rvor/metric_field.h"
 #include "rvor/nerve.h"
-#include "rvor/output_set.h"
 #include "rvor/propagation.h"
 #include "rvor/seeds.h"
 #include "rvor/vdb_io.h"

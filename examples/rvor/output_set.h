@@ -1,11 +1,11 @@
 #pragma once
-// A run's output files as one set: they are written into a staging directory inside the output
-// directory and moved into place together once the run has succeeded, so a run that fails (a bad
-// input found late, a writer that throws) leaves the earlier outputs as they were.
+// The output files of `rvor voronoi` as one set: they are written into a staging directory inside
+// the output directory and moved into place together once the run has succeeded, so a run that
+// fails (a bad input found late, a writer that throws) leaves the earlier outputs as they were.
 #include <string>
 #include <vector>
 
-namespace rvor {
+namespace rvor::cli {
 
 class OutputSet {
  public:
@@ -31,4 +31,4 @@ class OutputSet {
   bool replace_;
 };
 
-}  // namespace rvor
+}  // namespace rvor::cli

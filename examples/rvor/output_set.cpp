@@ -1,4 +1,4 @@
-#include "rvor/output_set.h"
+#include "output_set.h"
 
 #include <algorithm>
 #include <filesystem>
@@ -8,7 +8,7 @@
 
 namespace fs = std::filesystem;
 
-namespace rvor {
+namespace rvor::cli {
 
 OutputSet::OutputSet(std::string dir, std::vector<std::string> names, bool replace)
     : dir_(std::move(dir)), names_(std::move(names)), replace_(replace) {
@@ -54,4 +54,4 @@ void OutputSet::commit(const std::vector<std::string>& earlier_names) {
     }
 }
 
-}  // namespace rvor
+}  // namespace rvor::cli
