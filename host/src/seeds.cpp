@@ -48,7 +48,8 @@ std::string quoted_line(const std::string& line) {
 
 struct PointFile {
   std::vector<Vec3> points;
-  int columns = 0;  // coordinates per line, the same on every line
+  std::vector<int> lines;  // each point's line, for messages
+  int columns = 0;         // coordinates per line, the same on every line
 };
 
 PointFile read_point_file(const std::string& path) {
@@ -71,6 +72,7 @@ PointFile read_point_file(const std::string& path) {
     if (!point.allFinite()) throw Error(where + "coordinate is not finite");
     file.columns = columns;
     file.points.push_back(point);
+    file.lines.push_back(number);
   }
   if (file.points.empty()) throw Error(path + ": no points in file");
   return file;
@@ -89,7 +91,7 @@ std::vector<Vec3> read_xyz(const std::string& path, int dimension) {
   if (dimension == 2)
     for (std::size_t n = 0; n < file.points.size(); ++n)
       if (file.points[n].z() != 0.0)
-        throw Error(path + ": point " + std::to_string(n + 1) + " has z = " +
+        throw Error(path + ":" + std::to_string(file.lines[n]) + ": z = " +
                     std::to_string(file.points[n].z()) + ", but the domain is 2D (z must be 0)");
   return std::move(file.points);
 }

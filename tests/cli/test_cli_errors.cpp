@@ -207,21 +207,21 @@ TEST_F(CliErrors, ParseErrorsAreOneLineWithExitCodeOne) {
             std::string::npos);
 }
 
-TEST_F(CliErrors, SeedOffThePlaneOfA2DDomain) {
-  write_text(dir.file("z.xyz"), "0 0 0.5\n");
-  expect_error("--domain rect:-1,-1,1,1 --resolution 16 --seeds " + dir.file("z.xyz"),
-               "the domain is 2D");
-}
-
-TEST_F(CliErrors, SeedFileWithMixedColumnCounts) {
-  write_text(dir.file("mixed.xyz"), "0 0 0\n0.5 0.5\n");
-  expect_error("--domain box:-1,-1,-1,1,1,1 --resolution 16 --seeds " + dir.file("mixed.xyz"),
-               "mixed.xyz:2");
-}
-
-TEST_F(CliErrors, TwoCoordinateSeedsOnA3DDomain) {
-  expect_error("--domain box:-1,-1,-1,1,1,1 --resolution 16 --seeds " + seeds2d(),
-               "the domain is 3D");
+// Seed files must match the domain: one coordinate count on every line, 3 in 3D, z = 0 in 2D.
+TEST_F(CliErrors, SeedFilesThatDoNotFitTheDomain) {
+  struct Case {
+    const char* domain;
+    const char* seeds;
+    const char* fragment;
+  };
+  for (const Case& c : {Case{"rect:-1,-1,1,1", "0 0 0\n0.1 0.2 0.5\n", "seeds.xyz:2: z = 0.5"},
+                        Case{"box:-1,-1,-1,1,1,1", "0 0 0\n0.5 0.5\n", "seeds.xyz:2: 2 coord"},
+                        Case{"box:-1,-1,-1,1,1,1", "0 0\n0.5 0.5\n", "the domain is 3D"}}) {
+    write_text(dir.file("seeds.xyz"), c.seeds);
+    expect_error(
+        std::string("--domain ") + c.domain + " --resolution 16 --seeds " + dir.file("seeds.xyz"),
+        c.fragment);
+  }
 }
 
 TEST_F(CliErrors, MoreRandomSeedsThanVoxels) {
