@@ -20,8 +20,7 @@ using UnsafeAccessor = openvdb::tree::ValueAccessor<const openvdb::FloatTree, fa
 // Trilinear interpolation near the edge of the stored region would mix in the background (0,
 // not a metric). One shell of voxels around the active region, each the mean of its active
 // neighbours, makes sampling up to a voxel outside the stored centres meaningful.
-void extend_by_one_voxel(FloatGrid& grid) {
-  grid.tree().voxelizeActiveTiles();
+void extend_by_one_voxel(FloatGrid& grid) {  // tiles voxelized before (VdbMetricField)
   openvdb::MaskTree shell(grid.tree(), false, openvdb::TopologyCopy());
   openvdb::tools::dilateActiveValues(shell, 1, openvdb::tools::NN_FACE_EDGE_VERTEX,
                                      openvdb::tools::IGNORE_TILES);
@@ -63,7 +62,7 @@ void validate_stored_tensors(const std::string& path, const std::array<FloatGrid
   SolTensor checked{};
   bool any_checked = false;
   for (auto voxel = grids[0]->cbeginValueOn(); voxel; ++voxel) {
-    if (!voxel.isVoxelValue()) continue;  // tiles: voxelizeActiveTiles ran before
+    if (!voxel.isVoxelValue()) continue;  // none: the tiles were voxelized before
     const openvdb::Coord c = voxel.getCoord();
     SolTensor t{};
     for (int n = 0; n < 6; ++n) {
