@@ -3,12 +3,13 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <cstdlib>
-#include <sstream>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "implicit_shapes.h"
 #include "rvor/error.h"
+#include "rvor/spec_text.h"
 
 namespace rvor {
 
@@ -21,13 +22,11 @@ namespace {
 std::vector<double> parse_numbers(const std::string& spec, const std::string& list,
                                   std::size_t count) {
   std::vector<double> numbers;
-  std::istringstream tokens(list);
-  for (std::string token; std::getline(tokens, token, ',');) {
-    char* end = nullptr;
-    const double value = std::strtod(token.c_str(), &end);
-    if (token.empty() || end != token.c_str() + token.size() || !std::isfinite(value))
-      fail(spec, "'" + token + "' is not a number");
-    numbers.push_back(value);
+  for (const std::string& item : split_commas(list)) {
+    if (item.empty()) fail(spec, "empty number (two commas in a row, or a trailing comma?)");
+    const std::optional<double> value = parse_decimal(item);
+    if (!value) fail(spec, "'" + item + "' is not a finite number");
+    numbers.push_back(*value);
   }
   if (numbers.size() != count)
     fail(spec, "expected " + std::to_string(count) + " comma-separated numbers");

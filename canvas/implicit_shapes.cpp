@@ -1,13 +1,13 @@
 #include "implicit_shapes.h"
 
 #include <cmath>
-#include <cstdlib>
 #include <limits>
 #include <map>
 #include <sstream>
 #include <vector>
 
 #include "rvor/error.h"
+#include "rvor/spec_text.h"
 
 namespace rvor {
 
@@ -20,19 +20,18 @@ using Parameters = std::map<std::string, std::vector<double>>;
 }
 
 double parse_number(const std::string& spec, const std::string& text) {
-  char* end = nullptr;
-  const double value = std::strtod(text.c_str(), &end);
-  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(value))
-    fail(spec, "'" + text + "' is not a number");
-  return value;
+  const std::optional<double> value = parse_decimal(text);
+  if (!value) fail(spec, "'" + text + "' is not a finite number");
+  return *value;
 }
 
 // "k=v,w,k2=v2": a token without '=' continues the previous key's value list.
 Parameters parse_parameters(const std::string& spec, const std::string& list) {
   Parameters parameters;
+  if (list.empty()) return parameters;  // "sphere:" means no parameters
   std::string current;
-  std::istringstream tokens(list);
-  for (std::string token; std::getline(tokens, token, ',');) {
+  for (const std::string& token : split_commas(list)) {
+    if (token.empty()) fail(spec, "empty parameter (two commas in a row, or a trailing comma?)");
     const auto equals = token.find('=');
     if (equals == std::string::npos) {
       if (current.empty()) fail(spec, "expected key=value, got '" + token + "'");

@@ -2,7 +2,6 @@
 // components positionally: "uniform:m11,m12,m22[,scale=S]"). Every problem is reported as one line
 // "metric 'SPEC': PROBLEM" so that the CLI can print it as is.
 #include <array>
-#include <charconv>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -12,6 +11,7 @@
 #include "analytic_fields.h"
 #include "rvor/error.h"
 #include "rvor/metric_field.h"
+#include "rvor/spec_text.h"
 
 namespace rvor {
 
@@ -100,13 +100,7 @@ class SpecParser {
 
   void parse_parameters(const std::string& list, const FieldKind& kind) {
     if (trim(list).empty()) return;  // "swirl:" means no parameters
-    std::size_t start = 0;
-    while (true) {
-      const std::size_t comma = list.find(',', start);
-      parse_parameter(trim(list.substr(start, comma - start)), kind);
-      if (comma == std::string::npos) break;
-      start = comma + 1;
-    }
+    for (const std::string& token : split_commas(list)) parse_parameter(trim(token), kind);
   }
 
   void parse_parameter(const std::string& token, const FieldKind& kind) {
@@ -122,22 +116,10 @@ class SpecParser {
     const std::string value = trim(token.substr(equals + 1));
     if (key != "scale") fail("unknown key '" + key + "' (known: " + kKnownKeys + ")");
     if (scale_) fail("key 'scale' is given twice");
-    const std::optional<double> scale = parse_number(value);
+    const std::optional<double> scale = parse_decimal(value);
     if (!scale || !(*scale > 0))
       fail("scale must be a positive finite number, got '" + value + "'");
     scale_ = scale;
-  }
-
-  // A finite decimal number in the C locale, nothing before or after it.
-  static std::optional<double> parse_number(const std::string& text) {
-    const char* first = text.data();
-    const char* last = text.data() + text.size();
-    if (first != last && *first == '+') ++first;  // from_chars does not take a leading '+'
-    double value = 0;
-    const auto [end, error] = std::from_chars(first, last, value);
-    if (first == last || error != std::errc() || end != last || !std::isfinite(value))
-      return std::nullopt;
-    return value;
   }
 
   // The tensor of `uniform`: m11,m12,m22 in 2D; m11,m12,m22,m13,m23,m33 (.sol order) in 3D.
@@ -149,7 +131,7 @@ class SpecParser {
            std::to_string(dimension_) + "D domain, got " + std::to_string(components_.size()));
     SolTensor sol = {0, 0, 0, 0, 0, 1};  // 2D: zero z row and column, G(2,2) = 1
     for (std::size_t i = 0; i < expected; ++i) {
-      const std::optional<double> value = parse_number(components_[i]);
+      const std::optional<double> value = parse_decimal(components_[i]);
       if (!value)
         fail("component " + std::to_string(i + 1) + " '" + components_[i] +
              "' is not a finite number");

@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <iomanip>
 #include <iostream>
 #include <optional>
 
 #include "rvor/error.h"
+#include "rvor/spec_text.h"
 
 namespace rvor::cli {
 
@@ -34,23 +34,16 @@ double Progress::end(const std::string& detail) {
 }
 
 std::uint64_t parse_byte_size(const std::string& text) {
-  char* end = nullptr;
-  const double value = std::strtod(text.c_str(), &end);
-  const std::string suffix(end);
-  double factor = 1;
-  if (suffix == "K" || suffix == "k")
-    factor = 1024.0;
-  else if (suffix == "M")
-    factor = 1024.0 * 1024;
-  else if (suffix == "G")
-    factor = 1024.0 * 1024 * 1024;
-  else if (suffix == "T")
-    factor = 1024.0 * 1024 * 1024 * 1024;
-  else if (!suffix.empty())
-    end = const_cast<char*>(text.c_str());
-  if (end == text.c_str() || !std::isfinite(value) || value <= 0)
+  static const std::string suffixes = "KkMGT";
+  static const double factors[] = {1024.0, 1024.0, std::pow(1024.0, 2), std::pow(1024.0, 3),
+                                   std::pow(1024.0, 4)};
+  const std::size_t suffix = text.empty() ? std::string::npos : suffixes.find(text.back());
+  const std::optional<double> value =
+      parse_decimal(suffix == std::string::npos ? text : text.substr(0, text.size() - 1));
+  const double factor = suffix == std::string::npos ? 1.0 : factors[suffix];
+  if (!value || !(*value > 0) || !std::isfinite(*value * factor) || *value * factor > 1.8e19)
     throw Error("memory budget '" + text + "' is not a positive size like 512M, 8G or 1000000");
-  return static_cast<std::uint64_t>(value * factor);
+  return static_cast<std::uint64_t>(*value * factor);
 }
 
 std::string parse_error_text(const CLI::App& app, const CLI::ParseError& error, int argc,
@@ -69,22 +62,10 @@ std::string parse_error_text(const CLI::App& app, const CLI::ParseError& error, 
   return text + " (see `" + help + "`)";
 }
 
-namespace {
-
-// The whole text as a number, or nothing.
-std::optional<double> number_of(const std::string& text) {
-  char* end = nullptr;
-  const double value = std::strtod(text.c_str(), &end);
-  if (end == text.c_str() || *end != '\0') return std::nullopt;
-  return value;
-}
-
-}  // namespace
-
 CLI::Validator whole_number_in(double least, double most, const std::string& most_text) {
   return CLI::Validator(
       [=](const std::string& text) -> std::string {
-        const std::optional<double> value = number_of(text);
+        const std::optional<double> value = parse_decimal(text);
         if (!value || !(*value >= least) || *value > most || std::floor(*value) != *value)
           return "'" + text.substr(0, 40) + "' is not a whole number from " +
                  std::to_string(static_cast<long long>(least)) + " to " + most_text;
@@ -95,9 +76,8 @@ CLI::Validator whole_number_in(double least, double most, const std::string& mos
 
 const CLI::Validator finite_number(
     [](const std::string& text) -> std::string {
-      const std::optional<double> value = number_of(text);
-      if (!value || !std::isfinite(*value))
-        return "'" + text.substr(0, 40) + "' is not a finite number";
+      const std::optional<double> value = parse_decimal(text);
+      if (!value) return "'" + text.substr(0, 40) + "' is not a finite number";
       return "";
     },
     "FINITE");

@@ -269,7 +269,8 @@ void add_voronoi_command(CLI::App& app) {
                                              "The Medit .mesh the --metric-file lives on");
   CLI::Option* vdb_option =
       cmd->add_option("--metric-vdb", options->metric_vdb,
-                      "Metric as six float grids m11 m12 m22 m13 m23 m33 in a .vdb");
+                      "Metric as six float grids m11 m12 m22 m13 m23 m33 in a .vdb (a 3D file or "
+                      "mesh on a rect: domain: its tensors restricted to the plane z = 0)");
   // One source of the metric: a second one would be ignored.
   metric_option->excludes(sol_option)->excludes(mesh_option)->excludes(vdb_option);
   vdb_option->excludes(sol_option)->excludes(mesh_option);

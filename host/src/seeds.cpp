@@ -9,6 +9,7 @@
 
 #include "rvor/atomic_file.h"
 #include "rvor/error.h"
+#include "rvor/spec_text.h"
 
 namespace rvor {
 
@@ -31,10 +32,9 @@ int parse_point(std::string line, Vec3& point) {
   std::string token;
   while (in >> token) {
     if (count == 4) return 0;
-    char* end = nullptr;
-    values[count] = std::strtod(token.c_str(), &end);
-    if (end == token.c_str() || *end != '\0') return 0;
-    ++count;
+    const std::optional<double> value = parse_decimal(token);
+    if (!value) return 0;
+    values[count++] = *value;
   }
   if (count != 2 && count != 3) return 0;
   point = Vec3(values[0], values[1], count == 3 ? values[2] : 0.0);
@@ -65,11 +65,10 @@ PointFile read_point_file(const std::string& path) {
     Vec3 point;
     const int columns = parse_point(line, point);
     if (columns == 0)
-      throw Error(where + "expected 2 or 3 numbers per line, got " + quoted_line(line));
+      throw Error(where + "expected 2 or 3 finite numbers per line, got " + quoted_line(line));
     if (file.columns != 0 && columns != file.columns)
       throw Error(where + std::to_string(columns) + " coordinates, but the lines before have " +
                   std::to_string(file.columns));
-    if (!point.allFinite()) throw Error(where + "coordinate is not finite");
     file.columns = columns;
     file.points.push_back(point);
     file.lines.push_back(number);

@@ -2,6 +2,7 @@
 
 #include "rvor/domain.h"
 #include "rvor/error.h"
+#include "rvor/spec_text.h"
 
 namespace rvor {
 namespace {
@@ -62,14 +63,50 @@ TEST(ParseDomain, ImplicitShapes) {
 }
 
 TEST(ParseDomain, MalformedSpecsNameTheSpec) {
-  for (const std::string spec :
-       {"box:0,0,0,1,1", "box:0,0,0,1,1,x", "box:0,0,0,0,1,1", "rect:0,0,1", "rect:0,1,1,0",
-        "cube:0,0,1,1", "box", "mesh:", "mesh:shape.ply", "implicit:cube", "implicit:sphere:r=-1",
-        "implicit:sphere:radius=1", "implicit:sphere:center=1,2", "implicit:sphere:r=1,r=2",
-        "implicit:disk:center=1,2,3", "implicit:sphere:5"}) {
+  for (const std::string spec : {"box:0,0,0,1,1",
+                                 "box:0,0,0,1,1,x",
+                                 "box:0,0,0,0,1,1",
+                                 "rect:0,0,1",
+                                 "rect:0,1,1,0",
+                                 "cube:0,0,1,1",
+                                 "box",
+                                 "mesh:",
+                                 "mesh:shape.ply",
+                                 "implicit:cube",
+                                 "implicit:sphere:r=-1",
+                                 "implicit:sphere:radius=1",
+                                 "implicit:sphere:center=1,2",
+                                 "implicit:sphere:r=1,r=2",
+                                 "implicit:disk:center=1,2,3",
+                                 "implicit:sphere:5",
+                                 "rect:0,0,1,1,",
+                                 "rect:0,,1,1",
+                                 "rect:0x0,0,1,1",
+                                 "rect: 0,0,1,1",
+                                 "rect:0,0,1,inf",
+                                 "rect:0,0,1,1e999",
+                                 "implicit:sphere:r=1,",
+                                 "implicit:sphere:r=0x1",
+                                 "implicit:sphere:r=+-1"}) {
     const std::string message = error_of(spec);
     EXPECT_NE(message.find(spec), std::string::npos) << spec << " -> '" << message << "'";
   }
+}
+
+TEST(SpecText, DecimalsOnlyWholeAndFinite) {
+  EXPECT_EQ(parse_decimal("1"), 1.0);
+  EXPECT_EQ(parse_decimal("-2.5"), -2.5);
+  EXPECT_EQ(parse_decimal("+3e-4"), 3e-4);
+  EXPECT_EQ(parse_decimal(".5"), 0.5);
+  for (const char* text : {"", "+", "-", " 1", "1 ", "0x10", "1,5", "inf", "nan", "-nan", "1e999",
+                           "+-1", "--1", "1.2.3", "e5"})
+    EXPECT_FALSE(parse_decimal(text).has_value()) << "'" << text << "'";
+}
+
+TEST(SpecText, SplitCommasKeepsEmptyItems) {
+  EXPECT_EQ(split_commas(""), std::vector<std::string>{""});
+  EXPECT_EQ(split_commas("1,,2,"), (std::vector<std::string>{"1", "", "2", ""}));
+  EXPECT_EQ(split_commas("a"), std::vector<std::string>{"a"});
 }
 
 }  // namespace
