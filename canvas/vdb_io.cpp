@@ -80,8 +80,7 @@ void require_same_placement(const openvdb::GridBase& grid, const Canvas& canvas,
 }  // namespace
 
 void write_voronoi_vdb(const std::string& path, const Canvas& canvas, const VoronoiField& field) {
-  if (field.distance.size() != canvas.slot_count() || field.label.size() != canvas.slot_count())
-    throw Error("cannot write VDB file " + path + ": the Voronoi field does not match the canvas");
+  require_field_for(canvas, field, "cannot write VDB file " + path);
   auto distance = make_canvas_grid<openvdb::FloatGrid>(canvas, "distance", kDistanceBackground);
   auto label = make_canvas_grid<openvdb::Int32Grid>(canvas, "label", kLabelBackground);
   fill_active(*distance, canvas, [&](std::size_t slot) { return field.distance[slot]; });

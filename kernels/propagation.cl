@@ -59,7 +59,21 @@ __kernel void freeze_seed_blocks(int first_seed, int seed_count, int existing,
   }
 }
 
-// Exact values u0_s(x) = |F_s (x - s)| on the new seeds' blocks: the smallest (value, label).
+// The frozen state of voxel v (slot) at the exact value u0_s(x) = |F_s (x - s)| of seed `label`.
+inline ulong exact_seed_state(int3 v, int label, __global const float* seeds) {
+  __global const float* seed = seeds + (size_t)label * SEED_RECORD;
+  const float3 q = convert_float3(v) - (float3)(seed[0], seed[1], seed[2]);
+  return make_state(seed_distance(seed, q), label) | FROZEN_BIT;
+}
+
+inline void mark_seed_change(long slot, __global uchar* flags, __global uint* changed, uint stamp,
+                             __global uchar* touched) {
+  flags[slot / BRICK_VOLUME] = FLAG_CHANGED | FLAG_UNCONVERGED;
+  changed[slot] = stamp;
+  touched[slot / BRICK_VOLUME] = 1;
+}
+
+// Exact values on the new seeds' blocks.
 __kernel void initialise_seeds(int first_seed, int seed_count, __global const float* seeds,
                                __global ulong* state, __global const uint* activity,
                                __global const int* table, int4 dims, int4 grid,
@@ -70,17 +84,28 @@ __kernel void initialise_seeds(int first_seed, int seed_count, __global const fl
   int3 v;
   const long slot = seed_block_slot(item, first_seed, seeds, activity, table, dims, grid, &v);
   if (slot < 0) return;
-  const int label = first_seed + item / INIT_BLOCK;
-  __global const float* seed = seeds + (size_t)label * SEED_RECORD;
-  const float3 q = convert_float3(v) - (float3)(seed[0], seed[1], seed[2]);
-  const float u0 = seed_distance(seed, q);
-  const ulong candidate = make_state(u0, label) | FROZEN_BIT;
-  const ulong previous = atom_min(&state[slot], candidate);
-  if (candidate < previous) {
-    flags[slot / BRICK_VOLUME] = FLAG_CHANGED | FLAG_UNCONVERGED;
-    changed[slot] = stamp;
-    touched[slot / BRICK_VOLUME] = 1;
-  }
+  const ulong candidate = exact_seed_state(v, first_seed + item / INIT_BLOCK, seeds);
+  if (candidate < atom_min(&state[slot], candidate))  // the smallest (value, label) stays
+    mark_seed_change(slot, flags, changed, stamp, touched);
+}
+
+// Block voxels nearer to a seed whose block does not contain them (rvor/seed_blocks.h): claim
+// (i, j, k, label), after initialise_seeds, one per voxel. The host chose the seed in double
+// precision, so that every engine labels a near-tie alike: the claim replaces the state.
+__kernel void claim_seed_voxels(int claim_count, __global const int4* claims,
+                                __global const float* seeds, __global ulong* state,
+                                __global const uint* activity, __global const int* table, int4 dims,
+                                int4 grid, __global uchar* flags, __global uint* changed,
+                                uint stamp, __global uchar* touched) {
+  const int item = get_global_id(0);
+  if (item >= claim_count) return;
+  const int4 claim = claims[item];
+  const long slot = slot_at(claim.xyz, dims, grid, table);
+  if (slot < 0 || !slot_active(activity, slot)) return;
+  const ulong claimed = exact_seed_state(claim.xyz, claim.w, seeds);
+  if (state[slot] == claimed) return;
+  state[slot] = claimed;
+  mark_seed_change(slot, flags, changed, stamp, touched);
 }
 
 // ---------------------------------------------------------------------------------------------

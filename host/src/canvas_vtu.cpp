@@ -72,6 +72,7 @@ VtuArrays collect_cells(const Canvas& canvas, const VoronoiField& field) {
 }  // namespace
 
 void write_canvas_vtu(const std::string& path, const Canvas& canvas, const VoronoiField& field) {
+  require_field_for(canvas, field, "cannot write " + path);
   const VtuArrays arrays = collect_cells(canvas, field);
   vtu::AppendedWriter appended;
   std::string xml = vtu::grid_geometry(appended, arrays.points, arrays.connectivity, arrays.offsets,

@@ -2,12 +2,14 @@
 #include <cmath>
 #include <vector>
 
+#include "rvor/error.h"
 #include "rvor/field_summary.h"
 
 namespace rvor {
 
 FieldSummary summarize_field(const Canvas& canvas, const VoronoiField& field,
                              std::size_t seed_count) {
+  require_field_for(canvas, field, "field summary");
   FieldSummary summary;
   std::vector<std::size_t> cell_sizes(seed_count, 0);
   double distance_sum = 0.0;
@@ -15,7 +17,11 @@ FieldSummary summarize_field(const Canvas& canvas, const VoronoiField& field,
     if (!canvas.active[slot]) continue;
     const float d = field.distance[slot];
     const int label = field.label[slot];
-    if (!std::isfinite(d) || label < 0 || static_cast<std::size_t>(label) >= seed_count) {
+    if (label >= 0 && static_cast<std::size_t>(label) >= seed_count)
+      throw Error("field summary: voxel " + std::to_string(slot) + " has label " +
+                  std::to_string(label) + ", but there are " + std::to_string(seed_count) +
+                  " seeds");
+    if (!std::isfinite(d) || label < 0) {
       ++summary.unreached_voxels;
       continue;
     }

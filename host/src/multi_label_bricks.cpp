@@ -41,8 +41,7 @@ bool has_multi_label_cell(const Canvas& canvas, const VoronoiField& field, std::
 }  // namespace
 
 std::vector<std::uint8_t> find_multi_label_bricks(const Canvas& canvas, const VoronoiField& field) {
-  if (field.label.size() != canvas.slot_count())
-    throw Error("multi-label bricks: the field does not match the canvas (slot counts differ)");
+  require_field_for(canvas, field, "multi-label bricks");
   std::vector<std::uint8_t> flags(canvas.brick_count());
   for (std::size_t brick = 0; brick < flags.size(); ++brick)
     flags[brick] = has_multi_label_cell(canvas, field, brick) ? 1 : 0;

@@ -13,12 +13,14 @@ namespace {
 
 // The active voxel nearest (in index space) to continuous index coordinates c: searched in
 // growing cubic shells around the containing voxel, stopping once no farther shell can be closer.
-int64_t nearest_active_slot(const Canvas& canvas, const Vec3& c) {
-  const int ci = static_cast<int>(std::lround(std::clamp(c.x(), -1.0, canvas.dims[0] + 0.0)));
-  const int cj = static_cast<int>(std::lround(std::clamp(c.y(), -1.0, canvas.dims[1] + 0.0)));
-  const int ck = canvas.dimension == 3
-                     ? static_cast<int>(std::lround(std::clamp(c.z(), -1.0, canvas.dims[2] + 0.0)))
-                     : 0;
+// A point beyond the index box is first moved onto it (its far-away coordinates would overflow the
+// squared distances).
+int64_t nearest_active_slot(const Canvas& canvas, const Vec3& point) {
+  Vec3 c;
+  for (int a = 0; a < 3; ++a) c[a] = std::clamp(point[a], -1.0, canvas.dims[a] + 0.0);
+  const int ci = static_cast<int>(std::lround(c.x()));
+  const int cj = static_cast<int>(std::lround(c.y()));
+  const int ck = canvas.dimension == 3 ? static_cast<int>(std::lround(c.z())) : 0;
   const int max_radius = std::max({canvas.dims[0], canvas.dims[1], canvas.dims[2]}) + 2;
   int64_t best = -1;
   double best_distance = std::numeric_limits<double>::infinity();
@@ -48,7 +50,10 @@ std::vector<ProbeSample> probe_field(const Canvas& canvas, const VoronoiField& f
                                      const std::vector<Vec3>& points) {
   std::vector<ProbeSample> samples;
   samples.reserve(points.size());
+  require_field_for(canvas, field, "probe");
   for (std::size_t n = 0; n < points.size(); ++n) {
+    if (!points[n].allFinite())
+      throw Error("probe point " + std::to_string(n) + " has a coordinate that is not finite");
     const int64_t slot = nearest_active_slot(canvas, canvas.index_coordinates(points[n]));
     if (slot < 0)
       throw Error("probe point " + std::to_string(n) + ": the canvas has no active voxel");

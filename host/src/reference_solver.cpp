@@ -22,8 +22,6 @@ namespace rvor::detail {
 namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
-// Half-width r of the (2r+1)^d block initialised exactly around each seed's voxel.
-constexpr int kInitRadius = 2;
 // A recomputed value counts as a change only beyond this relative amount (or with another label):
 // rounding noise cannot then keep two voxels re-evaluating each other forever.
 constexpr double kRelativeChange = 1e-12;
@@ -191,7 +189,7 @@ PropagationStats ReferenceSolver::insert(const Canvas& canvas, const std::vector
   load_seeds(canvas, seeds);
   load_field(field);
   PropagationStats stats;
-  initialise_seed_blocks(canvas, first_new);
+  initialise_seed_blocks(canvas, first_new, foreign_seed_claims(canvas, seeds, first_new));
   run_queue(stats);
   store_field(field);
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -229,41 +227,49 @@ void ReferenceSolver::store_field(ExactField& field) const {
 }
 
 // Exact values u0_s(x) = |F_s (x - s)| in the (2r+1)^d block around each seed's voxel. Block voxels
-// are frozen (boundary data, never recomputed) and hold the smallest exact value of the seeds whose
-// block contains them. Seeds before `first_seed` only re-mark their blocks as frozen (their values
-// are in the field already); new seeds assign values and queue the voxels they changed.
-void ReferenceSolver::initialise_seed_blocks(const Canvas& canvas, std::size_t first_seed) {
+// are frozen (boundary data, never recomputed) and hold the smallest exact value of all seeds
+// (rvor/seed_blocks.h: the seeds whose block contains them, then the claims of the others, which
+// replace what the blocks wrote).
+// Seeds before `first_seed` only re-mark their blocks as frozen (their values are in the field
+// already); new seeds and claims assign values and queue the voxels they changed.
+void ReferenceSolver::initialise_seed_blocks(const Canvas& canvas, std::size_t first_seed,
+                                             const std::vector<SeedClaim>& claims) {
   queue_.clear();
   frozen_.assign(slot_count_, 0);
   for (std::size_t s = 0; s < first_seed; ++s) mark_seed_block(canvas, s, false);
   for (std::size_t s = first_seed; s < seeds_.size(); ++s) mark_seed_block(canvas, s, true);
+  for (const SeedClaim& claim : claims)  // the seed chosen once for every engine: it replaces
+    offer_exact_value(static_cast<int32_t>(canvas.slot_of(claim.voxel)), claim.label, false);
 }
 
 void ReferenceSolver::mark_seed_block(const Canvas& canvas, std::size_t s, bool assign_values) {
-  const int rz = dimension_ == 3 ? kInitRadius : 0;
+  const int rz = dimension_ == 3 ? kSeedBlockRadius : 0;
   const VoxelIndex c = canvas.voxel_containing(seeds_[s].position);
   for (int dk = -rz; dk <= rz; ++dk)
-    for (int dj = -kInitRadius; dj <= kInitRadius; ++dj)
-      for (int di = -kInitRadius; di <= kInitRadius; ++di) {
+    for (int dj = -kSeedBlockRadius; dj <= kSeedBlockRadius; ++dj)
+      for (int di = -kSeedBlockRadius; di <= kSeedBlockRadius; ++di) {
         const int64_t slot = canvas.slot_of(c.i + di, c.j + dj, c.k + dk);
         if (slot < 0) continue;
         const int32_t voxel = static_cast<int32_t>(slot);
         const bool was_frozen = frozen_[voxel];
         frozen_[voxel] = 1;
-        if (!assign_values) continue;
-        const Vec3 p = position_of(voxel) - seeds_[s].position;
-        const double u0 = std::sqrt(std::max(0.0, p.dot(seeds_[s].G * p)));
-        VoxelState& state = state_[voxel];
-        // A voxel that was not boundary data takes the exact value even if its old value was
-        // smaller: solving with all seeds at once would have frozen it to that value too.
-        const bool wins = !was_frozen || u0 < state.value ||
-                          (u0 == state.value && static_cast<int32_t>(s) < state.label);
-        if (!wins) continue;
-        state.value = u0;
-        state.label = static_cast<int32_t>(s);
-        queue_.push_back({u0, voxel});
-        std::push_heap(queue_.begin(), queue_.end(), std::greater<QueueEntry>());
+        if (assign_values) offer_exact_value(voxel, static_cast<int32_t>(s), was_frozen);
       }
+}
+
+// A voxel that was not boundary data (or is claimed) takes the exact value even if its old value
+// was smaller: solving with all seeds at once would have frozen it to that value too. Boundary data
+// keeps the smallest value (ties: smaller label).
+void ReferenceSolver::offer_exact_value(int32_t voxel, int32_t s, bool was_frozen) {
+  const Vec3 p = position_of(voxel) - seeds_[s].position;
+  const double u0 = std::sqrt(std::max(0.0, p.dot(seeds_[s].G * p)));
+  VoxelState& state = state_[voxel];
+  const bool wins = !was_frozen || u0 < state.value || (u0 == state.value && s < state.label);
+  if (!wins || (u0 == state.value && s == state.label)) return;
+  state.value = u0;
+  state.label = s;
+  queue_.push_back({u0, voxel});
+  std::push_heap(queue_.begin(), queue_.end(), std::greater<QueueEntry>());
 }
 
 // Small helpers of the inner loop, defined first so that they are inlined.
@@ -451,8 +457,7 @@ class ReferencePropagator final : public Propagator {
   PropagationStats insert(const Canvas& canvas, const std::vector<Vec3>& seeds,
                           std::size_t first_new, VoronoiField& field) override {
     validate_seeds(canvas, seeds);
-    if (field.distance.size() != canvas.slot_count() || field.label.size() != canvas.slot_count())
-      throw Error("insert: the field does not match the canvas (slot counts differ)");
+    require_field_for(canvas, field, "insert");
     ReferenceSolver& solver = solver_for(canvas);
     if (!is_last_output(field)) import_field(field);
     const PropagationStats stats = solver.insert(canvas, seeds, first_new, last_);

@@ -9,6 +9,7 @@
 
 #include "rvor/canvas.h"
 #include "rvor/propagation.h"
+#include "rvor/seed_blocks.h"
 
 namespace rvor::detail {
 
@@ -62,7 +63,8 @@ class ReferenceSolver {
   void load_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds);
   void load_field(const ExactField& field);
   void store_field(ExactField& field) const;
-  void initialise_seed_blocks(const Canvas& canvas, std::size_t first_seed);
+  void initialise_seed_blocks(const Canvas& canvas, std::size_t first_seed,
+                              const std::vector<SeedClaim>& claims);
   void run_queue(PropagationStats& stats);
 
   // The factored source of one label seen from one voxel x: p = x - s, G_s p and u0(x).
@@ -86,6 +88,7 @@ class ReferenceSolver {
   // neighbours (ties: smaller label). Returns whether (value, label) changed.
   bool recompute(int32_t x);
   void mark_seed_block(const Canvas& canvas, std::size_t seed, bool assign_values);
+  void offer_exact_value(int32_t voxel, int32_t seed, bool was_frozen);
   double local_solve(int32_t voxel, int32_t label) const;
   // Voxel index and world position of a slot, and the slot of a stencil neighbour, by arithmetic
   // on the brick layout: no per-voxel memory access (the run time is dominated by cache misses).

@@ -182,14 +182,16 @@ TEST(DualChecks, RegularTetrahedronHasQualityOne) {
   EXPECT_EQ(dual.quality_summary.quality_histogram[9], 1u);
 }
 
-// Seeds too close for the canvas: 60 seeds on 24 x 24 voxels, cells of a few voxels each, so
-// the labels are too coarse to resolve the Voronoi diagram.
+// Seeds too close for the canvas: 120 seeds on 24 x 24 voxels, cells of a few voxels each, so
+// the labels are too coarse to resolve the Voronoi diagram. (60 seeds made a valid triangulation
+// once seed-block voxels took their nearest seed, rvor/seed_blocks.h: before, those labels were
+// what broke it.)
 // Deciding near-degenerate configurations in the metric would repair this uniform-metric case
 // (and flag most of it near-degenerate, checked below): the checks see the canvas's own nerve.
 StraightDual bad_configuration(bool decide_near_degenerate) {
   const Canvas canvas =
       test::make_uniform_box_canvas(2, Vec3(0, 0, 0), Vec3(1, 1, 0), 24, Mat3::Identity());
-  const std::vector<Vec3> seeds = random_seeds(canvas, 60, 7);
+  const std::vector<Vec3> seeds = random_seeds(canvas, 120, 7);
   const VoronoiField field = test::solve_reference(canvas, seeds);
   StraightDualOptions options;
   options.decide_near_degenerate = decide_near_degenerate;

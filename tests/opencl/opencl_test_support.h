@@ -15,7 +15,7 @@
 namespace rvor::test {
 
 constexpr double kRelativeTolerance = 1e-4;
-constexpr int kTieReach = 3;  // voxels: how far a tie-broken label changes neighbouring values
+constexpr int kTieReach = 3;  // voxels: one step of a tie-broken label's effect on values
 
 // The device the engine tests run on: $RVOR_TEST_DEVICE (e.g. opencl:1 for a GPU, the names of
 // --device), else PoCL, which CI has.
@@ -53,8 +53,9 @@ std::vector<Vec3> random_points(const Vec3& lo, const Vec3& hi, int dimension, i
                                 unsigned rng_seed);
 
 // Distances agree to kRelativeTolerance (relative, or against one voxel's metric length for
-// distances below it) except within kTieReach voxels of a voxel the two fields label
-// differently; label differences (ties) and such voxels must be rare.
+// distances below it) except downstream of a voxel the two fields label differently: reached from
+// it by steps of at most kTieReach voxels through voxels that differ. Label differences (ties) and
+// such voxels must be rare.
 void expect_same_field(const Canvas& canvas, const VoronoiField& expected,
                        const VoronoiField& actual);
 

@@ -15,6 +15,7 @@
 #include "rvor/propagation.h"
 #include "rvor/seeds.h"
 #include "support/box_canvas.h"
+#include "support/close_seeds.h"
 
 namespace rvor {
 namespace {
@@ -123,6 +124,24 @@ TEST_P(EngineConfigs, AxisAnisotropy141Settles3D) {
   const Canvas canvas =
       test::make_uniform_box_canvas(3, kLo, kHi, 24, Vec3(20000.0, 1.0, 1.0).asDiagonal());
   test::expect_matches_reference(*engine, canvas, random_seeds(canvas, 5, 1));
+}
+
+// Seeds in pairs 3 to 5 voxels apart: block voxels nearer to the other seed of the pair, whose
+// block does not contain them, were frozen to the wrong seed (rvor/seed_blocks.h), solved at once
+// and inserted one by one.
+TEST_P(EngineConfigs, BlockVoxelsNearerToAnotherSeedTakeThatSeed) {
+  REQUIRE_ENGINE_WITH(options());
+  for (const int dimension : {2, 3}) {
+    const Mat3 G = rotated_metric(dimension, 3.0);
+    const Canvas canvas = test::make_uniform_box_canvas(dimension, kLo, kHi, 24, G);
+    const std::vector<Vec3> seeds = test::close_seed_pairs(canvas, 5, 5);
+    VoronoiField all;
+    engine->solve(canvas, seeds, all);
+    for (const VoronoiField& field : {all, test::insert_one_by_one(*engine, canvas, seeds)})
+      test::expect_exact_seed_blocks(
+          canvas, G, seeds, std::vector<double>(field.distance.begin(), field.distance.end()),
+          field.label, 1e-5);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(

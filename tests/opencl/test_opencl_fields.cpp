@@ -18,7 +18,11 @@ namespace {
 
 // Canvas sizes keep each reference solve to about a second on 2 cores.
 constexpr int kResolution2D = 192, kResolution3D = 40;
-constexpr int kInsertionResolution2D = 128, kInsertionResolution3D = 24;
+// The per-label scheme's fixed point can depend on the order of updates where Voronoi cells are a
+// few stencils wide (docs/scheme.md, "Convergence"): with these seeds, 3D insertion at 24^3
+// (radial_shock_3d) and 32^3 (the uniform field) gives another fixed point than a solve at a few
+// voxels; 20^3 and 28^3 do not.
+constexpr int kInsertionResolution2D = 128, kInsertionResolution3D = 28;
 
 struct FieldCase {
   std::string spec;

@@ -6,6 +6,7 @@
 
 #include "rvor/seeds.h"
 #include "solver_fixtures.h"
+#include "support/close_seeds.h"
 
 namespace rvor::test {
 namespace {
@@ -182,6 +183,26 @@ TEST_P(SeedsByDimension, SeedOrderDoesNotMatter) {
   EXPECT_EQ(c.label_mismatches_beyond(1), 0u);
   EXPECT_LE(c.label_mismatches[0], canvas.active_voxel_count / 1000);  // near-ties only
   EXPECT_LE(c.max_difference_beyond(1), 1e-9);
+}
+
+// Seeds in pairs a few voxels apart: a voxel of one seed's block can be nearer to the other seed,
+// whose block does not contain it. Every seed-block voxel must then hold the nearest seed's exact
+// value (rvor/seed_blocks.h), whether the seeds come at once or one by one.
+TEST_P(SeedsByDimension, BlockVoxelsNearerToAnotherSeedTakeThatSeed) {
+  const int dimension = GetParam();
+  const Mat3 G = rotated_metric(dimension, 3);
+  const Canvas canvas = make_uniform_box_canvas(dimension, Vec3(-1, -1, -1), Vec3(1, 1, 1),
+                                                dimension == 3 ? 32 : 64, G);
+  const std::vector<Vec3> seeds = close_seed_pairs(canvas, 12, 5);
+  detail::ReferenceSolver solver(canvas);
+  detail::ExactField all, incremental;
+  solver.solve(canvas, seeds, all);
+  solver.solve(canvas, {seeds[0]}, incremental);
+  for (std::size_t n = 1; n < seeds.size(); ++n)
+    solver.insert(canvas, std::vector<Vec3>(seeds.begin(), seeds.begin() + n + 1), n, incremental);
+  // 1e-6: the canvas holds the metric in float.
+  expect_exact_seed_blocks(canvas, G, seeds, all.distance, all.label, 1e-6);
+  expect_exact_seed_blocks(canvas, G, seeds, incremental.distance, incremental.label, 1e-6);
 }
 
 // The public interface: a chain of insert() calls on float fields keeps the double state, so it

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "rvor/canvas.h"
+#include "rvor/error.h"
 
 namespace rvor {
 
@@ -20,6 +21,18 @@ struct VoronoiField {
   std::vector<float> distance;
   std::vector<int32_t> label;
 };
+
+// Throws rvor::Error "WHAT: the field does not match the canvas (...)" unless the field has one
+// distance and one label per canvas slot (a field solved on another canvas, or none yet).
+inline void require_field_for(const Canvas& canvas, const VoronoiField& field,
+                              const std::string& what) {
+  if (field.distance.size() == canvas.slot_count() && field.label.size() == canvas.slot_count())
+    return;
+  throw Error(what + ": the field does not match the canvas (" +
+              std::to_string(field.distance.size()) + " distances and " +
+              std::to_string(field.label.size()) + " labels for " +
+              std::to_string(canvas.slot_count()) + " slots; solve on this canvas first)");
+}
 
 struct PropagationStats {
   // Outer iterations (reference: queue pops; OpenCL: active-list rounds).

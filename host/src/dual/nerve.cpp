@@ -340,8 +340,7 @@ Nerve extract_nerve(const Canvas& canvas, const VoronoiField& field, std::size_t
 Nerve extract_nerve(const Canvas& canvas, const VoronoiField& field, std::size_t seed_count,
                     const std::vector<std::uint8_t>& bricks_to_scan) {
   const auto start = std::chrono::steady_clock::now();
-  if (field.label.size() != canvas.slot_count() || field.distance.size() != canvas.slot_count())
-    throw Error("nerve: the field does not match the canvas (slot counts differ)");
+  require_field_for(canvas, field, "nerve");
   if (bricks_to_scan.size() != canvas.brick_count())
     throw Error("nerve: " + std::to_string(bricks_to_scan.size()) + " brick flags for " +
                 std::to_string(canvas.brick_count()) + " bricks");

@@ -17,6 +17,8 @@
 #include "opencl_runtime.h"
 #include "rvor/embedded_kernels.h"
 #include "rvor/error.h"
+#include "rvor/seed_blocks.h"
+#include "rvor/seeds.h"
 
 namespace rvor {
 
@@ -49,18 +51,15 @@ std::string nerve_source() {
   return kernel_source({"state_word.clh", "brick_layout.clh", "nerve.cl"});
 }
 
-// Seed records: index coordinates, containing voxel, h^2 G_s. Throws for seeds outside the canvas.
+// Seed records: index coordinates, containing voxel, h^2 G_s. The seeds must lie in the canvas
+// (validate_seeds).
 std::vector<float> seed_records(const Canvas& canvas, const std::vector<Vec3>& seeds) {
-  if (seeds.empty()) throw Error("no seeds to propagate from");
   std::vector<float> records(kSeedRecord * seeds.size(), 0.0f);
   const double h2 = canvas.voxel_size * canvas.voxel_size;
   for (std::size_t s = 0; s < seeds.size(); ++s) {
     const Vec3& p = seeds[s];
     const VoxelIndex v = canvas.voxel_containing(p);
-    const int64_t slot = p.allFinite() ? canvas.slot_of(v) : -1;
-    if (slot < 0)
-      throw Error("seed " + std::to_string(s) + " at (" + std::to_string(p.x()) + ", " +
-                  std::to_string(p.y()) + ", " + std::to_string(p.z()) + ") is outside the domain");
+    const int64_t slot = canvas.slot_of(v);
     const Vec3 c = canvas.index_coordinates(p);
     float* r = &records[kSeedRecord * s];
     r[0] = static_cast<float>(c.x());
@@ -93,7 +92,7 @@ class OpenCLPropagator final : public Propagator {
                          VoronoiField& field) override {
     return guarded("solving", [&] {
       const auto start = std::chrono::steady_clock::now();
-      prepare(canvas, seeds);
+      prepare(canvas, seeds, 0);
       device_field_hash_.reset();
       queue_.enqueueFillBuffer(canvas_->state, opencl::kInfiniteState, 0,
                                canvas_->slots * sizeof(cl_ulong));
@@ -108,10 +107,9 @@ class OpenCLPropagator final : public Propagator {
                           std::size_t first_new, VoronoiField& field) override {
     return guarded("inserting seeds", [&] {
       const auto start = std::chrono::steady_clock::now();
-      if (field.distance.size() != canvas.slot_count() || field.label.size() != canvas.slot_count())
-        throw Error("insert(): the field does not match the canvas (solve first)");
+      require_field_for(canvas, field, "insert()");
       if (first_new > seeds.size()) throw Error("insert(): first_new is past the last seed");
-      prepare(canvas, seeds);
+      prepare(canvas, seeds, first_new);
       step_ = 0.0f;  // an insertion changes a region around its seeds: no stepping
       const std::optional<std::uint64_t> held_field_hash = hold_field(field);
       device_field_hash_.reset();
@@ -122,8 +120,7 @@ class OpenCLPropagator final : public Propagator {
   std::vector<std::uint8_t> multi_label_bricks(const Canvas& canvas,
                                                const VoronoiField& field) override {
     return guarded("finding multi-label bricks", [&] {
-      if (field.distance.size() != canvas.slot_count() || field.label.size() != canvas.slot_count())
-        throw Error("multi_label_bricks(): the field does not match the canvas");
+      require_field_for(canvas, field, "multi_label_bricks()");
       hold_canvas(canvas);
       hold_field(field);
       return flag_multi_label_bricks(canvas.dimension);
@@ -161,11 +158,13 @@ class OpenCLPropagator final : public Propagator {
     return device_.info.is_gpu ? RelaxationVariant::voxel_phases : RelaxationVariant::brick_lanes;
   }
 
-  void prepare(const Canvas& canvas, const std::vector<Vec3>& seeds) {
+  // Uploads the seeds, and lists the claims of the seeds from first_new on (rvor/seed_blocks.h).
+  void prepare(const Canvas& canvas, const std::vector<Vec3>& seeds, std::size_t first_new) {
     // Labels leave TENTATIVE_LABEL (kernels/state_word.clh) free for front stepping.
     if (seeds.size() > kMostOpenCLSeeds)
       throw Error("too many seeds: " + std::to_string(seeds.size()) + " (the OpenCL engine takes " +
                   std::to_string(kMostOpenCLSeeds) + " at most)");
+    validate_seeds(canvas, seeds);  // the reference's checks and messages
     const std::vector<float> records = seed_records(canvas, seeds);
     hold_canvas(canvas);
     if (canvas_->seed_capacity < seeds.size()) {
@@ -175,6 +174,9 @@ class OpenCLPropagator final : public Propagator {
     }
     queue_.enqueueWriteBuffer(canvas_->seeds, CL_TRUE, 0, records.size() * sizeof(float),
                               records.data());
+    claims_.clear();
+    for (const SeedClaim& claim : foreign_seed_claims(canvas, seeds, first_new))
+      claims_.push_back({{claim.voxel.i, claim.voxel.j, claim.voxel.k, claim.label}});
   }
 
   // Uploads the canvas unless the device holds it already.
@@ -288,6 +290,7 @@ class OpenCLPropagator final : public Propagator {
       variant_ = RelaxationVariant::brick_sweep;  // the device cannot hold a phase per work-group
     freeze_ = cl::Kernel(program, "freeze_seed_blocks");
     init_ = cl::Kernel(program, "initialise_seeds");
+    claim_ = cl::Kernel(program, "claim_seed_voxels");
     relax_ =
         cl::Kernel(program, variant_ == RelaxationVariant::brick_lanes   ? "relax_brick_lanes"
                             : variant_ == RelaxationVariant::brick_sweep ? "relax_brick_sweep"
@@ -320,6 +323,7 @@ class OpenCLPropagator final : public Propagator {
     if (first_seed > 0) prepare_seed_blocks(0, first_seed, true, seed_stamp);
     prepare_seed_blocks(first_seed, seed_count, false, seed_stamp);
     initialise_seeds(first_seed, seed_count, seed_stamp);
+    claim_seed_voxels(seed_stamp);
     activate_initial_bricks();
     PropagationStats stats;
     const int colour_count = colours(canvas);
@@ -379,6 +383,18 @@ class OpenCLPropagator final : public Propagator {
              d.touched);
     queue_.enqueueNDRangeKernel(init_, cl::NullRange,
                                 cl::NDRange(round_up(items, kBookkeepingGroup)),
+                                cl::NDRange(kBookkeepingGroup));
+  }
+
+  void claim_seed_voxels(cl_uint stamp) {
+    if (claims_.empty()) return;
+    const DeviceCanvasRef d = *canvas_;
+    const cl::Buffer claims(context_, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                            claims_.size() * sizeof(cl_int4), claims_.data());
+    set_args(claim_, static_cast<cl_int>(claims_.size()), claims, d.seeds, d.state, d.activity,
+             d.table, d.dims, d.grid, d.flags, d.changed, stamp, d.touched);
+    queue_.enqueueNDRangeKernel(claim_, cl::NullRange,
+                                cl::NDRange(round_up(claims_.size(), kBookkeepingGroup)),
                                 cl::NDRange(kBookkeepingGroup));
   }
 
@@ -535,9 +551,11 @@ class OpenCLPropagator final : public Propagator {
   cl_uint stamp_stride_ = 1, round_base_ = 0;              // brick_sweep evaluation stamps
   // field_hash of the field finish() returned last, while the device state is still that field.
   std::optional<std::uint64_t> device_field_hash_;
-  cl::Kernel freeze_, init_, relax_, commit_, activate_, compact_, spread_, flag_multi_label_;
+  cl::Kernel freeze_, init_, claim_, relax_, commit_, activate_, compact_, spread_,
+      flag_multi_label_;
   cl::Kernel least_of_, pend_below_, relax_stepping_;
-  std::string build_options_;  // of the program the kernels above come from
+  std::vector<cl_int4> claims_;  // of the seeds being added (prepare)
+  std::string build_options_;    // of the program the kernels above come from
   // Front stepping: evaluations above the threshold stay tentative (kernels/state_word.clh);
   // +inf: off. step_: how far the threshold moves past the least tentative distance.
   float threshold_ = std::numeric_limits<float>::infinity(), step_ = 0.0f;

@@ -1,0 +1,28 @@
+#pragma once
+// The initialisation of docs/scheme.md, shared by every propagator: the voxels of the (2r+1)^d
+// block around each seed's voxel are boundary data, frozen at the least exact value
+// u0_t(x) = |F_t (x - t)| over all seeds t (ties: the smaller label).
+#include <cstdint>
+#include <vector>
+
+#include "rvor/canvas.h"
+
+namespace rvor {
+
+constexpr int kSeedBlockRadius = 2;  // r
+
+// A block voxel whose least u0 belongs to a seed whose own block does not contain it (two seeds a
+// few voxels apart, or a strongly anisotropic metric): the propagators assign these after the
+// blocks, so that a voxel is never frozen to a seed that is not its nearest.
+struct SeedClaim {
+  VoxelIndex voxel;
+  std::int32_t label = -1;
+};
+
+// The claims of `seeds` (which must lie in the canvas: validate_seeds). With `first_new` > 0 (an
+// insertion into a field solved for seeds[0..first_new)) only claims that a new seed can change
+// are listed: on the new seeds' blocks, and by new seeds; the others hold in the field already.
+std::vector<SeedClaim> foreign_seed_claims(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                                           std::size_t first_new = 0);
+
+}  // namespace rvor
