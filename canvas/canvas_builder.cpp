@@ -293,14 +293,6 @@ std::vector<const BoolLeaf*> leaves_in_box(const BoolTree& tree, const Placement
   return leaves;
 }
 
-// The tensor the canvas stores: 2D canvases keep only the xy block (G(2,2) = 1).
-Mat3 canvas_tensor(const Mat3& G, int dimension) {
-  if (dimension == 3) return G;
-  Mat3 planar = Mat3::Identity();
-  planar.topLeftCorner<2, 2>() = G.topLeftCorner<2, 2>();
-  return planar;
-}
-
 // Position of a voxel inside its brick (x fastest), as Canvas::slot_of counts it.
 std::size_t local_index(const openvdb::Coord& c, const Placement& p) {
   const int z = p.dimension == 3 ? (c.z() & (kEdge - 1)) : 0;
@@ -327,9 +319,11 @@ void sample_metric(Canvas& canvas, const std::vector<const BoolLeaf*>& leaves, c
           const openvdb::Coord c = voxel.getCoord();
           if (!p.in_box(c)) continue;
           const Vec3 world = p.world(c);
-          const Mat3 G = canvas_tensor(metric.at(world), p.dimension);
+          const Mat3 given = metric.at(world);
+          const Mat3 G = stored_metric(given, p.dimension);
           // The message is built only on failure: formatting it per voxel would dominate the build.
-          if (G != checked && !is_spd(G)) require_spd(G, name + " at " + format_point(world));
+          if (G != checked && !is_storable_metric(G, p.dimension))
+            require_storable_metric(G, given, p.dimension, name + " at " + format_point(world));
           checked = G;
           canvas.set_active(brick * canvas.brick_volume() + local_index(c, p), G);
         }

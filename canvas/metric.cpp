@@ -89,6 +89,58 @@ void require_spd(const Mat3& G, const std::string& where) {
     throw Error("metric " + where + " is not symmetric positive definite: " + describe(G));
 }
 
+Mat3 stored_metric(const Mat3& G, int dimension) {
+  Mat3 stored = Mat3::Identity();
+  const int n = dimension == 3 ? 3 : 2;
+  for (int r = 0; r < n; ++r)
+    for (int c = 0; c < n; ++c) stored(r, c) = static_cast<double>(static_cast<float>(G(r, c)));
+  return stored;
+}
+
+namespace {
+
+// Eigenvalues of the tensor's xy block in 2D, of the whole tensor in 3D.
+Eigen::VectorXd planar_eigenvalues(const Mat3& G, int dimension) {
+  const int n = dimension == 3 ? 3 : 2;
+  const Eigen::MatrixXd block = G.topLeftCorner(n, n);
+  return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(block, Eigen::EigenvaluesOnly)
+      .eigenvalues();
+}
+
+}  // namespace
+
+bool is_storable_metric(const Mat3& stored, int dimension) {
+  if (!is_spd(stored)) return false;
+  // Without an eigen solve where the bounds settle it: the largest eigenvalue is at most the
+  // trace, the smallest at least det / trace^(n-1).
+  const int n = dimension == 3 ? 3 : 2;
+  const double trace = stored.topLeftCorner(n, n).trace();
+  const double det = n == 3 ? stored.determinant() : stored.topLeftCorner<2, 2>().determinant();
+  if (trace <= kMostMetricEigenvalue && det / std::pow(trace, n - 1) >= kLeastMetricEigenvalue)
+    return true;
+  const Eigen::VectorXd values = planar_eigenvalues(stored, dimension);
+  return values.minCoeff() >= kLeastMetricEigenvalue && values.maxCoeff() <= kMostMetricEigenvalue;
+}
+
+void require_storable_metric(const Mat3& stored, const Mat3& given, int dimension,
+                             const std::string& where) {
+  if (!stored.allFinite()) {
+    require_spd(given, where);  // "not finite", with the values
+    throw Error("metric " + where + " does not fit in float: " + describe(given));
+  }
+  if (!is_spd(stored))
+    throw Error("metric " + where + " is not symmetric positive definite once rounded to float " +
+                "(canvases keep tensors in float): " + describe(given));
+  const Eigen::VectorXd values = planar_eigenvalues(stored, dimension);
+  const double least = values.minCoeff(), most = values.maxCoeff();
+  if (least >= kLeastMetricEigenvalue && most <= kMostMetricEigenvalue) return;
+  std::ostringstream out;
+  out << "metric " << where << " has eigenvalues from " << least << " to " << most << ", outside ["
+      << kLeastMetricEigenvalue << ", " << kMostMetricEigenvalue
+      << "], the range canvases keep in float (rescale the metric or the domain's length unit)";
+  throw Error(out.str());
+}
+
 Mat3 metric_sqrt(const Mat3& G) {
   return spectral_map(G, [](double x) { return std::sqrt(std::max(x, 0.0)); });
 }

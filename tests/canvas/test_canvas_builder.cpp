@@ -275,6 +275,32 @@ TEST(BuildCanvas, BadTensorAfterAUniformRegionIsRejected) {
   EXPECT_NE(message.find("not finite"), std::string::npos) << message;
 }
 
+// Canvases keep tensors in float: a tensor that is SPD in double but not once rounded, or whose
+// eigenvalues leave [1e-30, 1e30], is an error at its position (it used to fail later in the
+// solve with "selling_decomposition: matrix [-nan ...]", or leave voxels silently unreached).
+TEST(BuildCanvas, TensorsThatFloatCannotHoldAreRejectedWithTheirPosition) {
+  const std::pair<Mat3, const char*> cases[] = {
+      {1e-300 * Mat3::Identity(), "rounded to float"},
+      {1e-40 * Mat3::Identity(), "outside [1e-30, 1e+30]"},
+      {1e31 * Mat3::Identity(), "outside [1e-30, 1e+30]"},
+      {1e300 * Mat3::Identity(), "does not fit in float"},
+      {(Mat3() << 1, 1 - 1e-9, 0, 1 - 1e-9, 1, 0, 0, 0, 1).finished(), "rounded to float"}};
+  for (const auto& [tensor, expected] : cases) {
+    const FunctionMetric corner(
+        3,
+        [&tensor = tensor](const Vec3& p) {
+          return p.x() > 0.5 && p.y() > 0.5 && p.z() > 0.5 ? tensor : Mat3::Identity();
+        },
+        "float-test-metric");
+    CanvasOptions options;
+    options.resolution = 16;
+    const std::string message = build_error(parse_domain("box:0,0,0,1,1,1"), corner, options);
+    EXPECT_NE(message.find("'float-test-metric' at (0.53125, 0.53125, 0.53125)"), std::string::npos)
+        << message;
+    EXPECT_NE(message.find(expected), std::string::npos) << message;
+  }
+}
+
 TEST(BuildCanvas, TwoDimensionalMetricOnThreeDimensionalDomainIsRejected) {
   const std::string message =
       build_error(parse_domain("box:0,0,0,1,1,1"), test::euclidean_metric(2), {});

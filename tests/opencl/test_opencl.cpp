@@ -179,6 +179,40 @@ TEST(OpenCLUniformMetric, CurvedDomainsMatchTheReference) {
   }
 }
 
+// The device solves in units of a power of two near one voxel step (device_length_unit): a metric
+// scaled by 4^k, or a domain and seeds scaled by 2^k, give distances scaled by 2^k bit for bit.
+// In world units float overflowed: a metric scale of 1e12 was 12% off the reference, 1e-9 and a
+// domain of +-1e13 never settled.
+TEST(OpenCLScale, ScaledMetricsAndDomainsGiveExactlyScaledDistances) {
+  REQUIRE_ENGINE(RelaxationVariant::automatic);
+  for (const int dimension : {2, 3}) {
+    const Mat3 G = rotated_metric(dimension, 3.0);
+    const int resolution = dimension == 3 ? 24 : 64;
+    const Canvas canvas = test::make_uniform_box_canvas(dimension, kLo, kHi, resolution, G);
+    const std::vector<Vec3> seeds = test::random_points(kLo, kHi, dimension, 20, 3);
+    VoronoiField base;
+    engine->solve(canvas, seeds, base);
+    for (const int k : {-45, 45}) {
+      const double factor = std::ldexp(1.0, k);
+      VoronoiField by_metric, by_domain;
+      engine->solve(
+          test::make_uniform_box_canvas(dimension, kLo, kHi, resolution, factor * factor * G),
+          seeds, by_metric);
+      std::vector<Vec3> scaled_seeds;
+      for (const Vec3& seed : seeds) scaled_seeds.push_back(factor * seed);
+      engine->solve(
+          test::make_uniform_box_canvas(dimension, factor * kLo, factor * kHi, resolution, G),
+          scaled_seeds, by_domain);
+      for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot)
+        for (const VoronoiField* field : {&by_metric, &by_domain}) {
+          ASSERT_EQ(field->distance[slot], std::ldexp(base.distance[slot], k))
+              << dimension << "D, 2^" << k << ", slot " << slot;
+          ASSERT_EQ(field->label[slot], base.label[slot]);
+        }
+    }
+  }
+}
+
 TEST(OpenCLInsertion, OneByOneEqualsAllAtOnce) {
   REQUIRE_ENGINE(RelaxationVariant::automatic);
   const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 32, rotated_metric(3, 4.0));

@@ -23,6 +23,20 @@ bool is_spd(const Mat3& G);
 // finite") unless is_spd(G). `where` names the source, e.g. "'swirl' at (0.1, 0.2, 0)".
 void require_spd(const Mat3& G, const std::string& where);
 
+// The tensor as a canvas stores it: rounded to float, and in 2D its xy block (the z row and
+// column of the identity).
+Mat3 stored_metric(const Mat3& G, int dimension);
+// The eigenvalues a canvas accepts: well inside float's range, so that products of tensors, voxel
+// sizes and distances stay normal floats in every engine.
+constexpr double kLeastMetricEigenvalue = 1e-30, kMostMetricEigenvalue = 1e30;
+// Whether `stored` (from stored_metric) is SPD with eigenvalues (of its xy block in 2D) in
+// [kLeastMetricEigenvalue, kMostMetricEigenvalue].
+bool is_storable_metric(const Mat3& stored, int dimension);
+// Throws rvor::Error naming `where` unless is_storable_metric. `given` is the tensor before
+// storage, for the message.
+void require_storable_metric(const Mat3& stored, const Mat3& given, int dimension,
+                             const std::string& where);
+
 // F = G^{1/2}, the symmetric square root (eigen-decomposition). d_G(x, y) = |F (x - y)|.
 Mat3 metric_sqrt(const Mat3& G);
 Mat3 metric_log(const Mat3& G);                      // symmetric matrix logarithm of an SPD matrix

@@ -44,9 +44,11 @@ void store_shape_index(std::vector<float>& records, std::size_t into, std::uint3
 // packer's own (merged into the canvas's by merge_shapes). `last_*` caches the last metric, so
 // uniform regions reuse its stencil and shape.
 struct StencilPacker {
-  StencilPacker(const Canvas& c, PackedStencils& o) : canvas(c), out(o) {}
+  StencilPacker(const Canvas& c, PackedStencils& o, double length_unit)
+      : canvas(c), out(o), step2(c.voxel_size * c.voxel_size / (length_unit * length_unit)) {}
   const Canvas& canvas;
   PackedStencils& out;
+  double step2;  // (h / length_unit)^2: the weights are rho_i / step2
   std::array<int, 3> reach{};
   ShapeTable shapes;
   std::vector<Shape> shape_list;  // by local index
@@ -66,9 +68,8 @@ struct StencilPacker {
       last_shape = shape_index(slot);
       has_last = true;
     }
-    const double h2 = canvas.voxel_size * canvas.voxel_size;
     for (int i = 0; i < last_stencil.size; ++i)
-      out.records[kStencilRecord * into + i] = static_cast<float>(last_stencil.weight[i] / h2);
+      out.records[kStencilRecord * into + i] = static_cast<float>(last_stencil.weight[i] / step2);
     store_shape_index(out.records, into, last_shape);
   }
 
@@ -138,12 +139,12 @@ std::vector<std::vector<std::uint32_t>> merge_shapes(const std::vector<StencilPa
 }
 
 // One stencil for the whole canvas, that of its first active voxel.
-PackedStencils pack_uniform_stencil(const Canvas& canvas) {
+PackedStencils pack_uniform_stencil(const Canvas& canvas, double length_unit) {
   PackedStencils out;
   out.uniform = true;
   out.records.assign(kStencilRecord, 0.0f);
   const auto first = std::find(canvas.active.begin(), canvas.active.end(), std::uint8_t{1});
-  std::vector<StencilPacker> packer(1, StencilPacker(canvas, out));
+  std::vector<StencilPacker> packer(1, StencilPacker(canvas, out, length_unit));
   if (first != canvas.active.end())
     packer[0].pack(static_cast<std::size_t>(first - canvas.active.begin()), 0);
   merge_shapes(packer, out);  // its only shape has index 0 in both tables
@@ -164,13 +165,13 @@ int PackedStencils::offset(std::size_t slot, int i, int a) const {
                 static_cast<std::size_t>(a)];
 }
 
-PackedStencils pack_stencils(const Canvas& canvas) {
-  if (has_uniform_metric(canvas)) return pack_uniform_stencil(canvas);
+PackedStencils pack_stencils(const Canvas& canvas, double length_unit) {
+  if (has_uniform_metric(canvas)) return pack_uniform_stencil(canvas, length_unit);
   PackedStencils out;
   const std::size_t slots = canvas.slot_count();
   out.records.assign(kStencilRecord * slots, 0.0f);
   const unsigned threads = slot_threads();
-  std::vector<StencilPacker> packers(threads, StencilPacker(canvas, out));
+  std::vector<StencilPacker> packers(threads, StencilPacker(canvas, out, length_unit));
   for_slot_ranges(slots, threads, [&](unsigned t, std::size_t begin, std::size_t end) {
     for (std::size_t slot = begin; slot < end; ++slot) packers[t].pack(slot, slot);
   });
@@ -253,6 +254,21 @@ std::size_t largest_colour_class(const Canvas& canvas, int colours) {
 
 }  // namespace
 
+double device_length_unit(const Canvas& canvas) {
+  double log2_sum = 0.0;
+  std::size_t count = 0;
+  const std::size_t stride = std::max<std::size_t>(1, canvas.active_voxel_count / 4096);
+  for (std::size_t slot = 0, active = 0; slot < canvas.slot_count(); ++slot) {
+    if (!canvas.active[slot] || active++ % stride != 0) continue;
+    const Mat3 G = canvas.metric_at(slot);
+    const double trace = G(0, 0) + G(1, 1) + (canvas.dimension == 3 ? G(2, 2) : 0.0);
+    log2_sum += std::log2(canvas.voxel_size * canvas.voxel_size * trace / canvas.dimension);
+    ++count;
+  }
+  // sqrt of a power of four: the exponent of (h^2 tr G / d) halved and rounded.
+  return count == 0 ? 1.0 : std::ldexp(1.0, static_cast<int>(std::lround(0.5 * log2_sum / count)));
+}
+
 int brick_colours(const Canvas& canvas, bool colouring) {
   return colouring ? (canvas.dimension == 3 ? 8 : 4) : 1;
 }
@@ -262,7 +278,8 @@ DeviceCanvas upload_canvas(const cl::Context& context, const Canvas& canvas, int
   d.slots = canvas.slot_count();
   d.bricks = canvas.brick_count();
   if (d.bricks == 0) throw Error("the canvas has no active voxels");
-  const PackedStencils stencils = pack_stencils(canvas);
+  d.length_unit = device_length_unit(canvas);
+  const PackedStencils stencils = pack_stencils(canvas, d.length_unit);
   const int edges[3] = {Canvas::kBrickEdge, Canvas::kBrickEdge, canvas.brick_edge_z()};
   for (int a = 0; a < 3; ++a) {
     d.dims.s[a] = canvas.dims[a];

@@ -37,10 +37,19 @@ struct PackedStencils {
 };
 
 // Throws rvor::Error when an offset does not fit in int8 (anisotropy too large for the canvas).
-PackedStencils pack_stencils(const Canvas& canvas);
+// The weights are rho_i (length_unit / h)^2: distances in units of length_unit.
+PackedStencils pack_stencils(const Canvas& canvas, double length_unit = 1.0);
+
+// The unit of the device's distances: a power of two near the metric length of one voxel step,
+// h sqrt(tr G / d) averaged in log over the canvas. The float solve then works with numbers near
+// the voxel counts whatever the metric's and the domain's units (world units overflowed float at
+// a domain of 1e13 or a metric scale of 1e12, and underflowed at 1e-9), and its results are those
+// in world units scaled by a power of two, which is exact: the same bits.
+double device_length_unit(const Canvas& canvas);
 
 struct DeviceCanvas {
   std::size_t slots = 0, bricks = 0;
+  double length_unit = 1.0;               // device distances are world distances / length_unit
   cl_int4 dims{}, grid{}, brick_reach{};  // brick_reach: bricks within stencil reach per axis
   cl::Buffer state, scratch, stencils, shapes, table, origins;  // stencils, shapes: PackedStencils
   cl::Buffer activity;  // a bit per slot (bit s % 32 of word s / 32): active

@@ -28,9 +28,10 @@ std::uint64_t field_slot_hash(const VoronoiField& field, std::size_t slot) {
   return slot_hash(slot, state_word(field.distance[slot], field.label[slot]));
 }
 
-void store_word(cl_ulong word, std::size_t slot, VoronoiField& field) {
+void store_word(cl_ulong word, std::size_t slot, float length_unit, VoronoiField& field) {
   const std::uint32_t bits = static_cast<std::uint32_t>(word >> 32);
   std::memcpy(&field.distance[slot], &bits, sizeof bits);
+  field.distance[slot] *= length_unit;
   const std::uint32_t label = static_cast<std::uint32_t>(word) & kLabelNone;
   field.label[slot] = label == kLabelNone ? -1 : static_cast<int32_t>(label);
 }
@@ -69,23 +70,26 @@ std::uint64_t field_hash(const VoronoiField& field) {
                         [&](std::size_t slot) { return field_slot_hash(field, slot); });
 }
 
-void upload_field(const cl::CommandQueue& queue, const cl::Buffer& state,
-                  const VoronoiField& field) {
+void upload_field(const cl::CommandQueue& queue, const cl::Buffer& state, const VoronoiField& field,
+                  double length_unit) {
+  const float unit = static_cast<float>(length_unit);
   std::vector<cl_ulong> words(field.distance.size());
   for (std::size_t n = 0; n < words.size(); ++n)
-    words[n] = field.label[n] < 0 ? kInfiniteState : state_word(field.distance[n], field.label[n]);
+    words[n] =
+        field.label[n] < 0 ? kInfiniteState : state_word(field.distance[n] / unit, field.label[n]);
   queue.enqueueWriteBuffer(state, CL_TRUE, 0, words.size() * sizeof(cl_ulong), words.data());
 }
 
 // The state is mapped rather than read into a copy: on a device that uses host memory (PoCL on
 // the CPU) the words are read in place, and the conversion runs on every core.
 std::uint64_t download_field(const cl::CommandQueue& queue, const cl::Buffer& state,
-                             std::size_t slots, VoronoiField& field) {
+                             std::size_t slots, double length_unit, VoronoiField& field) {
+  const float unit = static_cast<float>(length_unit);
   field.distance.resize(slots);
   field.label.resize(slots);
   const MappedStates mapped(queue, state, slots);
   return sum_over_slots(slots, [&](std::size_t slot) {
-    store_word(mapped.words()[slot], slot, field);
+    store_word(mapped.words()[slot], slot, unit, field);
     return field_slot_hash(field, slot);
   });
 }
@@ -93,14 +97,15 @@ std::uint64_t download_field(const cl::CommandQueue& queue, const cl::Buffer& st
 std::uint64_t download_touched_bricks(const cl::CommandQueue& queue, const cl::Buffer& state,
                                       const cl::Buffer& touched, std::size_t bricks,
                                       std::size_t brick_volume, std::uint64_t hash,
-                                      VoronoiField& field) {
+                                      double length_unit, VoronoiField& field) {
   std::vector<cl_uchar> marks(bricks);
   queue.enqueueReadBuffer(touched, CL_TRUE, 0, bricks, marks.data());
   std::vector<std::size_t> listed;
   for (std::size_t b = 0; b < bricks; ++b)
     if (marks[b]) listed.push_back(b);
   // One read per brick: beyond a quarter of the canvas, one read of everything is cheaper.
-  if (4 * listed.size() > bricks) return download_field(queue, state, bricks * brick_volume, field);
+  if (4 * listed.size() > bricks)
+    return download_field(queue, state, bricks * brick_volume, length_unit, field);
   std::vector<cl_ulong> words(listed.size() * brick_volume);
   const std::size_t bytes = brick_volume * sizeof(cl_ulong);
   for (std::size_t n = 0; n < listed.size(); ++n)
@@ -110,7 +115,7 @@ std::uint64_t download_touched_bricks(const cl::CommandQueue& queue, const cl::B
     for (std::size_t v = 0; v < brick_volume; ++v) {
       const std::size_t slot = listed[n] * brick_volume + v;
       hash -= field_slot_hash(field, slot);
-      store_word(words[n * brick_volume + v], slot, field);
+      store_word(words[n * brick_volume + v], slot, static_cast<float>(length_unit), field);
       hash += field_slot_hash(field, slot);
     }
   }

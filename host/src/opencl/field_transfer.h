@@ -16,12 +16,14 @@ constexpr cl_ulong kInfiniteState = 0x7F8000007FFFFFFFull;  // +inf, no label (s
 // proportional to them.
 std::uint64_t field_hash(const VoronoiField& field);
 
-void upload_field(const cl::CommandQueue& queue, const cl::Buffer& state,
-                  const VoronoiField& field);
+// The device holds distances in units of length_unit (DeviceCanvas), a power of two: the
+// conversions are exact.
+void upload_field(const cl::CommandQueue& queue, const cl::Buffer& state, const VoronoiField& field,
+                  double length_unit);
 
 // The whole device state into `field`; returns its field_hash.
 std::uint64_t download_field(const cl::CommandQueue& queue, const cl::Buffer& state,
-                             std::size_t slots, VoronoiField& field);
+                             std::size_t slots, double length_unit, VoronoiField& field);
 
 // Only the bricks whose `touched` byte is set (brick_volume slots each) into `field`, which held
 // the rest of the device state already and hashed to `hash`; returns the new field_hash. Falls
@@ -29,6 +31,6 @@ std::uint64_t download_field(const cl::CommandQueue& queue, const cl::Buffer& st
 std::uint64_t download_touched_bricks(const cl::CommandQueue& queue, const cl::Buffer& state,
                                       const cl::Buffer& touched, std::size_t bricks,
                                       std::size_t brick_volume, std::uint64_t hash,
-                                      VoronoiField& field);
+                                      double length_unit, VoronoiField& field);
 
 }  // namespace rvor::opencl

@@ -51,11 +51,12 @@ std::string nerve_source() {
   return kernel_source({"state_word.clh", "brick_layout.clh", "nerve.cl"});
 }
 
-// Seed records: index coordinates, containing voxel, h^2 G_s. The seeds must lie in the canvas
-// (validate_seeds).
-std::vector<float> seed_records(const Canvas& canvas, const std::vector<Vec3>& seeds) {
+// Seed records: index coordinates, containing voxel, (h / length_unit)^2 G_s. The seeds must lie in
+// the canvas (validate_seeds).
+std::vector<float> seed_records(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                                double length_unit) {
   std::vector<float> records(kSeedRecord * seeds.size(), 0.0f);
-  const double h2 = canvas.voxel_size * canvas.voxel_size;
+  const double h2 = canvas.voxel_size * canvas.voxel_size / (length_unit * length_unit);
   for (std::size_t s = 0; s < seeds.size(); ++s) {
     const Vec3& p = seeds[s];
     const VoxelIndex v = canvas.voxel_containing(p);
@@ -165,8 +166,8 @@ class OpenCLPropagator final : public Propagator {
       throw Error("too many seeds: " + std::to_string(seeds.size()) + " (the OpenCL engine takes " +
                   std::to_string(kMostOpenCLSeeds) + " at most)");
     validate_seeds(canvas, seeds);  // the reference's checks and messages
-    const std::vector<float> records = seed_records(canvas, seeds);
     hold_canvas(canvas);
+    const std::vector<float> records = seed_records(canvas, seeds, canvas_->length_unit);
     if (canvas_->seed_capacity < seeds.size()) {
       canvas_->seed_capacity = std::max<std::size_t>(seeds.size(), 2 * canvas_->seed_capacity);
       canvas_->seeds = cl::Buffer(context_, CL_MEM_READ_ONLY,
@@ -200,7 +201,7 @@ class OpenCLPropagator final : public Propagator {
   std::optional<std::uint64_t> hold_field(const VoronoiField& field) {
     const std::uint64_t hash = opencl::field_hash(field);
     if (device_field_hash_ == hash) return hash;
-    opencl::upload_field(queue_, canvas_->state, field);
+    opencl::upload_field(queue_, canvas_->state, field, canvas_->length_unit);
     reset_stamps();
     device_field_hash_ = hash;
     return std::nullopt;
@@ -346,11 +347,12 @@ class OpenCLPropagator final : public Propagator {
                              &stats.voxel_updates);
     stats.device_bytes = canvas_->bytes;
     stats.visits_per_relaxation = static_cast<std::uint64_t>(visits_per_relaxation());
-    device_field_hash_ =
-        held_field_hash ? opencl::download_touched_bricks(queue_, canvas_->state, canvas_->touched,
-                                                          canvas_->bricks, brick_volume_,
-                                                          *held_field_hash, field)
-                        : opencl::download_field(queue_, canvas_->state, canvas_->slots, field);
+    device_field_hash_ = held_field_hash
+                             ? opencl::download_touched_bricks(
+                                   queue_, canvas_->state, canvas_->touched, canvas_->bricks,
+                                   brick_volume_, *held_field_hash, canvas_->length_unit, field)
+                             : opencl::download_field(queue_, canvas_->state, canvas_->slots,
+                                                      canvas_->length_unit, field);
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return stats;
   }
@@ -478,7 +480,9 @@ class OpenCLPropagator final : public Propagator {
     const double voxels =
         opencl::front_step_voxels(options_.front_step, canvas.dimension, canvas.active_voxel_count,
                                   seeds.size(), canvas_->axis_readers);
-    return voxels > 0.0 ? static_cast<float>(voxels * opencl::voxel_length(canvas, seeds)) : 0.0f;
+    return voxels > 0.0 ? static_cast<float>(voxels * opencl::voxel_length(canvas, seeds) /
+                                             canvas_->length_unit)
+                        : 0.0f;
   }
 
   // relax_brick_lanes with the stepping built in (FRONT_STEPPING), once per canvas.
