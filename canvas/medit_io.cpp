@@ -18,6 +18,7 @@
 #include "medit_internal.h"
 #include "rvor/atomic_file.h"
 #include "rvor/error.h"
+#include "rvor/input_file.h"
 #include "rvor/medit.h"
 
 namespace rvor {
@@ -72,8 +73,7 @@ bool is_section_keyword(std::string_view text) {
 }
 
 std::string read_whole_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path + ": cannot open file for reading (missing or unreadable)");
+  std::ifstream in = open_input_file(path, "Medit file");
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw Error(path + ": read error");

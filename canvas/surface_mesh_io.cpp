@@ -1,14 +1,13 @@
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <fstream>
 #include <map>
 #include <sstream>
 
 #include "rvor/error.h"
+#include "rvor/input_file.h"
 #include "surface_mesh.h"
 
 namespace rvor {
@@ -24,9 +23,7 @@ std::string lowercase_extension(const std::string& path) {
 }
 
 std::ifstream open_input(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot open mesh file " + path + ": " + std::strerror(errno));
-  return in;
+  return open_input_file(path, "mesh file");
 }
 
 // Reads a text file line by line, keeping the line number for error messages.

@@ -245,10 +245,7 @@ void add_bench_command(CLI::App& app) {
   cmd->add_option("--rng-seed", options->rng_seed, "Random generator seed")
       ->check(rng_seed_value())
       ->capture_default_str();
-  cmd->add_option("--device", options->device,
-                  "auto | opencl | opencl:N | pocl | cpu (the reference itself); default "
-                  "$RVOR_DEVICE or auto")
-      ->capture_default_str();
+  const CLI::Option* device = add_device_option(cmd, options->device, "the reference itself");
   const std::map<std::string, RelaxationVariant> variants = {
       {"auto", RelaxationVariant::automatic},
       {"brick_sweep", RelaxationVariant::brick_sweep},
@@ -279,7 +276,10 @@ void add_bench_command(CLI::App& app) {
   cmd->add_flag("--no-fastsweeping", options->no_fastsweeping, "Skip OpenVDB FastSweeping");
   cmd->add_flag("--json", options->json, "Print one JSON object with a `cases` array");
   cmd->add_flag("--quiet", options->quiet, "No progress lines on stderr");
-  cmd->callback([options] { run_bench(*options); });
+  cmd->callback([options, device] {
+    require_chosen_device(device, options->device);
+    run_bench(*options);
+  });
 }
 
 }  // namespace rvor::cli

@@ -3,6 +3,7 @@
 
 #include "commands.h"
 #include "rvor/devices.h"
+#include "rvor/error.h"
 
 namespace rvor::cli {
 
@@ -22,7 +23,14 @@ void print_devices() {
     std::cout << "\n";
   }
   if (devices.empty()) std::cout << "(no OpenCL device found: use --device cpu)\n";
-  std::cout << "default: " << default_device_name() << " (set RVOR_DEVICE to change it)\n";
+  const std::string chosen = default_device_name();
+  std::cout << "default: " << chosen << " (set RVOR_DEVICE to change it)";
+  try {
+    check_device_name(chosen);
+  } catch (const Error& error) {
+    std::cout << ", but RVOR_DEVICE is not a device name: " << error.what();
+  }
+  std::cout << "\n";
 }
 
 }  // namespace

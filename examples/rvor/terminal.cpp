@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <iomanip>
 #include <iostream>
 #include <optional>
 
+#include "rvor/devices.h"
 #include "rvor/error.h"
 #include "rvor/spec_text.h"
 
@@ -88,10 +90,24 @@ std::string join(const std::vector<std::string>& items, const std::string& separ
   return joined;
 }
 
-std::string device_option_help() {
-  return "Where to propagate: auto (first OpenCL GPU, else OpenCL CPU device), pocl, opencl, "
-         "opencl:N (see `rvor devices`), or cpu (sequential reference); default $RVOR_DEVICE or "
-         "auto";
+CLI::Option* add_device_option(CLI::App* command, std::string& device,
+                               const std::string& what_cpu_is) {
+  return command
+      ->add_option("--device", device,
+                   "Where to propagate: auto (first OpenCL GPU, else OpenCL CPU device), pocl, "
+                   "opencl, opencl:N (see `rvor devices`), or cpu (" +
+                       what_cpu_is + "); default $RVOR_DEVICE or auto")
+      ->capture_default_str();
+}
+
+void require_chosen_device(const CLI::Option* option, const std::string& device) {
+  try {
+    require_device(device);
+  } catch (const Error& error) {
+    const char* environment = std::getenv("RVOR_DEVICE");
+    if (option->count() > 0 || !environment || !*environment) throw;
+    throw Error("RVOR_DEVICE=" + device + ": " + error.what());
+  }
 }
 
 void print_voronoi_summary(std::ostream& out, const std::string& out_dir,

@@ -51,7 +51,12 @@ inline CLI::Validator rng_seed_value() {
 }
 extern const CLI::Validator finite_number;
 
-std::string device_option_help();
+// --device, whose default is $RVOR_DEVICE or auto. `what_cpu_is` says what "cpu" means there.
+CLI::Option* add_device_option(CLI::App* command, std::string& device,
+                               const std::string& what_cpu_is);
+// Checks the chosen device before any work (rvor::require_device); a device that came from
+// $RVOR_DEVICE rather than from --device says so.
+void require_chosen_device(const CLI::Option* option, const std::string& device);
 
 void print_voronoi_summary(std::ostream& out, const std::string& out_dir,
                            const std::vector<std::string>& outputs, std::size_t active_voxels,

@@ -281,7 +281,8 @@ void add_voronoi_command(CLI::App& app) {
   cmd->add_option("--rng-seed", options->rng_seed, "Random generator seed for --random-seeds")
       ->check(rng_seed_value())
       ->capture_default_str();
-  cmd->add_option("--device", options->device, device_option_help())->capture_default_str();
+  const CLI::Option* device =
+      add_device_option(cmd, options->device, "sequential reference, double precision");
   cmd->add_option(
       "--probe", options->probe_file,
       "Points (.xyz) at which to write probe.csv: nearest active voxel, distance, label");
@@ -307,7 +308,10 @@ void add_voronoi_command(CLI::App& app) {
                   "Refuse canvases needing more memory than this (bytes, or with K/M/G/T); "
                   "default 75% of physical memory");
   cmd->add_flag("--quiet", options->quiet, "Print nothing but errors");
-  cmd->callback([options] { run_voronoi(*options); });
+  cmd->callback([options, device] {
+    require_chosen_device(device, options->device);
+    run_voronoi(*options);
+  });
 }
 
 }  // namespace rvor::cli

@@ -1,7 +1,6 @@
 #include "rvor/seeds.h"
 
 #include <cmath>
-#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <random>
@@ -9,6 +8,7 @@
 
 #include "rvor/atomic_file.h"
 #include "rvor/error.h"
+#include "rvor/input_file.h"
 #include "rvor/spec_text.h"
 
 namespace rvor {
@@ -53,8 +53,7 @@ struct PointFile {
 };
 
 PointFile read_point_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in || std::filesystem::is_directory(path)) throw Error("cannot read point file " + path);
+  std::ifstream in = open_input_file(path, "point file");
   PointFile file;
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {

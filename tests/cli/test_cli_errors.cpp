@@ -245,7 +245,28 @@ TEST_F(CliErrors, BenchTakesTheDeviceFromTheEnvironment) {
                   " bench --quiet --metric euclidean --domain box:0,0,0,1,1,1 --resolution 8 "
                   "--seeds 2 --no-reference --no-fastsweeping");
   EXPECT_EQ(result.exit_code, 1) << "stderr: " << result.err;
-  EXPECT_NE(result.err.find("unknown device 'quantum'"), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find("RVOR_DEVICE=quantum: unknown device 'quantum'"), std::string::npos)
+      << result.err;
+}
+
+// A device that does not exist gives one line (the devices found on the same line), saying that
+// the name came from $RVOR_DEVICE; "opencl: 0" is not "opencl:0".
+TEST_F(CliErrors, DeviceErrorsAreOneLineAndNameTheirSource) {
+  for (const std::string& command :
+       {"RVOR_DEVICE=opencl:99 " +
+            voronoi("--domain rect:-1,-1,1,1 --resolution 16 --seeds " + seeds2d()),
+        voronoi("--domain rect:-1,-1,1,1 --resolution 16 --device 'opencl: 0' --seeds " +
+                seeds2d())}) {
+    const CommandResult result = run_command(command);
+    EXPECT_EQ(result.exit_code, 1) << "stderr: " << result.err;
+    EXPECT_EQ(result.err.find('\n'), result.err.size() - 1) << "more than one line: " << result.err;
+  }
+  EXPECT_NE(run_command("RVOR_DEVICE=opencl:99 " +
+                        voronoi("--domain rect:-1,-1,1,1 --resolution 16 --seeds " + seeds2d()))
+                .err.find("RVOR_DEVICE=opencl:99: no OpenCL device matches"),
+            std::string::npos);
+  const CommandResult devices = run_command("RVOR_DEVICE=quantum " + rvor_binary() + " devices");
+  EXPECT_NE(devices.out.find("RVOR_DEVICE is not a device name"), std::string::npos) << devices.out;
 }
 
 }  // namespace

@@ -90,7 +90,15 @@ const char* const kSolHeader3D = "MeshVersionFormatted 2\nDimension 3\nSolAtVert
 
 TEST(MeditSolErrors, MissingFile) {
   const std::string message = error_message([] { read_medit_sol_tensors("/nonexistent/m.sol"); });
-  EXPECT_NE(message.find("/nonexistent/m.sol: cannot open"), std::string::npos) << message;
+  EXPECT_NE(message.find("cannot read Medit file /nonexistent/m.sol: No such file"),
+            std::string::npos)
+      << message;
+}
+
+TEST(MeditSolErrors, DirectoryInsteadOfAFile) {
+  const std::string message = error_message([] { read_medit_sol_tensors("/tmp"); });
+  EXPECT_NE(message.find("cannot read Medit file /tmp: it is a directory"), std::string::npos)
+      << message;
 }
 
 TEST(MeditSolErrors, ScalarSolution) {

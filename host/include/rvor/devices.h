@@ -30,4 +30,10 @@ std::vector<OpenCLDeviceInfo> list_opencl_devices();
 // The device name for library users: $RVOR_DEVICE when set and non-empty, else "auto".
 std::string default_device_name();
 
+// Throws rvor::Error unless `name` has one of the forms above.
+void check_device_name(const std::string& name);
+// Throws the rvor::Error a propagator for `name` would (a malformed name, no matching OpenCL
+// device, a device that cannot run the kernels), without building one.
+void require_device(const std::string& name);
+
 }  // namespace rvor

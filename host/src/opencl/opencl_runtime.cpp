@@ -6,6 +6,7 @@
 #include <mutex>
 #include <tuple>
 
+#include "rvor/devices.h"
 #include "rvor/error.h"
 
 namespace rvor::opencl {
@@ -57,8 +58,8 @@ std::vector<cl::Platform> platforms_or_none() {
 std::string list_for_message(const std::vector<Device>& devices) {
   std::string text;
   for (const Device& d : devices)
-    text += "\n  opencl:" + std::to_string(d.info.index) + "  " + d.info.name + " (" +
-            d.info.platform + ")";
+    text += std::string(text.empty() ? " " : "; ") + "opencl:" + std::to_string(d.info.index) +
+            " " + d.info.name + " (" + d.info.platform + ")";
   return text.empty() ? " none" : text;
 }
 
@@ -75,15 +76,11 @@ const Device* find_device(const std::vector<Device>& devices, const std::string&
   if (name == "opencl") return first([](const Device&) { return true; });
   if (name == "pocl")
     return first([](const Device& d) { return d.info.platform == "Portable Computing Language"; });
-  if (name.rfind("opencl:", 0) == 0) {
-    const std::string number = name.substr(7);
-    char* end = nullptr;
-    const long index = std::strtol(number.c_str(), &end, 10);
-    if (number.empty() || *end != '\0' || index < 0)
-      throw Error("bad device name '" + name + "': expected opencl:N with N a device number");
-    return first([index](const Device& d) { return d.info.index == index; });
-  }
-  throw Error("unknown device '" + name + "': use auto, cpu, opencl, opencl:N or pocl");
+  check_device_name(name);
+  if (name.rfind("opencl:", 0) != 0)
+    throw Error("'" + name + "' is not an OpenCL device (\"cpu\" is the CPU reference solver)");
+  const long index = std::stol(name.substr(7));  // "opencl:N", N digits
+  return first([index](const Device& d) { return d.info.index == index; });
 }
 
 }  // namespace
@@ -205,6 +202,25 @@ void throw_opencl_error(const cl::Error& error, const std::string& doing) {
 }  // namespace rvor::opencl
 
 namespace rvor {
+
+void check_device_name(const std::string& name) {
+  if (name == "auto" || name == "cpu" || name == "opencl" || name == "pocl") return;
+  if (name.rfind("opencl:", 0) == 0) {
+    const std::string number = name.substr(7);
+    const bool digits = !number.empty() && number.size() <= 9 &&
+                        number.find_first_not_of("0123456789") == std::string::npos;
+    if (digits) return;
+    throw Error("bad device name '" + name + "': expected opencl:N with N a device number");
+  }
+  throw Error("unknown device '" + name + "': use auto, cpu, opencl, opencl:N or pocl");
+}
+
+void require_device(const std::string& name) {
+  if (name != "cpu")
+    opencl::select_device(name);
+  else
+    check_device_name(name);
+}
 
 std::vector<OpenCLDeviceInfo> list_opencl_devices() {
   std::vector<OpenCLDeviceInfo> infos;
