@@ -276,7 +276,7 @@ void add_voronoi_command(CLI::App& app) {
   vdb_option->excludes(sol_option)->excludes(mesh_option);
   cmd->add_option("--seeds", options->seeds_file, "Seeds, one point per line (2 or 3 coordinates)");
   cmd->add_option("--random-seeds", options->random_seed_count,
-                  "Draw N seeds uniformly in the domain")
+                  "Draw N seeds uniformly in the canvas's voxels (the domain to half a voxel)")
       ->check(seed_count(0));
   cmd->add_option("--rng-seed", options->rng_seed, "Random generator seed for --random-seeds")
       ->check(rng_seed_value())

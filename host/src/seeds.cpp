@@ -113,7 +113,9 @@ void validate_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds) {
       throw Error("seed " + std::to_string(n) + " has a coordinate that is not finite");
     if (canvas.slot_of(canvas.voxel_containing(s)) < 0)
       throw Error("seed " + std::to_string(n) + " at " + format_point(s) +
-                  " is outside the domain (its voxel is not an active canvas voxel)");
+                  " is outside the domain (its voxel is not an active canvas voxel: the canvas "
+                  "holds the voxels whose centres lie in the domain, so a point within half a "
+                  "voxel of its boundary can fall outside)");
   }
 }
 
