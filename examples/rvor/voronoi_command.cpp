@@ -103,12 +103,14 @@ nlohmann::json summary_json(const FieldSummary& s) {
           {"max_distance", s.max_distance},          {"mean_distance", s.mean_distance}};
 }
 
-// The curved dual with its faces: per-seed local fields first (one small solve per seed, on the
+// The curved dual with its faces, on the nerve decided as the straight dual decides it (both duals
+// then have the same simplices): per-seed local fields first (one small solve per seed, on the
 // CPU), then the geodesics; writes curved_dual.vtu and curved_faces.vtu and fills `report`.
 template <typename PathOf>
-CurvedDual build_curved(const Canvas& canvas, const VoronoiField& field, const Nerve& nerve,
+CurvedDual build_curved(const Canvas& canvas, const VoronoiField& field, const Nerve& witnessed,
                         const std::vector<Vec3>& seeds, const PathOf& path,
                         nlohmann::json& report) {
+  const Nerve nerve = decided_nerve(canvas, witnessed, seeds);
   const LocalFields locals = compute_local_fields(canvas, nerve, seeds);
   CurvedDual curved = build_curved_dual(canvas, field, nerve, seeds, &locals);
   write_curved_dual_vtu(path("curved_dual.vtu"), curved);

@@ -182,6 +182,51 @@ TEST(DualChecks, RegularTetrahedronHasQualityOne) {
   EXPECT_EQ(dual.quality_summary.quality_histogram[9], 1u);
 }
 
+// Cospherical seeds (a square, a grid, a cube, an octahedron) under the Euclidean metric: every
+// simplex of them passes the empty-sphere test in floating point, and the dual held them all,
+// overlapping (4 triangles for a square); CGAL's triangulation of the configuration picks one.
+TEST(DualChecks, CosphericalSeedsGiveOneTriangulation) {
+  struct Case {
+    int dimension;
+    std::vector<Vec3> seeds;
+    std::set<std::size_t> counts;  // the triangulations' sizes
+  };
+  std::vector<Case> cases = {
+      {2, {Vec3(0.5, 0, 0), Vec3(-0.5, 0, 0), Vec3(0, 0.5, 0), Vec3(0, -0.5, 0)}, {2}},
+      {3, {}, {5, 6}},
+      {3,
+       {Vec3(0.5, 0, 0), Vec3(-0.5, 0, 0), Vec3(0, 0.5, 0), Vec3(0, -0.5, 0), Vec3(0, 0, 0.5),
+        Vec3(0, 0, -0.5)},
+       {4}},
+      {2, {}, {18}}};
+  for (int corner = 0; corner < 8; ++corner)
+    cases[1].seeds.push_back(0.5 *
+                             Vec3(corner & 1 ? 1 : -1, corner & 2 ? 1 : -1, corner & 4 ? 1 : -1));
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) cases[3].seeds.push_back(Vec3(-0.6 + 0.4 * i, -0.6 + 0.4 * j, 0));
+  for (const Case& c : cases) {
+    const Canvas canvas =
+        test::make_uniform_box_canvas(c.dimension, Vec3(-1, -1, -1), Vec3(1, 1, 1),
+                                      c.dimension == 3 ? 40 : 128, Mat3::Identity());
+    const VoronoiField field = test::solve_reference(canvas, c.seeds);
+    const Nerve nerve = extract_nerve(canvas, field, c.seeds.size());
+    const StraightDual dual = build_straight_dual(canvas, nerve, c.seeds);
+    const std::size_t count = dual.top_count();
+    // The curved dual's nerve has the same top simplices and edges.
+    const Nerve decided = decided_nerve(canvas, nerve, c.seeds);
+    ASSERT_EQ(decided.top_simplices().size(), count);
+    for (std::size_t t = 0; t < count; ++t)
+      EXPECT_EQ(decided.top_simplices()[t].seeds, dual.top_simplex(t));
+    ASSERT_EQ(decided.edges.size(), dual.edges.size());
+    for (std::size_t e = 0; e < dual.edges.size(); ++e)
+      EXPECT_TRUE(decided.edges[e].seeds[0] == dual.edges[e][0] &&
+                  decided.edges[e].seeds[1] == dual.edges[e][1]);
+    EXPECT_TRUE(dual.checks.is_triangulation) << c.seeds.size() << " seeds";
+    EXPECT_EQ(dual.checks.intersecting, 0u) << c.seeds.size() << " seeds";
+    EXPECT_EQ(c.counts.count(count), 1u) << c.seeds.size() << " seeds: " << count << " simplices";
+  }
+}
+
 // Seeds too close for the canvas: 120 seeds on 24 x 24 voxels, cells of a few voxels each, so
 // the labels are too coarse to resolve the Voronoi diagram. (60 seeds made a valid triangulation
 // once seed-block voxels took their nearest seed, rvor/seed_blocks.h: before, those labels were

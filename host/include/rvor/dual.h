@@ -103,8 +103,9 @@ struct StraightDual {
 // Builds and checks the straight dual of the nerve. `seeds` are the propagation's seeds (label
 // i = seeds[i]); each must lie in an active voxel. Throws rvor::Error on a nerve/seed mismatch.
 // Top simplices are the nerve's, except where d+2 or more seeds are cospherical to within about
-// a voxel (a Voronoi edge the canvas cannot resolve): there the empty-sphere test in the metric
-// at the witness decides which of the configuration's simplices are Delaunay (exact for uniform
+// a voxel (a Voronoi edge the canvas cannot resolve): there the Delaunay triangulation of the
+// configuration in the metric at the witness (CGAL, exact predicates, so that exactly cospherical
+// seeds get one triangulation) decides which of its simplices are Delaunay (exact for uniform
 // metrics, the locally uniform approximation otherwise), and they are flagged near-degenerate.
 // Lower simplices: the faces of the top simplices and the nerve's dangling ones.
 struct StraightDualOptions {
@@ -118,6 +119,13 @@ struct StraightDualOptions {
 StraightDual build_straight_dual(const Canvas& canvas, const Nerve& nerve,
                                  const std::vector<Vec3>& seeds,
                                  const StraightDualOptions& options = {});
+
+// The nerve with its near-degenerate configurations decided as build_straight_dual decides them:
+// the faces of the top simplices the decision removes go, unless a kept or added top simplex has
+// them too; those it adds come with their faces, unwitnessed (witness_count 0, both witnesses at
+// the centroid of their seeds). The curved dual takes it, so that both duals have the same
+// combinatorics.
+Nerve decided_nerve(const Canvas& canvas, const Nerve& nerve, const std::vector<Vec3>& seeds);
 
 // The `dual` object of report.json as JSON text: vertices, edges, triangles, tetrahedra,
 // inverted, intersecting, intersecting_pairs, non_manifold, degenerate_witnesses,

@@ -1,6 +1,7 @@
 #pragma once
 // The steps of build_straight_dual, one translation unit each: combinatorial topology, exact
-// geometric predicates (the only CGAL code), quality in the metric.
+// geometric predicates and the triangulation of near-degenerate configurations (the only CGAL
+// code), quality in the metric.
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -32,6 +33,11 @@ std::vector<int> orientation_signs(const StraightDual& dual);
 // simplices (orientation 0) are left out (they are reported as inverted).
 std::vector<std::array<std::size_t, 2>> intersecting_pairs(const StraightDual& dual,
                                                            const std::vector<int>& orientation);
+
+// The Delaunay triangulation of a few points (CGAL, exact predicates; cospherical points are
+// resolved by its symbolic perturbation, so the simplices never overlap): index tuples into
+// `points`, sorted, -1 padded in 2D (z ignored). Empty when the points span fewer dimensions.
+std::vector<std::array<int32_t, 4>> delaunay_of(const std::vector<Vec3>& points, int dimension);
 
 // The nerve's top simplices with the near-degenerate ones decided by the empty-sphere test in the
 // metric at their witness (local_delaunay.cpp): sorted, distinct, with a near-degenerate mark each

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <iterator>
 #include <limits>
+#include <map>
 #include <optional>
 #include <set>
 
@@ -67,11 +68,6 @@ double empty_margin(const std::vector<Vec3>& seeds, const Top& t, int d, const S
   return margin;
 }
 
-unsigned next_subset(unsigned mask) {
-  const unsigned low = mask & (~mask + 1u), ripple = mask + low;
-  return (((ripple ^ mask) >> 2) / low) | ripple;
-}
-
 template <typename T>
 void sort_unique(std::vector<T>& v) {
   std::sort(v.begin(), v.end());
@@ -83,15 +79,21 @@ struct Decision {
   bool kept = true;
   bool near_degenerate = false;
   // Set when seeds lie within kSearchVoxels of its circumsphere: the sorted configuration, and
-  // the sphere, metric and voxel diameter its Delaunay simplices are decided with.
+  // the sphere, metric and voxel diameter its Delaunay simplices are decided with, and whether its
+  // circumsphere is empty of the ring's seeds outside the configuration.
   std::vector<int32_t> configuration;
+  bool empty_outside = true;
   Sphere sphere;
   Mat3 G = Mat3::Identity();
   double voxel = 0.0;
 };
 
-// The Delaunay simplices of one configuration, each with its near-degenerate mark.
-using Found = std::vector<std::pair<Top, bool>>;
+// One configuration decided: its Delaunay triangulation (sorted), and the simplices of it to add,
+// each with its near-degenerate mark.
+struct Found {
+  std::vector<Top> triangulation;
+  std::vector<std::pair<Top, bool>> added;
+};
 
 class Resolver {
  public:
@@ -106,34 +108,44 @@ class Resolver {
   // Decisions and configurations are independent per simplex: both run on all cores, and are
   // combined in the nerve's order (a configuration is decided from the first of its simplices),
   // so the result does not depend on the thread schedule.
+  // A witnessed simplex in a configuration is kept when the configuration's triangulation has it
+  // (cospherical seeds: one triangulation of them, not every simplex that passes the test in
+  // floating point); elsewhere when its circumsphere is empty.
   LocalDelaunay run(const std::vector<NerveSimplex>& tops) {
     std::vector<Decision> decisions(tops.size());
     detail::parallel_for(tops.size(), 64, [&](std::size_t i) { decisions[i] = decide(tops[i]); });
-    LocalDelaunay out;
-    std::vector<Top> kept, near_degenerate;
+    std::map<std::vector<int32_t>, std::size_t> job_of;
     std::vector<const Decision*> jobs;
-    std::set<std::vector<int32_t>> configurations;
+    for (const Decision& d : decisions)
+      if (!d.configuration.empty() &&
+          static_cast<int>(d.configuration.size()) <= kMaxConfiguration &&
+          job_of.emplace(d.configuration, jobs.size()).second)
+        jobs.push_back(&d);
+    std::vector<Found> found(jobs.size());
+    detail::parallel_for(jobs.size(), 16, [&](std::size_t j) { found[j] = configure(*jobs[j]); });
+    std::vector<Top> added, near_degenerate;
+    for (const Found& f : found)
+      for (const auto& [c, near] : f.added) {
+        added.push_back(c);
+        if (near) near_degenerate.push_back(c);
+      }
+    LocalDelaunay out;
+    std::vector<Top> kept;
     for (std::size_t i = 0; i < tops.size(); ++i) {
       const Decision& d = decisions[i];
-      if (d.kept)
+      const auto job = job_of.find(d.configuration);
+      const std::vector<Top>* triangulation =
+          job == job_of.end() ? nullptr : &found[job->second].triangulation;
+      const bool keep =
+          triangulation ? d.empty_outside && std::binary_search(triangulation->begin(),
+                                                                triangulation->end(), tops[i].seeds)
+                        : d.kept;
+      if (keep)
         kept.push_back(tops[i].seeds);
       else
         ++out.removed;
       if (d.near_degenerate) near_degenerate.push_back(tops[i].seeds);
-      // Done from another of its simplices, or too large to enumerate.
-      if (d.configuration.empty() || !configurations.insert(d.configuration).second ||
-          static_cast<int>(d.configuration.size()) > kMaxConfiguration)
-        continue;
-      jobs.push_back(&d);
     }
-    std::vector<Found> found(jobs.size());
-    detail::parallel_for(jobs.size(), 16, [&](std::size_t j) { found[j] = configure(*jobs[j]); });
-    std::vector<Top> added;
-    for (const Found& f : found)
-      for (const auto& [c, near] : f) {
-        added.push_back(c);
-        if (near) near_degenerate.push_back(c);
-      }
     assemble(std::move(kept), std::move(added), std::move(near_degenerate), out);
     return out;
   }
@@ -170,6 +182,8 @@ class Resolver {
     if (sphere && margin < kSearchVoxels * d.voxel) {
       d.sphere = *sphere;
       d.configuration = configuration(t, *sphere, d.G, d.voxel, ring);
+      d.empty_outside =
+          empty_margin(seeds_, t, d_, *sphere, d.G, without(ring, d.configuration)) >= 0.0;
     }
     return d;
   }
@@ -187,28 +201,39 @@ class Resolver {
     return near;
   }
 
-  // The Delaunay simplices (in G) on the seeds nearly cospherical with the decided simplex,
-  // whose Voronoi vertex lies in the domain near its own.
+  // The Delaunay simplices (in G) on the seeds nearly cospherical with the decided simplex, whose
+  // Voronoi vertex lies in the domain near its own: the configuration's Delaunay triangulation
+  // in the coordinates F x (F = G^(1/2)), which CGAL computes with exact predicates, so that
+  // cospherical seeds get one triangulation; its simplices must be empty of the seeds around.
   Found configure(const Decision& d) const {
     const std::vector<int32_t>& near = d.configuration;
-    const std::vector<int32_t> wide = ring_of(near.begin(), near.end());
-    const int n = static_cast<int>(near.size());
+    const std::vector<int32_t> around = without(ring_of(near.begin(), near.end()), near);
+    const Mat3 F = metric_sqrt(d.G);
+    std::vector<Vec3> mapped;
+    for (int32_t e : near) mapped.push_back(F * seeds_[e]);
     Found found;
-    // The (d+1)-subsets of the configuration, as bit masks in increasing order (Gosper's hack).
-    for (unsigned mask = (1u << (d_ + 1)) - 1; mask < (1u << n); mask = next_subset(mask)) {
+    for (const Top& local : delaunay_of(mapped, d_)) {
       Top c{-1, -1, -1, -1};
-      int m = 0;
-      for (int i = 0; i < n; ++i)
-        if (mask & (1u << i)) c[m++] = near[i];
+      for (int m = 0; m <= d_; ++m) c[m] = near[local[m]];  // sorted, as `near` is
+      found.triangulation.push_back(c);
       const std::optional<Sphere> s = circumsphere(seeds_, c, d_, d.G);
       if (!s || metric_length(d.G, s->centre - d.sphere.centre) > 0.5 * d.sphere.radius) continue;
-      // Most subsets have a seed of the configuration inside: test those first.
-      if (empty_margin(seeds_, c, d_, *s, d.G, near) < 0.0 || !in_domain(s->centre)) continue;
-      const double margin = empty_margin(seeds_, c, d_, *s, d.G, wide);
-      if (margin < 0.0) continue;
-      found.emplace_back(c, margin < kFlagVoxels * d.voxel);
+      if (!in_domain(s->centre)) continue;
+      const double outside = empty_margin(seeds_, c, d_, *s, d.G, around);
+      if (outside < 0.0) continue;
+      const double margin = std::min(outside, empty_margin(seeds_, c, d_, *s, d.G, near));
+      found.added.emplace_back(c, margin < kFlagVoxels * d.voxel);
     }
+    sort_unique(found.triangulation);
     return found;
+  }
+
+  // The seeds of `all` (sorted) that are not in `some` (sorted).
+  static std::vector<int32_t> without(const std::vector<int32_t>& all,
+                                      const std::vector<int32_t>& some) {
+    std::vector<int32_t> rest;
+    std::set_difference(all.begin(), all.end(), some.begin(), some.end(), std::back_inserter(rest));
+    return rest;
   }
 
   // The seeds given and their nerve neighbours, sorted, distinct.
@@ -260,6 +285,55 @@ LocalDelaunay resolve_near_degenerate(const Canvas& canvas, const Nerve& nerve,
   return Resolver(canvas, nerve, seeds).run(nerve.top_simplices());
 }
 
+namespace {
+
+// Calls visit(face) for every face of `top` (its d+1 seeds, sorted) with 2 or more seeds, itself
+// included, as sorted seed lists.
+template <typename Visit>
+void for_each_face(const Top& top, int dimension, Visit&& visit) {
+  const int n = dimension + 1;
+  for (unsigned mask = 1; mask < (1u << n); ++mask) {
+    std::vector<int32_t> face;
+    for (int i = 0; i < n; ++i)
+      if (mask & (1u << i)) face.push_back(top[i]);
+    if (face.size() >= 2) visit(face);
+  }
+}
+
+std::vector<int32_t> seeds_of(const NerveSimplex& s) {
+  return std::vector<int32_t>(s.seeds.begin(), s.seeds.begin() + s.vertex_count);
+}
+
+Mat3 seeds_metric(const Canvas& canvas, const std::vector<Vec3>& seeds, int32_t seed) {
+  const int64_t slot =
+      canvas.slot_of(canvas.voxel_containing(seeds[static_cast<std::size_t>(seed)]));
+  return slot >= 0 ? canvas.metric_at(static_cast<std::size_t>(slot)) : Mat3::Identity();
+}
+
+NerveSimplex unwitnessed(const std::vector<int32_t>& face, const Canvas& canvas,
+                         const std::vector<Vec3>& seeds) {
+  NerveSimplex s;
+  s.vertex_count = static_cast<int>(face.size());
+  Vec3 centroid = Vec3::Zero();
+  for (std::size_t i = 0; i < face.size(); ++i) {
+    s.seeds[i] = face[i];
+    centroid += seeds[static_cast<std::size_t>(face[i])] / static_cast<double>(face.size());
+  }
+  s.nearest.position = s.farthest.position = centroid;
+  s.nearest.slot = s.farthest.slot = canvas.slot_of(canvas.voxel_containing(centroid));
+  // The distance a witness there would carry (local fields size their solves by it).
+  const Mat3 G = s.nearest.slot >= 0 ? canvas.metric_at(static_cast<std::size_t>(s.nearest.slot))
+                                     : seeds_metric(canvas, seeds, face[0]);
+  double distance = 0.0;
+  for (int32_t seed : face)
+    distance =
+        std::max(distance, metric_length(G, centroid - seeds[static_cast<std::size_t>(seed)]));
+  s.nearest.distance = s.farthest.distance = static_cast<float>(distance);
+  return s;
+}
+
+}  // namespace
+
 LocalDelaunay witnessed_as_is(const Nerve& nerve) {
   LocalDelaunay out;
   for (const NerveSimplex& s : nerve.top_simplices()) out.top.push_back(s.seeds);
@@ -268,3 +342,41 @@ LocalDelaunay witnessed_as_is(const Nerve& nerve) {
 }
 
 }  // namespace rvor::dual
+
+namespace rvor {
+
+Nerve decided_nerve(const Canvas& canvas, const Nerve& nerve, const std::vector<Vec3>& seeds) {
+  const dual::LocalDelaunay decided = dual::resolve_near_degenerate(canvas, nerve, seeds);
+  const int d = canvas.dimension;
+  std::set<std::vector<int32_t>> kept_faces, removed_faces;
+  for (const dual::Top& top : decided.top)
+    dual::for_each_face(top, d, [&](const std::vector<int32_t>& f) { kept_faces.insert(f); });
+  for (const NerveSimplex& s : nerve.top_simplices())
+    if (!std::binary_search(decided.top.begin(), decided.top.end(), s.seeds))
+      dual::for_each_face(s.seeds, d,
+                          [&](const std::vector<int32_t>& f) { removed_faces.insert(f); });
+  Nerve out = nerve;
+  std::set<std::vector<int32_t>> witnessed;
+  for (std::vector<NerveSimplex>* list : {&out.edges, &out.triangles, &out.tetrahedra}) {
+    list->erase(std::remove_if(list->begin(), list->end(),
+                               [&](const NerveSimplex& s) {
+                                 const std::vector<int32_t> f = dual::seeds_of(s);
+                                 witnessed.insert(f);
+                                 return removed_faces.count(f) > 0 && kept_faces.count(f) == 0;
+                               }),
+                list->end());
+  }
+  for (const std::vector<int32_t>& f : kept_faces) {
+    if (witnessed.count(f)) continue;
+    std::vector<NerveSimplex>& list = f.size() == 2   ? out.edges
+                                      : f.size() == 3 ? out.triangles
+                                                      : out.tetrahedra;
+    list.push_back(dual::unwitnessed(f, canvas, seeds));
+  }
+  for (std::vector<NerveSimplex>* list : {&out.edges, &out.triangles, &out.tetrahedra})
+    std::sort(list->begin(), list->end(),
+              [](const NerveSimplex& a, const NerveSimplex& b) { return a.seeds < b.seeds; });
+  return out;
+}
+
+}  // namespace rvor
