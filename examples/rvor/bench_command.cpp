@@ -259,8 +259,8 @@ void add_bench_command(CLI::App& app) {
   cmd->add_option("--front-step", options->front_step,
                   "brick_lanes solves: front stepping, in voxel lengths K (values above a "
                   "threshold stay tentative; once per colour cycle it moves K past the least "
-                  "tentative value); 0: off; default automatic: 3 for non-axis stencils and "
-                  "Voronoi cells at least 50 voxels across, else off")
+                  "tentative value), at least 0.25; 0: off; default automatic: 3 for non-axis "
+                  "stencils and Voronoi cells at least 50 voxels across, else off")
       ->check(finite_number & CLI::Range(0.0, 1000.0));
   cmd->add_option("--repeat", options->repetitions,
                   "Solves per case with the same engine; the fastest counts (the first includes "

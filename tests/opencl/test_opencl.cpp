@@ -301,6 +301,14 @@ TEST(OpenCLOptionsCheck, OutOfRangeScheduleOptionsAreClearErrors) {
   o.max_sweeps = 2;
   o.phase_iterations = 0;
   expect_option_error(o, "phase_iterations must be at least 1, got 0");
+  o.phase_iterations = 8;
+  for (const double step : {std::nan(""), 1e-30, HUGE_VAL}) {
+    o.front_step = step;
+    expect_option_error(o, "front_step must be negative (automatic), 0 (off) or at least 0.25");
+  }
+  o.front_step = -1.0;
+  o.variant = static_cast<RelaxationVariant>(17);
+  expect_option_error(o, "variant 17 is not a variant");
 }
 
 TEST(OpenCLDevices, DefaultDeviceNameComesFromTheEnvironment) {

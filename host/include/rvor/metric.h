@@ -37,6 +37,9 @@ bool is_storable_metric(const Mat3& stored, int dimension);
 void require_storable_metric(const Mat3& stored, const Mat3& given, int dimension,
                              const std::string& where);
 
+// The functions below take SPD tensors and do not check (they run in inner loops; validate input
+// with require_spd): a negative eigenvalue is taken as 0 by metric_sqrt and gives NaN in
+// metric_log, and distortion of a singular tensor is meaningless.
 // F = G^{1/2}, the symmetric square root (eigen-decomposition). d_G(x, y) = |F (x - y)|.
 Mat3 metric_sqrt(const Mat3& G);
 Mat3 metric_log(const Mat3& G);                      // symmetric matrix logarithm of an SPD matrix

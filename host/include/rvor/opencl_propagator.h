@@ -45,7 +45,8 @@ struct OpenCLOptions {
   // the threshold, moved this far past the least tentative distance once per colour cycle, passes
   // them. 0: off; negative: automatic, 3 for stencils with non-axis offsets and Voronoi cells at
   // least 50 voxels across, else off (swirl 1024^2, 10 seeds: 5.5 -> 3.1 s; radial_shock_3d
-  // 128^3, 10 seeds: 4.7 -> 3.5 s; off for the standard bench cases).
+  // 128^3, 10 seeds: 4.7 -> 3.5 s; off for the standard bench cases). make_opencl_propagator
+  // throws for NaN, infinities and steps in (0, 0.25), whose rounds would multiply.
   double front_step = -1.0;
 };
 

@@ -26,6 +26,8 @@ namespace {
 
 // Bounds the evaluation stamps one relaxation uses (kernels/propagation.cl, work avoidance).
 constexpr int kMaxSweeps = 64;
+// Front steps below this many voxel lengths multiply the rounds (1e-30 took 360 times the rounds).
+constexpr double kSmallestFrontStep = 0.25;
 constexpr std::size_t kSeedRecord = 16;  // floats, see kernels/eikonal_scheme.clh
 constexpr std::size_t kBookkeepingGroup = 64;
 constexpr int kLanes = 8;  // bricks per work-item of relax_brick_lanes (kernels/brick_lanes.cl)
@@ -575,6 +577,22 @@ std::unique_ptr<Propagator> make_opencl_propagator(const std::string& device,
   if (options.phase_iterations < 1)
     throw Error("OpenCLOptions::phase_iterations must be at least 1, got " +
                 std::to_string(options.phase_iterations));
+  if (!std::isfinite(options.front_step) ||
+      (options.front_step > 0.0 && options.front_step < kSmallestFrontStep))
+    throw Error(
+        "OpenCLOptions::front_step must be negative (automatic), 0 (off) or at least 0.25 "
+        "voxel lengths, got " +
+        std::to_string(options.front_step));
+  switch (options.variant) {
+    case RelaxationVariant::automatic:
+    case RelaxationVariant::brick_sweep:
+    case RelaxationVariant::brick_lanes:
+    case RelaxationVariant::voxel_phases:
+      break;
+    default:
+      throw Error("OpenCLOptions::variant " + std::to_string(static_cast<int>(options.variant)) +
+                  " is not a variant");
+  }
   opencl::Device selected = opencl::select_device(device);
   try {
     return std::make_unique<OpenCLPropagator>(std::move(selected), options);
