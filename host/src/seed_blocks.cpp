@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <tuple>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 
 namespace rvor {
@@ -13,9 +14,11 @@ namespace {
 
 // A seed as the claims see it, in index units (voxel centres at integers): u0 / h.
 struct IndexSeed {
-  Vec3 centre;       // continuous index coordinates (z = 0 in 2D)
-  VoxelIndex voxel;  // the containing voxel, the centre of its block
-  Mat3 G;            // the metric of that voxel
+  Vec3 centre;               // continuous index coordinates (z = 0 in 2D)
+  VoxelIndex voxel;          // the containing voxel, the centre of its block
+  Mat3 G;                    // the metric of that voxel
+  double least_scale = 0.0;  // sqrt of G's least eigenvalue: u0(x) >= least_scale |x - centre|
+  double block_reach = 0.0;  // the largest u0 over its own block
 
   double u0(const VoxelIndex& x) const {
     const Vec3 q = Vec3(x.i, x.j, x.k) - centre;
@@ -37,6 +40,12 @@ std::vector<IndexSeed> index_seeds(const Canvas& canvas, const std::vector<Vec3>
     seed.voxel = canvas.voxel_containing(p);
     if (canvas.dimension == 2) seed.centre.z() = 0, seed.voxel.k = 0;
     seed.G = canvas.metric_at(static_cast<std::size_t>(canvas.slot_of(seed.voxel)));
+    const int n = canvas.dimension == 3 ? 3 : 2;
+    const Eigen::MatrixXd block = seed.G.topLeftCorner(n, n);
+    seed.least_scale = std::sqrt(
+        std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(block, Eigen::EigenvaluesOnly)
+                          .eigenvalues()
+                          .minCoeff()));
     result.push_back(seed);
   }
   return result;
@@ -75,8 +84,26 @@ class SeedGrid {
     }
   }
 
-  const std::vector<std::int32_t>& seeds_near(const VoxelIndex& x) const {
-    return lists_[cell_index(x.i / cell_, x.j / cell_, x.k / cell_)];
+  // The seeds listed in the cells that the voxel box [centre - r, centre + r] touches, sorted,
+  // distinct.
+  std::vector<std::int32_t> seeds_near(const VoxelIndex& centre, int r) const {
+    const int c[3] = {centre.i, centre.j, centre.k};
+    std::array<int, 3> lo{}, hi{};
+    for (int a = 0; a < 3; ++a) {
+      const int reach = a < dimension_ ? r : 0;
+      lo[a] = std::clamp(c[a] - reach, 0, dims_[a] - 1) / cell_;
+      hi[a] = std::clamp(c[a] + reach, 0, dims_[a] - 1) / cell_;
+    }
+    std::vector<std::int32_t> seeds;
+    for (int k = lo[2]; k <= hi[2]; ++k)
+      for (int j = lo[1]; j <= hi[1]; ++j)
+        for (int i = lo[0]; i <= hi[0]; ++i) {
+          const std::vector<std::int32_t>& list = lists_[cell_index(i, j, k)];
+          seeds.insert(seeds.end(), list.begin(), list.end());
+        }
+    std::sort(seeds.begin(), seeds.end());
+    seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
+    return seeds;
   }
 
  private:
@@ -120,35 +147,59 @@ class SeedGrid {
   std::vector<std::vector<std::int32_t>> lists_;
 };
 
-// The largest u0 of any seed over its own block: no claim is farther from its seed.
-double largest_block_u0(const std::vector<IndexSeed>& seeds, int dimension) {
-  double reach = 0;
-  for (const IndexSeed& seed : seeds)
-    for_each_block_voxel(seed, dimension,
-                         [&](const VoxelIndex& x) { reach = std::max(reach, seed.u0(x)); });
-  return reach;
+// Sets every seed's block_reach; returns the largest: no claim is farther from its seed.
+double set_block_reaches(std::vector<IndexSeed>& seeds, int dimension) {
+  double largest = 0;
+  for (IndexSeed& seed : seeds) {
+    for_each_block_voxel(seed, dimension, [&](const VoxelIndex& x) {
+      seed.block_reach = std::max(seed.block_reach, seed.u0(x));
+    });
+    largest = std::max(largest, seed.block_reach);
+  }
+  return largest;
+}
+
+// The seeds that may claim a voxel of `owner`'s block: listed near one of its voxels, and not
+// certainly farther than the owner everywhere on it (u0_t >= least_scale_t |x - t| over the
+// block's box, against the owner's largest value there).
+std::vector<std::int32_t> possible_claimants(const std::vector<IndexSeed>& seeds, std::size_t owner,
+                                             const SeedGrid& grid, int dimension) {
+  const IndexSeed& s = seeds[owner];
+  const std::vector<std::int32_t> listed = grid.seeds_near(s.voxel, kSeedBlockRadius);
+  std::vector<std::int32_t> possible;
+  for (const std::int32_t t : listed) {
+    Vec3 gap = Vec3::Zero();  // from t's centre to the block's box
+    const int box[3] = {s.voxel.i, s.voxel.j, s.voxel.k};
+    for (int a = 0; a < dimension; ++a)
+      gap[a] = std::max({0.0, box[a] - kSeedBlockRadius - seeds[t].centre[a],
+                         seeds[t].centre[a] - box[a] - kSeedBlockRadius});
+    if (static_cast<std::size_t>(t) == owner || seeds[t].least_scale * gap.norm() < s.block_reach)
+      possible.push_back(t);
+  }
+  return possible;
 }
 
 }  // namespace
 
 std::vector<SeedClaim> foreign_seed_claims(const Canvas& canvas, const std::vector<Vec3>& seeds,
                                            std::size_t first_new) {
-  const std::vector<IndexSeed> index = index_seeds(canvas, seeds);
-  const SeedGrid grid(canvas, index, largest_block_u0(index, canvas.dimension));
+  std::vector<IndexSeed> index = index_seeds(canvas, seeds);
+  const SeedGrid grid(canvas, index, set_block_reaches(index, canvas.dimension));
   std::vector<SeedClaim> claims;
-  for (std::size_t s = 0; s < index.size(); ++s)
+  for (std::size_t s = 0; s < index.size(); ++s) {
+    const std::vector<std::int32_t> near = possible_claimants(index, s, grid, canvas.dimension);
+    // An old block can only change if a new seed may claim in it.
+    if (s < first_new && std::none_of(near.begin(), near.end(), [&](std::int32_t t) {
+          return static_cast<std::size_t>(t) >= first_new;
+        }))
+      continue;
     for_each_block_voxel(index[s], canvas.dimension, [&](const VoxelIndex& x) {
       if (canvas.slot_of(x) < 0) return;
-      const std::vector<std::int32_t>& near = grid.seeds_near(x);
-      // An old block voxel can only change if a new seed is near it.
-      if (s < first_new && std::none_of(near.begin(), near.end(), [&](std::int32_t t) {
-            return static_cast<std::size_t>(t) >= first_new;
-          }))
-        return;
       std::pair<double, std::int32_t> best{index[s].u0(x), static_cast<std::int32_t>(s)};
       for (const std::int32_t t : near) best = std::min(best, {index[t].u0(x), t});
       if (!index[best.second].owns(x)) claims.push_back({x, best.second});
     });
+  }
   const auto key = [](const SeedClaim& c) { return std::tie(c.voxel.k, c.voxel.j, c.voxel.i); };
   std::sort(claims.begin(), claims.end(),
             [&](const SeedClaim& a, const SeedClaim& b) { return key(a) < key(b); });
