@@ -238,17 +238,24 @@ void require_closed(const SurfaceMesh& mesh, const std::string& path) {
       const int a = t[e], b = t[(e + 1) % 3];
       ++edge_uses[{std::min(a, b), std::max(a, b)}];
     }
-  std::size_t bad_edges = 0;
-  const std::pair<const std::pair<int, int>, int>* example = nullptr;
-  for (const auto& entry : edge_uses)
-    if (entry.second != 2 && bad_edges++ == 0) example = &entry;
-  if (bad_edges == 0) return;
-  throw Error("mesh " + path + " is not closed: " + std::to_string(bad_edges) +
-              " edge(s) are not shared by exactly two triangles, e.g. the edge between vertices " +
+  // Open edges (one triangle) first: an open surface is the likelier mistake.
+  std::size_t open = 0, non_manifold = 0;
+  const std::pair<const std::pair<int, int>, int>*first_open = nullptr,
+                                             *first_non_manifold = nullptr;
+  for (const auto& entry : edge_uses) {
+    if (entry.second < 2 && open++ == 0) first_open = &entry;
+    if (entry.second > 2 && non_manifold++ == 0) first_non_manifold = &entry;
+  }
+  if (open + non_manifold == 0) return;
+  const auto* example = first_open ? first_open : first_non_manifold;
+  throw Error("mesh " + path + (first_open ? " is not closed: " : " is not manifold: ") +
+              std::to_string(open) + " edge(s) used by one triangle, " +
+              std::to_string(non_manifold) + " by more than two; e.g. the edge between vertices " +
               std::to_string(example->first.first) + " and " +
               std::to_string(example->first.second) + " (0-based) is used by " +
               std::to_string(example->second) +
-              " triangle(s); a mesh domain must be a closed surface");
+              " triangle(s); a mesh domain must be a closed manifold surface (rvor does not check "
+              "that it does not intersect itself)");
 }
 
 Box bounds_of(const SurfaceMesh& mesh) {

@@ -46,7 +46,21 @@ TEST(SurfaceMesh, OpenMeshIsRejected) {
   const SurfaceMesh mesh = read_surface_mesh(dir.file("open.off"));
   const std::string message = error_of([&] { require_closed(mesh, dir.file("open.off")); });
   EXPECT_NE(message.find("open.off is not closed"), std::string::npos) << message;
-  EXPECT_NE(message.find("4 edge(s)"), std::string::npos) << message;
+  EXPECT_NE(message.find("4 edge(s) used by one triangle"), std::string::npos) << message;
+}
+
+// Two closed tetrahedra sharing an edge: every edge has an even use count, but that one has four.
+TEST(SurfaceMesh, NonManifoldEdgeIsRejectedAsSuch) {
+  TempDir dir;
+  test::write_text(dir.file("two.off"),
+                   "OFF\n6 8 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n0 -1 0\n0 0 -1\n"
+                   "3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n"
+                   "3 0 1 4\n3 0 5 1\n3 1 5 4\n3 0 4 5\n");
+  const SurfaceMesh mesh = read_surface_mesh(dir.file("two.off"));
+  const std::string message = error_of([&] { require_closed(mesh, dir.file("two.off")); });
+  EXPECT_NE(message.find("two.off is not manifold: 0 edge(s) used by one triangle, 1 by more"),
+            std::string::npos)
+      << message;
 }
 
 TEST(SurfaceMesh, ErrorsNameFileAndLine) {
