@@ -18,7 +18,7 @@ struct IndexSeed {
   VoxelIndex voxel;          // the containing voxel, the centre of its block
   Mat3 G;                    // the metric of that voxel
   double least_scale = 0.0;  // sqrt of G's least eigenvalue: u0(x) >= least_scale |x - centre|
-  double block_reach = 0.0;  // the largest u0 over its own block
+  double block_reach = 0.0;  // at least the largest u0 over its own block
 
   double u0(const VoxelIndex& x) const {
     const Vec3 q = Vec3(x.i, x.j, x.k) - centre;
@@ -42,10 +42,14 @@ std::vector<IndexSeed> index_seeds(const Canvas& canvas, const std::vector<Vec3>
     seed.G = canvas.metric_at(static_cast<std::size_t>(canvas.slot_of(seed.voxel)));
     const int n = canvas.dimension == 3 ? 3 : 2;
     const Eigen::MatrixXd block = seed.G.topLeftCorner(n, n);
-    seed.least_scale = std::sqrt(
-        std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(block, Eigen::EigenvaluesOnly)
-                          .eigenvalues()
-                          .minCoeff()));
+    const Eigen::VectorXd eigenvalues =
+        Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(block, Eigen::EigenvaluesOnly).eigenvalues();
+    seed.least_scale = std::sqrt(std::max(0.0, eigenvalues.minCoeff()));
+    // u0 <= sqrt(largest eigenvalue) |q|, |q| at most the block's farthest corner from the seed.
+    Vec3 corner = Vec3::Zero();
+    const int v[3] = {seed.voxel.i, seed.voxel.j, seed.voxel.k};
+    for (int a = 0; a < n; ++a) corner[a] = std::abs(v[a] - seed.centre[a]) + kSeedBlockRadius;
+    seed.block_reach = std::sqrt(std::max(0.0, eigenvalues.maxCoeff())) * corner.norm();
     result.push_back(seed);
   }
   return result;
@@ -147,59 +151,82 @@ class SeedGrid {
   std::vector<std::vector<std::int32_t>> lists_;
 };
 
-// Sets every seed's block_reach; returns the largest: no claim is farther from its seed.
-double set_block_reaches(std::vector<IndexSeed>& seeds, int dimension) {
+double largest_block_reach(const std::vector<IndexSeed>& seeds) {
   double largest = 0;
-  for (IndexSeed& seed : seeds) {
-    for_each_block_voxel(seed, dimension, [&](const VoxelIndex& x) {
-      seed.block_reach = std::max(seed.block_reach, seed.u0(x));
-    });
-    largest = std::max(largest, seed.block_reach);
-  }
+  for (const IndexSeed& seed : seeds) largest = std::max(largest, seed.block_reach);
   return largest;
 }
 
-// The seeds that may claim a voxel of `owner`'s block: listed near one of its voxels, and not
-// certainly farther than the owner everywhere on it (u0_t >= least_scale_t |x - t| over the
-// block's box, against the owner's largest value there).
+// Whether seed t may claim a voxel of `owner`'s block: not certainly farther than the owner
+// everywhere on it (u0_t >= least_scale_t |x - t| over the block's box, against the owner's
+// largest value there).
+bool may_claim(const IndexSeed& t, const IndexSeed& owner, int dimension) {
+  Vec3 gap = Vec3::Zero();  // from t's centre to the block's box
+  const int box[3] = {owner.voxel.i, owner.voxel.j, owner.voxel.k};
+  for (int a = 0; a < dimension; ++a)
+    gap[a] = std::max(
+        {0.0, box[a] - kSeedBlockRadius - t.centre[a], t.centre[a] - box[a] - kSeedBlockRadius});
+  return t.least_scale * gap.norm() < owner.block_reach;
+}
+
+// The seeds among `listed` that may claim in `owner`'s block, the owner included.
 std::vector<std::int32_t> possible_claimants(const std::vector<IndexSeed>& seeds, std::size_t owner,
-                                             const SeedGrid& grid, int dimension) {
-  const IndexSeed& s = seeds[owner];
-  const std::vector<std::int32_t> listed = grid.seeds_near(s.voxel, kSeedBlockRadius);
+                                             const std::vector<std::int32_t>& listed,
+                                             int dimension) {
   std::vector<std::int32_t> possible;
-  for (const std::int32_t t : listed) {
-    Vec3 gap = Vec3::Zero();  // from t's centre to the block's box
-    const int box[3] = {s.voxel.i, s.voxel.j, s.voxel.k};
-    for (int a = 0; a < dimension; ++a)
-      gap[a] = std::max({0.0, box[a] - kSeedBlockRadius - seeds[t].centre[a],
-                         seeds[t].centre[a] - box[a] - kSeedBlockRadius});
-    if (static_cast<std::size_t>(t) == owner || seeds[t].least_scale * gap.norm() < s.block_reach)
+  for (const std::int32_t t : listed)
+    if (static_cast<std::size_t>(t) == owner || may_claim(seeds[t], seeds[owner], dimension))
       possible.push_back(t);
-  }
   return possible;
+}
+
+// The claims in `owner`'s block among the seeds `near` (the owner's possible claimants).
+void claim_block(const Canvas& canvas, const std::vector<IndexSeed>& seeds, std::size_t owner,
+                 const std::vector<std::int32_t>& near, std::vector<SeedClaim>& claims) {
+  for_each_block_voxel(seeds[owner], canvas.dimension, [&](const VoxelIndex& x) {
+    if (canvas.slot_of(x) < 0) return;
+    std::pair<double, std::int32_t> best{seeds[owner].u0(x), static_cast<std::int32_t>(owner)};
+    for (const std::int32_t t : near) best = std::min(best, {seeds[t].u0(x), t});
+    if (!seeds[best.second].owns(x)) claims.push_back({x, best.second});
+  });
+}
+
+// A solve: every block, its candidates from the grid of reach boxes.
+void claim_all_blocks(const Canvas& canvas, const std::vector<IndexSeed>& seeds,
+                      std::vector<SeedClaim>& claims) {
+  const SeedGrid grid(canvas, seeds, largest_block_reach(seeds));
+  for (std::size_t s = 0; s < seeds.size(); ++s)
+    claim_block(canvas, seeds, s,
+                possible_claimants(seeds, s, grid.seeds_near(seeds[s].voxel, kSeedBlockRadius),
+                                   canvas.dimension),
+                claims);
+}
+
+// An insertion: the new seeds' blocks and the old blocks a new seed may claim in, each against
+// every seed, so that the cost follows the new seeds, not a grid of all of them.
+void claim_new_blocks(const Canvas& canvas, const std::vector<IndexSeed>& seeds,
+                      std::size_t first_new, std::vector<SeedClaim>& claims) {
+  std::vector<std::int32_t> all(seeds.size());
+  for (std::size_t t = 0; t < seeds.size(); ++t) all[t] = static_cast<std::int32_t>(t);
+  for (std::size_t s = 0; s < seeds.size(); ++s) {
+    bool affected = s >= first_new;
+    for (std::size_t n = first_new; n < seeds.size() && !affected; ++n)
+      affected = may_claim(seeds[n], seeds[s], canvas.dimension);
+    if (affected)
+      claim_block(canvas, seeds, s, possible_claimants(seeds, s, all, canvas.dimension), claims);
+  }
 }
 
 }  // namespace
 
 std::vector<SeedClaim> foreign_seed_claims(const Canvas& canvas, const std::vector<Vec3>& seeds,
                                            std::size_t first_new) {
-  std::vector<IndexSeed> index = index_seeds(canvas, seeds);
-  const SeedGrid grid(canvas, index, set_block_reaches(index, canvas.dimension));
+  const std::vector<IndexSeed> index = index_seeds(canvas, seeds);
   std::vector<SeedClaim> claims;
-  for (std::size_t s = 0; s < index.size(); ++s) {
-    const std::vector<std::int32_t> near = possible_claimants(index, s, grid, canvas.dimension);
-    // An old block can only change if a new seed may claim in it.
-    if (s < first_new && std::none_of(near.begin(), near.end(), [&](std::int32_t t) {
-          return static_cast<std::size_t>(t) >= first_new;
-        }))
-      continue;
-    for_each_block_voxel(index[s], canvas.dimension, [&](const VoxelIndex& x) {
-      if (canvas.slot_of(x) < 0) return;
-      std::pair<double, std::int32_t> best{index[s].u0(x), static_cast<std::int32_t>(s)};
-      for (const std::int32_t t : near) best = std::min(best, {index[t].u0(x), t});
-      if (!index[best.second].owns(x)) claims.push_back({x, best.second});
-    });
-  }
+  if (first_new == 0)
+    claim_all_blocks(canvas, index, claims);
+  else
+    claim_new_blocks(canvas, index, first_new, claims);
   const auto key = [](const SeedClaim& c) { return std::tie(c.voxel.k, c.voxel.j, c.voxel.i); };
   std::sort(claims.begin(), claims.end(),
             [&](const SeedClaim& a, const SeedClaim& b) { return key(a) < key(b); });
