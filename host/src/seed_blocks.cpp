@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <optional>
 #include <tuple>
 
 #include <Eigen/Eigenvalues>
@@ -18,7 +17,6 @@ struct IndexSeed {
   Vec3 centre;               // continuous index coordinates (z = 0 in 2D)
   VoxelIndex voxel;          // the containing voxel, the centre of its block
   Mat3 G;                    // the metric of that voxel
-  Mat3 F;                    // G^(1/2)
   double least_scale = 0.0;  // sqrt of G's least eigenvalue: u0(x) >= least_scale |x - centre|
   double block_reach = 0.0;  // at least the largest u0 over its own block
 
@@ -42,7 +40,6 @@ std::vector<IndexSeed> index_seeds(const Canvas& canvas, const std::vector<Vec3>
     seed.voxel = canvas.voxel_containing(p);
     if (canvas.dimension == 2) seed.centre.z() = 0, seed.voxel.k = 0;
     seed.G = canvas.metric_at(static_cast<std::size_t>(canvas.slot_of(seed.voxel)));
-    seed.F = metric_sqrt(seed.G);
     const int n = canvas.dimension == 3 ? 3 : 2;
     const Eigen::MatrixXd block = seed.G.topLeftCorner(n, n);
     const Eigen::VectorXd eigenvalues =
@@ -183,34 +180,13 @@ std::vector<std::int32_t> possible_claimants(const std::vector<IndexSeed>& seeds
   return possible;
 }
 
-// Whether u0_t may stand for the distance from seed t at a voxel of metric G_x: G_t fits G_x as
-// closely as the source factorization requires to correct at all (docs/scheme.md, "Local update",
-// step 2: no correction from a mismatch |F_t G_x^-1 F_t - I|_F of 0.3). Exact for uniform metrics;
-// where the metric varies, a seed whose metric differs from the voxel's is not trusted there
-// (u0 in a cheap seed metric would claim voxels across an expensive region).
-bool fits(const IndexSeed& t, const Mat3& G_x) {
-  constexpr double kMismatchBound = 0.3;  // kFactorizationMismatchBound, reference_solver.cpp
-  return (t.F * G_x.inverse() * t.F - Mat3::Identity()).squaredNorm() <
-         kMismatchBound * kMismatchBound;
-}
-
 // The claims in `owner`'s block among the seeds `near` (the owner's possible claimants).
 void claim_block(const Canvas& canvas, const std::vector<IndexSeed>& seeds, std::size_t owner,
                  const std::vector<std::int32_t>& near, std::vector<SeedClaim>& claims) {
   for_each_block_voxel(seeds[owner], canvas.dimension, [&](const VoxelIndex& x) {
-    const int64_t slot = canvas.slot_of(x);
-    if (slot < 0) return;
+    if (canvas.slot_of(x) < 0) return;
     std::pair<double, std::int32_t> best{seeds[owner].u0(x), static_cast<std::int32_t>(owner)};
-    std::optional<Mat3> G_x;  // looked up when a seed from outside the block would win
-    for (const std::int32_t t : near) {
-      const std::pair<double, std::int32_t> candidate{seeds[t].u0(x), t};
-      if (!(candidate < best)) continue;
-      if (!seeds[t].owns(x)) {
-        if (!G_x) G_x = canvas.metric_at(static_cast<std::size_t>(slot));
-        if (!fits(seeds[t], *G_x)) continue;
-      }
-      best = candidate;
-    }
+    for (const std::int32_t t : near) best = std::min(best, {seeds[t].u0(x), t});
     if (!seeds[best.second].owns(x)) claims.push_back({x, best.second});
   });
 }
