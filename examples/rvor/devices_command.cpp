@@ -26,9 +26,9 @@ void print_devices() {
   const std::string chosen = default_device_name();
   std::cout << "default: " << chosen << " (set RVOR_DEVICE to change it)";
   try {
-    check_device_name(chosen);
+    require_device(chosen);
   } catch (const Error& error) {
-    std::cout << ", but RVOR_DEVICE is not a device name: " << error.what();
+    std::cout << ", but it cannot be used: " << error.what();
   }
   std::cout << "\n";
 }

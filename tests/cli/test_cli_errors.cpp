@@ -266,7 +266,11 @@ TEST_F(CliErrors, DeviceErrorsAreOneLineAndNameTheirSource) {
                 .err.find("RVOR_DEVICE=opencl:99: no OpenCL device matches"),
             std::string::npos);
   const CommandResult devices = run_command("RVOR_DEVICE=quantum " + rvor_binary() + " devices");
-  EXPECT_NE(devices.out.find("RVOR_DEVICE is not a device name"), std::string::npos) << devices.out;
+  EXPECT_NE(devices.out.find("but it cannot be used: unknown device 'quantum'"), std::string::npos)
+      << devices.out;
+  const CommandResult missing = run_command("RVOR_DEVICE=opencl:99 " + rvor_binary() + " devices");
+  EXPECT_NE(missing.out.find("but it cannot be used: no OpenCL device matches"), std::string::npos)
+      << missing.out;
 }
 
 }  // namespace
