@@ -317,6 +317,8 @@ typedef struct {
   lane_float rho[STENCIL_TERMS];  // weights rho_i / h^2, 0 past the voxel's terms
   lane_float ex[STENCIL_TERMS], ey[STENCIL_TERMS], ez[STENCIL_TERMS];  // real offsets
   lane_float d[6];                                                     // D / h^2
+  // |e_i|^2 and 1 / (1.25 |e_i|^2), for offset_factorization_weight: once per visit, not per label
+  lane_float e_norm2[STENCIL_TERMS], offset_scale[STENCIL_TERMS];
   // The shape (offset set) each lane decoded last and its offsets, kept across visits: a lane's
   // next voxel mostly has the same shape, and then lane_terms skips the shape table's gathers.
   int8 shape_seen;
@@ -329,11 +331,15 @@ inline void prepare_lane_stencil(__global const float* stencils, __global const 
   for (int i = 0; i < STENCIL_TERMS; ++i) st->seen_x[i] = st->seen_y[i] = st->seen_z[i] = 0;
 }
 
-// D / h^2 = sum_i rho_i e_i e_i^T per lane (stencil_dual_metric), for the factorization weight.
+// D / h^2 = sum_i rho_i e_i e_i^T per lane (stencil_dual_metric), for the factorization weight,
+// and the offsets' lengths for the offset weight.
 inline void lane_voxel_metric(LaneStencil* st) {
   for (int n = 0; n < 6; ++n) st->d[n] = 0.0f;
 #pragma unroll
   for (int i = 0; i < STENCIL_TERMS; ++i) {
+    st->e_norm2[i] = st->ex[i] * st->ex[i] + st->ey[i] * st->ey[i] + st->ez[i] * st->ez[i];
+    st->offset_scale[i] =
+        select((lane_float)0.0f, 0.8f / st->e_norm2[i], st->e_norm2[i] > 0.0f);  // 1 / 1.25
     const lane_float x = st->rho[i] * st->ex[i], y = st->rho[i] * st->ey[i];
     const lane_float z = st->rho[i] * st->ez[i];
     st->d[0] += x * st->ex[i];
@@ -363,9 +369,10 @@ inline lane_float lane_factorization_weight(const lane_float* d, const lane_floa
   return clamp((0.09f - m2) / 0.05f, 0.0f, 1.0f);
 }
 
-// offset_factorization_weight (eikonal_scheme.clh) per lane.
-inline lane_float lane_offset_factorization_weight(lane_float p_norm2, lane_float e_norm2) {
-  return clamp((p_norm2 - e_norm2) / (1.25f * e_norm2), 0.0f, 1.0f);
+// offset_factorization_weight (eikonal_scheme.clh) per lane, with 1 / (1.25 |e|^2) given.
+inline lane_float lane_offset_factorization_weight(lane_float p_norm2, lane_float e_norm2,
+                                                   lane_float offset_scale) {
+  return clamp((p_norm2 - e_norm2) * offset_scale, 0.0f, 1.0f);
 }
 
 __attribute__((always_inline)) inline lane_float lane_solve_for_label(
@@ -382,9 +389,8 @@ __attribute__((always_inline)) inline lane_float lane_solve_for_label(
 #pragma unroll
   for (int i = 0; i < STENCIL_TERMS; ++i) {
     const lane_float eGq = st->ex[i] * gq[0] + st->ey[i] * gq[1] + st->ez[i] * gq[2];
-    const lane_float e_norm2 =
-        st->ex[i] * st->ex[i] + st->ey[i] * st->ey[i] + st->ez[i] * st->ez[i];
-    const lane_float term_alpha = alpha * lane_offset_factorization_weight(q_norm2, e_norm2);
+    const lane_float term_alpha =
+        alpha * lane_offset_factorization_weight(q_norm2, st->e_norm2[i], st->offset_scale[i]);
     // A missing term (weight 0) is left out, as past the scalar stencil's term count.
     w[i] =
         select(lane_term_value(nb, i, label, u0, eGq * inverse_u0, term_alpha, term_alpha > 0.0f),
