@@ -20,10 +20,7 @@ struct IndexSeed {
   double least_scale = 0.0;  // sqrt of G's least eigenvalue: u0(x) >= least_scale |x - centre|
   double block_reach = 0.0;  // at least the largest u0 over its own block
 
-  double u0(const VoxelIndex& x) const {
-    const Vec3 q = Vec3(x.i, x.j, x.k) - centre;
-    return std::sqrt(std::max(0.0, q.dot(G * q)));
-  }
+  double u0(const VoxelIndex& x) const { return metric_length(G, Vec3(x.i, x.j, x.k) - centre); }
   bool owns(const VoxelIndex& x) const {
     return std::abs(x.i - voxel.i) <= kSeedBlockRadius &&
            std::abs(x.j - voxel.j) <= kSeedBlockRadius &&
@@ -133,8 +130,8 @@ class SeedGrid {
     return box;
   }
 
-  std::size_t registrations(const std::vector<IndexSeed>& seeds, double reach) {
-    for (int a = 0; a < 3; ++a) cells_[a] = (dims_[a] + cell_ - 1) / cell_;
+  // How many list entries cells of the current size would hold.
+  std::size_t registrations(const std::vector<IndexSeed>& seeds, double reach) const {
     std::size_t total = 0;
     for (const IndexSeed& seed : seeds) {
       const auto [lo, hi] = cell_box(seed, reach);
