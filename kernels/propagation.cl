@@ -10,8 +10,9 @@
 
 // ---------------------------------------------------------------------------------------------
 // Seed initialisation: work-item = (seed, voxel of the (2r+1)^d block around the seed's voxel).
+// r = INIT_RADIUS, a build option: kSeedBlockRadius (rvor/seed_blocks.h), which the host's claims
+// and the reference use too.
 
-#define INIT_RADIUS 2
 #define INIT_SIDE (2 * INIT_RADIUS + 1)
 #if DIM == 3
 #define INIT_BLOCK (INIT_SIDE * INIT_SIDE * INIT_SIDE)

@@ -279,7 +279,8 @@ class OpenCLPropagator final : public Propagator {
   // After upload_canvas: the kernels read the stencils the way they were packed.
   void build_kernels(const Canvas& canvas) {
     const int dimension = canvas.dimension;
-    std::string options = "-DDIM=" + std::to_string(dimension);
+    std::string options =
+        "-DDIM=" + std::to_string(dimension) + " -DINIT_RADIUS=" + std::to_string(kSeedBlockRadius);
     if (canvas_->uniform_stencil) options += " -DUNIFORM_METRIC" + uniform_stencil_options();
     if (!options_.x86_gathers) options += " -DNO_X86_GATHERS";
     const cl::Program program =
@@ -360,7 +361,8 @@ class OpenCLPropagator final : public Propagator {
   }
 
   std::size_t seed_block_items(std::size_t first_seed, std::size_t seed_count) const {
-    return (seed_count - first_seed) * (brick_volume_ == 512 ? 125 : 25);
+    const std::size_t side = 2 * kSeedBlockRadius + 1;
+    return (seed_count - first_seed) * side * side * (brick_volume_ == 512 ? side : 1);
   }
 
   // Seeds [first_seed, seed_count): `existing` re-marks solved seeds' blocks frozen; otherwise
