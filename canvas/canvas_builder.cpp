@@ -94,6 +94,7 @@ ResolvedDomain resolve(const DomainSpec& domain) {
   if (domain.kind == DomainSpec::Kind::Mesh) {
     resolved.mesh = read_surface_mesh(domain.path);
     require_closed(*resolved.mesh, domain.path);
+    require_no_self_intersection(*resolved.mesh, domain.path);
     resolved.bounds = bounds_of(*resolved.mesh);
   }
   return resolved;
@@ -227,7 +228,9 @@ BoolTree::Ptr implicit_topology(const ImplicitShape& shape, const Placement& p) 
   return tree;
 }
 
-BoolTree::Ptr mesh_topology(const SurfaceMesh& mesh, const Placement& p) {
+// The voxels inside one closed surface: meshToLevelSet's sign comes from a flood fill of the
+// outside, so every region the surface encloses counts as inside.
+BoolTree::Ptr surface_interior(const SurfaceMesh& mesh, const Placement& p) {
   std::vector<openvdb::Vec3s> points;
   std::vector<openvdb::Vec3I> triangles;
   points.reserve(mesh.vertices.size());
@@ -239,6 +242,26 @@ BoolTree::Ptr mesh_topology(const SurfaceMesh& mesh, const Placement& p) {
   auto interior = openvdb::tools::sdfInteriorMask(*sdf, 0.0f);  // voxels with sdf <= 0
   interior->tree().voxelizeActiveTiles();
   return interior->treePtr();
+}
+
+// The voxels inside the mesh: inside an odd number of its closed surfaces, so that a surface
+// nested in another bounds a cavity (the surfaces do not cross: require_no_self_intersection).
+BoolTree::Ptr mesh_topology(const SurfaceMesh& mesh, const Placement& p) {
+  BoolTree::Ptr inside;
+  for (const SurfaceMesh& surface : connected_surfaces(mesh)) {
+    BoolTree::Ptr next = surface_interior(surface, p);
+    if (!inside) {
+      inside = next;
+      continue;
+    }
+    BoolTree only_next = *next;  // inside = inside XOR next
+    only_next.topologyDifference(*inside);
+    inside->topologyDifference(*next);
+    inside->topologyUnion(only_next);
+  }
+  if (!inside) return std::make_shared<BoolTree>(false);  // no triangles: nothing inside
+  inside->voxelizeActiveTiles();
+  return inside;
 }
 
 // meshToLevelSet at a coarse resolution, interior grown by one voxel to cover the surface band,

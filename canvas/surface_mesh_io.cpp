@@ -254,8 +254,7 @@ void require_closed(const SurfaceMesh& mesh, const std::string& path) {
               std::to_string(example->first.first) + " and " +
               std::to_string(example->first.second) + " (0-based) is used by " +
               std::to_string(example->second) +
-              " triangle(s); a mesh domain must be a closed manifold surface (rvor does not check "
-              "that it does not intersect itself)");
+              " triangle(s); a mesh domain must be a closed manifold surface");
 }
 
 Box bounds_of(const SurfaceMesh& mesh) {

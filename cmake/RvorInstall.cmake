@@ -2,7 +2,7 @@
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
-set(RVOR_EXPORTED_TARGETS rvor rvor_core rvor_fields rvor_medit rvor_canvas rvor_solver rvor_io
+set(RVOR_EXPORTED_TARGETS rvor rvor_core rvor_fields rvor_medit rvor_mesh_check rvor_canvas rvor_solver rvor_io
     rvor_opencl rvor_dual rvor_kernels)
 install(TARGETS ${RVOR_EXPORTED_TARGETS} EXPORT rvorTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}

@@ -47,6 +47,23 @@ void write_box_off(const std::string& path, const Vec3& lo, const Vec3& hi, bool
   write_text(path, out.str());
 }
 
+void write_boxes_off(const std::string& path, const std::vector<std::pair<Vec3, Vec3>>& boxes,
+                     bool flip_first_face) {
+  std::ostringstream out;
+  out << "OFF\n" << 8 * boxes.size() << " " << 6 * boxes.size() << " 0\n";
+  for (const auto& [lo, hi] : boxes)
+    for (const Vec3& c : box_corners(lo, hi)) out << c.x() << " " << c.y() << " " << c.z() << "\n";
+  for (std::size_t b = 0; b < boxes.size(); ++b)
+    for (std::size_t f = 0; f < kBoxQuads.size(); ++f) {
+      auto q = kBoxQuads[f];
+      if (flip_first_face && b == 0 && f == 0) std::swap(q[1], q[3]);
+      const std::size_t base = 8 * b;
+      out << "4 " << base + q[0] << " " << base + q[1] << " " << base + q[2] << " " << base + q[3]
+          << "\n";
+    }
+  write_text(path, out.str());
+}
+
 void write_box_obj(const std::string& path, const Vec3& lo, const Vec3& hi) {
   std::ostringstream out;
   out << "# a box\no box\n";

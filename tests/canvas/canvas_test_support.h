@@ -3,6 +3,8 @@
 // written in every supported format.
 #include <functional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "rvor/error.h"
 #include "rvor/metric_field.h"
@@ -31,7 +33,11 @@ inline FunctionMetric euclidean_metric(int dimension) {
 
 // Box [lo, hi] as a surface mesh. `drop_last_face` leaves one side open.
 void write_box_off(const std::string& path, const Vec3& lo, const Vec3& hi,
-                   bool drop_last_face = false);                              // quads
+                   bool drop_last_face = false);  // quads
+// Several boxes in one OFF file, each with its own 8 vertices (OFF vertices are not welded);
+// `flip_first_face` reverses the orientation of the first box's first quad.
+void write_boxes_off(const std::string& path, const std::vector<std::pair<Vec3, Vec3>>& boxes,
+                     bool flip_first_face = false);
 void write_box_obj(const std::string& path, const Vec3& lo, const Vec3& hi);  // v/vt/vn, negative
 void write_box_stl_ascii(const std::string& path, const Vec3& lo, const Vec3& hi);
 void write_box_stl_binary(const std::string& path, const Vec3& lo, const Vec3& hi);

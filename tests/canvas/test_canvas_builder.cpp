@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 
 #include "canvas_test_support.h"
 #include "rvor/canvas_builder.h"
@@ -160,6 +161,47 @@ TEST(BuildCanvas, OpenMeshIsRejected) {
   const std::string message =
       build_error(parse_domain("mesh:" + dir.file("open.off")), test::euclidean_metric(3), {});
   EXPECT_NE(message.find("is not closed"), std::string::npos) << message;
+}
+
+std::string mesh_error(const test::TempDir& dir, const std::string& name) {
+  return build_error(parse_domain("mesh:" + dir.file(name)), test::euclidean_metric(3), {});
+}
+
+TEST(BuildCanvas, SelfIntersectingMeshesAreRejected) {
+  test::TempDir dir;
+  // Two closed boxes that overlap, and two that touch along an edge without sharing its vertices:
+  // every edge is used by two triangles, yet neither surface bounds a volume.
+  test::write_boxes_off(dir.file("overlap.off"), {{Vec3(0, 0, 0), Vec3(1, 1, 1)},
+                                                  {Vec3(0.5, 0.5, 0.5), Vec3(1.5, 1.5, 1.5)}});
+  test::write_boxes_off(dir.file("touch.off"),
+                        {{Vec3(0, 0, 0), Vec3(1, 1, 1)}, {Vec3(1, 1, 0), Vec3(2, 2, 1)}});
+  for (const std::string name : {"overlap.off", "touch.off"}) {
+    const std::string message = mesh_error(dir, name);
+    EXPECT_NE(message.find("mesh " + dir.file(name) + " intersects itself: "), std::string::npos)
+        << message;
+    EXPECT_NE(message.find("e.g. triangles "), std::string::npos) << message;
+  }
+  // The first box's triangles are 0-11, the second's 12-23: every crossing pair has one of each.
+  const std::string message = mesh_error(dir, "overlap.off");
+  const std::size_t at = message.find("e.g. triangles ") + std::string("e.g. triangles ").size();
+  int a = -1, b = -1;
+  ASSERT_EQ(std::sscanf(message.c_str() + at, "%d and %d", &a, &b), 2) << message;
+  EXPECT_LT(a, 12);
+  EXPECT_GE(b, 12);
+  EXPECT_LT(b, 24);
+}
+
+TEST(BuildCanvas, NestedAndMisorientedMeshesAreAccepted) {
+  test::TempDir dir;
+  // A box with a box-shaped cavity (two disjoint surfaces), and a box with one face reversed.
+  test::write_boxes_off(dir.file("cavity.off"),
+                        {{Vec3(0, 0, 0), Vec3(3, 3, 3)}, {Vec3(1, 1, 1), Vec3(2, 2, 2)}});
+  test::write_boxes_off(dir.file("flipped.off"), {{Vec3(0, 0, 0), Vec3(1, 1, 1)}}, true);
+  EXPECT_NEAR(active_volume(build("mesh:" + dir.file("cavity.off"), 60, test::euclidean_metric(3))),
+              26.0, 0.03 * 26.0);
+  EXPECT_NEAR(
+      active_volume(build("mesh:" + dir.file("flipped.off"), 40, test::euclidean_metric(3))), 1.0,
+      0.03);
 }
 
 TEST(BuildCanvas, ResolutionOutOfRangeIsRejected) {

@@ -1,0 +1,79 @@
+// require_no_self_intersection (surface_mesh.h): the one translation unit of the canvas libraries
+// with CGAL's polygon mesh processing, which takes long to compile.
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Surface_mesh.h>
+
+#include <algorithm>
+#include <array>
+#include <iterator>
+#include <sstream>
+#include <utility>
+#include <vector>
+
+#include "rvor/error.h"
+#include "surface_mesh.h"
+
+namespace rvor {
+
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using CgalMesh = CGAL::Surface_mesh<Point>;
+using Face = CgalMesh::Face_index;
+namespace pmp = CGAL::Polygon_mesh_processing;
+
+// The mesh as CGAL's halfedge structure, face i being triangle i. Orienting the soup first makes
+// any closed mesh acceptable whatever the orientation of its triangles (the canvas does not need
+// one), and splits a vertex where separate sheets meet, so that they show up as touching below.
+CgalMesh cgal_mesh(const SurfaceMesh& mesh) {
+  std::vector<Point> points;
+  points.reserve(mesh.vertices.size());
+  for (const Vec3& v : mesh.vertices) points.emplace_back(v.x(), v.y(), v.z());
+  std::vector<std::array<std::size_t, 3>> triangles;
+  triangles.reserve(mesh.triangles.size());
+  for (const auto& t : mesh.triangles)
+    triangles.push_back({static_cast<std::size_t>(t[0]), static_cast<std::size_t>(t[1]),
+                         static_cast<std::size_t>(t[2])});
+  pmp::orient_polygon_soup(points, triangles);  // keeps the triangles in order
+  CgalMesh out;
+  pmp::polygon_soup_to_polygon_mesh(points, triangles, out);
+  return out;
+}
+
+std::string point_text(const Vec3& p) {
+  std::ostringstream text;
+  text << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
+  return text.str();
+}
+
+}  // namespace
+
+void require_no_self_intersection(const SurfaceMesh& mesh, const std::string& path) {
+  const CgalMesh cgal = cgal_mesh(mesh);
+  if (cgal.number_of_faces() != mesh.triangles.size())
+    throw Error("mesh " + path + " could not be checked for self-intersections (" +
+                std::to_string(mesh.triangles.size() - cgal.number_of_faces()) +
+                " triangle(s) could not be joined to the others)");
+  std::vector<std::pair<Face, Face>> crossing;
+  pmp::self_intersections(cgal, std::back_inserter(crossing));
+  if (crossing.empty()) return;
+  const std::size_t a = std::min<std::size_t>(crossing.front().first, crossing.front().second);
+  const std::size_t b = std::max<std::size_t>(crossing.front().first, crossing.front().second);
+  const auto& t = mesh.triangles[a];
+  const Vec3 centre = (mesh.vertices[t[0]] + mesh.vertices[t[1]] + mesh.vertices[t[2]]) / 3.0;
+  throw Error("mesh " + path + " intersects itself: " + std::to_string(crossing.size()) +
+              " pair(s) of triangles cross or touch away from shared vertices and edges, e.g. "
+              "triangles " +
+              std::to_string(std::min(a, b)) + " and " + std::to_string(std::max(a, b)) +
+              " (0-based, polygons counted as fans of triangles; "
+              "the first is centred at " +
+              point_text(centre) +
+              "); a mesh domain must be a closed surface that bounds a volume without touching "
+              "itself");
+}
+
+}  // namespace rvor
