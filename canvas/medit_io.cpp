@@ -77,7 +77,13 @@ std::string read_whole_file(const std::string& path) {
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw Error(path + ": read error");
-  return text.str();
+  std::string whole = text.str();
+  // Binary Medit files (.meshb, .solb) start with the int 1; text never holds a NUL byte.
+  if (whole.find('\0') != std::string::npos)
+    throw Error(path +
+                ": a binary file (binary Medit .meshb/.solb is not supported: write ASCII "
+                ".mesh/.sol)");
+  return whole;
 }
 
 // Parses a real the way strtod does, but without locale dependence and on a string_view.
@@ -161,6 +167,12 @@ class MeditTokens {
     if (parse_real(token.text, as_real))
       fail(token.line, "'" + std::string(token.text) + "' is not an integer (" + describe() + ")");
     not_a_number(token, describe());
+  }
+
+  // How many entries of `values` values each the rest of the file can hold at most (each value
+  // takes a character and a separator): a bound for reserving before the entries are read.
+  std::size_t entries_bound(int values) const {
+    return (text_.size() - std::min(position_, text_.size())) / (2 * std::max(1, values)) + 1;
   }
 
   // A count that introduces a section: a non-negative int.
@@ -301,7 +313,7 @@ class MeshReader {
     // 3 and 4 only widen integers in binary files; their ASCII layout is the same.
     if (version < 1 || version > 4)
       tokens_.fail(tokens_.line(), "unsupported MeshVersionFormatted " + std::to_string(version) +
-                                       " (expected 1 or 2)");
+                                       " (expected 1 to 4)");
   }
 
   void read_dimension() {
@@ -319,7 +331,9 @@ class MeshReader {
 
   void read_vertices() {
     const int count = tokens_.count("Vertices");
-    mesh_.vertices.reserve(mesh_.vertices.size() + static_cast<std::size_t>(count));
+    mesh_.vertices.reserve(
+        mesh_.vertices.size() +
+        std::min(static_cast<std::size_t>(count), tokens_.entries_bound(mesh_.dimension + 1)));
     for (int i = 0; i < count; ++i) mesh_.vertices.push_back(read_vertex(i, count));
   }
 
@@ -340,8 +354,10 @@ class MeshReader {
   void read_elements(const std::string& section, std::vector<std::array<int, N>>& elements,
                      std::vector<int>& refs) {
     const int count = tokens_.count(section);
-    elements.reserve(elements.size() + static_cast<std::size_t>(count));
-    refs.reserve(refs.size() + static_cast<std::size_t>(count));
+    const std::size_t expected =
+        std::min(static_cast<std::size_t>(count), tokens_.entries_bound(static_cast<int>(N) + 1));
+    elements.reserve(elements.size() + expected);
+    refs.reserve(refs.size() + expected);
     for (int i = 0; i < count; ++i) {
       const auto describe = [&] { return entry_name("element", i, count, section); };
       std::array<int, N> element{};
@@ -421,11 +437,30 @@ class SolReader {
       found = read_section(keyword);
     }
     if (!found) tokens_.fail(tokens_.line(), "no SolAtVertices section");
+    read_rest();
     return std::move(result_);
   }
 
  private:
-  // Returns true once the SolAtVertices section is read (anything after it is ignored).
+  // After the tensors: other sections, up to End. A value here means the entries held more
+  // values than Dimension and the solution types give them, so every tensor read was wrong.
+  void read_rest() {
+    while (!tokens_.at_end()) {
+      const Token keyword = tokens_.next();
+      if (!starts_like_keyword(keyword.text))
+        tokens_.fail(keyword.line,
+                     "unexpected value '" + std::string(keyword.text) +
+                         "' after the SolAtVertices entries (do its entries hold more values "
+                         "than Dimension " +
+                         std::to_string(result_.dimension) + " and the solution types give?)");
+      const std::string name = lowercase(keyword.text);
+      if (name == "end") return;
+      if (name == "solatvertices") tokens_.fail(keyword.line, "a second SolAtVertices section");
+      skip_section(tokens_, keyword, result_.dimension);
+    }
+  }
+
+  // Returns true once the SolAtVertices section is read.
   bool read_section(const Token& keyword) {
     const std::string name = lowercase(keyword.text);
     if (name == "end") tokens_.fail(keyword.line, "End before any SolAtVertices section");
@@ -459,7 +494,7 @@ class SolReader {
                                        " entries but the mesh has " +
                                        std::to_string(expected_vertices_) + " vertices");
     const SolutionLayout layout = read_layout();
-    result_.tensors.reserve(static_cast<std::size_t>(count));
+    result_.tensors.reserve(std::min(static_cast<std::size_t>(count), tokens_.entries_bound(3)));
     for (int i = 0; i < count; ++i)
       result_.tensors.push_back(read_vertex_solution(layout, i, count));
   }

@@ -29,7 +29,7 @@ namespace pmp = CGAL::Polygon_mesh_processing;
 // The mesh as CGAL's halfedge structure, face i being triangle i. Orienting the soup first makes
 // any closed mesh acceptable whatever the orientation of its triangles (the canvas does not need
 // one), and splits a vertex where separate sheets meet, so that they show up as touching below.
-CgalMesh cgal_mesh(const SurfaceMesh& mesh) {
+CgalMesh cgal_mesh(const SurfaceMesh& mesh, const std::string& path) {
   std::vector<Point> points;
   points.reserve(mesh.vertices.size());
   for (const Vec3& v : mesh.vertices) points.emplace_back(v.x(), v.y(), v.z());
@@ -39,6 +39,12 @@ CgalMesh cgal_mesh(const SurfaceMesh& mesh) {
     triangles.push_back({static_cast<std::size_t>(t[0]), static_cast<std::size_t>(t[1]),
                          static_cast<std::size_t>(t[2])});
   pmp::orient_polygon_soup(points, triangles);  // keeps the triangles in order
+  // What orienting cannot mend (a triangle that repeats a vertex, a one-sided surface) is no
+  // boundary of a volume either; polygon_soup_to_polygon_mesh requires it mended.
+  if (!pmp::is_polygon_soup_a_polygon_mesh(triangles))
+    throw Error("mesh " + path +
+                " is not the boundary of a volume: its triangles cannot be oriented consistently "
+                "(a one-sided surface, or a triangle that repeats a vertex)");
   CgalMesh out;
   pmp::polygon_soup_to_polygon_mesh(points, triangles, out);
   return out;
@@ -53,7 +59,7 @@ std::string point_text(const Vec3& p) {
 }  // namespace
 
 void require_no_self_intersection(const SurfaceMesh& mesh, const std::string& path) {
-  const CgalMesh cgal = cgal_mesh(mesh);
+  const CgalMesh cgal = cgal_mesh(mesh, path);
   if (cgal.number_of_faces() != mesh.triangles.size())
     throw Error("mesh " + path + " could not be checked for self-intersections (" +
                 std::to_string(mesh.triangles.size() - cgal.number_of_faces()) +

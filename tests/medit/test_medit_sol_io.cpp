@@ -135,6 +135,31 @@ TEST(MeditSolErrors, NoSolAtVerticesSection) {
                    "End before any SolAtVertices section");
 }
 
+// A 2D file whose lines hold 3D tensors: read as 2D, each line would give a vertex and a half.
+TEST(MeditSolErrors, MoreValuesThanTheDimensionGives) {
+  expect_sol_error(
+      "MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n2\n1 3\n4 1 2 3 0.5 1\n4 1 2 3 0.5 "
+      "1\nEnd\n",
+      2, 7, "unexpected value '4' after the SolAtVertices entries");
+  expect_sol_error(std::string(kSolHeader3D) + "1\n1 3\n1 0 1 0 0 1\n1 2 3 garbage\n", 1, 7,
+                   "unexpected value '1' after the SolAtVertices entries");
+}
+
+TEST(MeditSolErrors, SectionsAfterTheTensorsAreSkippedUpToEnd) {
+  TempDir dir;
+  write_text(dir.file("m.sol"),
+             std::string(kSolHeader3D) + "1\n1 3\n2 0 1 0 0 1\nCorners\n1\n1\nEnd\n1 2 3\n");
+  EXPECT_EQ(read_medit_sol_tensors(dir.file("m.sol")).size(), 1u);
+}
+
+TEST(MeditSolErrors, BinaryFileIsNamedAsSuch) {
+  TempDir dir;
+  write_text(dir.file("m.solb"), std::string("\x01\0\0\0\x02\0\0\0", 8));
+  const std::string message = error_message([&] { read_medit_sol_tensors(dir.file("m.solb")); });
+  EXPECT_NE(message.find("binary Medit .meshb/.solb is not supported"), std::string::npos)
+      << message;
+}
+
 TEST(MeditSolErrors, MissingDimension) {
   expect_sol_error("MeshVersionFormatted 2\nSolAtVertices\n1\n1 3\n1 0 1 0 0 1\n", -1, 2,
                    "missing Dimension");
