@@ -84,6 +84,12 @@ const CLI::Validator finite_number(
     },
     "FINITE");
 
+const CLI::Validator non_empty_path(
+    [](const std::string& text) -> std::string {
+      return text.empty() ? "an empty path (an unset variable?)" : "";
+    },
+    "PATH");
+
 std::string join(const std::vector<std::string>& items, const std::string& separator) {
   std::string joined;
   for (const std::string& item : items) joined += (joined.empty() ? "" : separator) + item;

@@ -50,6 +50,8 @@ inline CLI::Validator rng_seed_value() {
   return whole_number_in(0, 18446744073709551615.0, "2^64 - 1");
 }
 extern const CLI::Validator finite_number;
+// A file or directory name that is not empty ("--seeds $UNSET" would otherwise mean "none").
+extern const CLI::Validator non_empty_path;
 
 // --device, whose default is $RVOR_DEVICE or auto. `what_cpu_is` says what "cpu" means there.
 CLI::Option* add_device_option(CLI::App* command, std::string& device,

@@ -267,17 +267,21 @@ void add_voronoi_command(CLI::App& app) {
   CLI::Option* sol_option =
       cmd->add_option("--metric-file", options->metric_sol,
                       "Metric tensors at mesh vertices (Medit .sol), interpolated; points "
-                      "outside the mesh take its nearest element's metric");
+                      "outside the mesh take its nearest element's metric")
+          ->check(non_empty_path);
   CLI::Option* mesh_option = cmd->add_option("--metric-mesh", options->metric_mesh,
-                                             "The Medit .mesh the --metric-file lives on");
+                                             "The Medit .mesh the --metric-file lives on")
+                                 ->check(non_empty_path);
   CLI::Option* vdb_option =
       cmd->add_option("--metric-vdb", options->metric_vdb,
                       "Metric as six float grids m11 m12 m22 m13 m23 m33 in a .vdb (a 3D file or "
-                      "mesh on a rect: domain: its tensors restricted to the plane z = 0)");
+                      "mesh on a rect: domain: its tensors restricted to the plane z = 0)")
+          ->check(non_empty_path);
   // One source of the metric: a second one would be ignored.
   metric_option->excludes(sol_option)->excludes(mesh_option)->excludes(vdb_option);
   vdb_option->excludes(sol_option)->excludes(mesh_option);
-  cmd->add_option("--seeds", options->seeds_file, "Seeds, one point per line (2 or 3 coordinates)");
+  cmd->add_option("--seeds", options->seeds_file, "Seeds, one point per line (2 or 3 coordinates)")
+      ->check(non_empty_path);
   cmd->add_option("--random-seeds", options->random_seed_count,
                   "Draw N seeds uniformly in the canvas's voxels (the domain to half a voxel)")
       ->check(seed_count(0));
@@ -287,9 +291,11 @@ void add_voronoi_command(CLI::App& app) {
   const CLI::Option* device =
       add_device_option(cmd, options->device, "sequential reference, double precision");
   cmd->add_option(
-      "--probe", options->probe_file,
-      "Points (.xyz) at which to write probe.csv: nearest active voxel, distance, label");
+         "--probe", options->probe_file,
+         "Points (.xyz) at which to write probe.csv: nearest active voxel, distance, label")
+      ->check(non_empty_path);
   cmd->add_option("--out", options->out_dir, "Output directory (created if missing)")
+      ->check(non_empty_path)
       ->capture_default_str();
   cmd->add_option(
          "--dual", options->dual,

@@ -84,6 +84,15 @@ TEST_F(CliErrors, SeedOutsideDomain) {
                "seed 1 at (5, 5, 0) is outside the domain");
 }
 
+// An empty file name (an unset shell variable) used to mean "not given": --metric-vdb '' ran
+// with the default Euclidean metric.
+TEST_F(CliErrors, EmptyFileNamesAreRefused) {
+  for (const std::string option :
+       {"--metric-vdb", "--metric-mesh", "--metric-file", "--seeds", "--probe", "--out"})
+    expect_error("--domain rect:-1,-1,1,1 --resolution 16 --random-seeds 2 " + option + " ''",
+                 option + ": an empty path");
+}
+
 TEST_F(CliErrors, EmptyDomain) {
   expect_error("--domain box:0,0,0,0,1,1 --resolution 16 --random-seeds 3", "box:0,0,0,0,1,1");
 }
