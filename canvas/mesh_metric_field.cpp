@@ -243,8 +243,12 @@ class BucketGrid {
  private:
   // About one bucket per element, in cubes (squares in 2D) as far as the box allows.
   void size_grid(const SimplexSet& simplices) {
+    // Over the elements' vertices only: a vertex no element uses (one far away, say) would
+    // otherwise stretch the grid until the mesh falls into a few buckets.
     Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-    for (const Vec3& v : simplices.vertices()) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+    for (std::size_t e = 0; e < simplices.size(); ++e)
+      for (int k = 0; k < simplices.vertex_count(); ++k)
+        lo = lo.cwiseMin(simplices.vertex(e, k)), hi = hi.cwiseMax(simplices.vertex(e, k));
     const int d = simplices.dimension();
     const Vec3 extent = (hi - lo).cwiseMax(1e-300);
     double volume = 1;
@@ -370,7 +374,7 @@ class PointLocator {
         grid_.for_each_element(bucket, [&](int e) {
           const Vec3 q = simplices_.closest_point(e, p);
           const double distance = (q - p).norm();
-          if (distance < best_distance) {
+          if (distance < best_distance || best_element < 0) {  // NaN or inf: still an element
             best_distance = distance;
             best_point = q;
             best_element = e;
@@ -395,8 +399,10 @@ class MeshMetricField final : public MetricField {
     // Logarithms once per vertex: a query is then a weighted sum and one exponential.
     vertex_logs_.reserve(tensors.size());
     for (const Mat3& G : tensors) vertex_logs_.push_back(metric_log(G));
-    for (const Vec3& v : simplices_.vertices())
-      box_.lo = box_.lo.cwiseMin(v), box_.hi = box_.hi.cwiseMax(v);
+    for (std::size_t e = 0; e < simplices_.size(); ++e)  // vertices no element uses do not count
+      for (int k = 0; k < simplices_.vertex_count(); ++k)
+        box_.lo = box_.lo.cwiseMin(simplices_.vertex(e, k)),
+        box_.hi = box_.hi.cwiseMax(simplices_.vertex(e, k));
   }
 
   MeshMetricField(const MeshMetricField&) = delete;  // locator_ refers to simplices_

@@ -222,6 +222,24 @@ TEST(MeshMetricField, DescriptionAndNaturalDomain) {
   EXPECT_EQ(box->hi, Vec3::Ones());
 }
 
+// A vertex that no element uses (exporters leave some) is not part of the mesh: it neither
+// widens the natural domain nor stretches the lookup grid (with one at 1000 the whole mesh fell
+// into one bucket, and a 256^2 canvas took 12.7 s instead of 0.4 s).
+TEST(MeshMetricField, VerticesNoElementUsesAreIgnored) {
+  TempDir dir;
+  MeditMesh cube = unit_cube_tetrahedra(3);
+  cube.vertices.push_back(Vec3(1000, 1000, 1000));
+  const auto files = write_sampled(dir, "stray", cube, [](const Vec3& p) {
+    return p.norm() > 10 ? Mat3::Identity() : commuting_field(p);
+  });
+  const auto field = load_mesh_metric(files.mesh, files.sol);
+  const auto box = field->natural_domain();
+  ASSERT_TRUE(box.has_value());
+  EXPECT_EQ(box->hi, Vec3::Ones());
+  for (const Vec3& p : random_points(200, 21))
+    EXPECT_LT(relative_error(field->at(p), commuting_field(p)), 1e-12) << p.transpose();
+}
+
 TEST(MeshMetricField, ConcurrentQueriesGiveTheSerialResults) {
   TempDir dir;
   const auto files =
