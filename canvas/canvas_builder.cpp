@@ -9,8 +9,6 @@
 #include <sstream>
 #include <tuple>
 
-#include <openvdb/tools/LevelSetUtil.h>
-#include <openvdb/tools/MeshToVolume.h>
 #include <openvdb/tools/Morphology.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -228,43 +226,17 @@ BoolTree::Ptr implicit_topology(const ImplicitShape& shape, const Placement& p) 
   return tree;
 }
 
-// The voxels inside one closed surface: meshToLevelSet's sign comes from a flood fill of the
-// outside, so every region the surface encloses counts as inside.
-BoolTree::Ptr surface_interior(const SurfaceMesh& mesh, const Placement& p) {
-  std::vector<openvdb::Vec3s> points;
-  std::vector<openvdb::Vec3I> triangles;
-  points.reserve(mesh.vertices.size());
-  for (const Vec3& v : mesh.vertices) points.emplace_back(v.x(), v.y(), v.z());
-  for (const auto& t : mesh.triangles) triangles.emplace_back(t[0], t[1], t[2]);
-  const auto transform = canvas_transform(p.h, p.origin);
-  const auto sdf =
-      openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*transform, points, triangles);
-  auto interior = openvdb::tools::sdfInteriorMask(*sdf, 0.0f);  // voxels with sdf <= 0
-  interior->tree().voxelizeActiveTiles();
-  return interior->treePtr();
-}
-
-// The voxels inside the mesh: inside an odd number of its closed surfaces, so that a surface
-// nested in another bounds a cavity (the surfaces do not cross: require_no_self_intersection).
+// The voxels whose centres lie inside the mesh (inside_runs: ray parity).
 BoolTree::Ptr mesh_topology(const SurfaceMesh& mesh, const Placement& p) {
-  BoolTree::Ptr inside;
-  for (const SurfaceMesh& surface : connected_surfaces(mesh)) {
-    BoolTree::Ptr next = surface_interior(surface, p);
-    if (!inside) {
-      inside = next;
-      continue;
-    }
-    BoolTree only_next = *next;  // inside = inside XOR next
-    only_next.topologyDifference(*inside);
-    inside->topologyDifference(*next);
-    inside->topologyUnion(only_next);
-  }
-  if (!inside) return std::make_shared<BoolTree>(false);  // no triangles: nothing inside
-  inside->voxelizeActiveTiles();
-  return inside;
+  auto tree = std::make_shared<BoolTree>(false);
+  openvdb::tree::ValueAccessor<BoolTree> accessor(*tree);
+  for (const VoxelRun& run : inside_runs(mesh, p.origin, p.h, p.dims))
+    for (int i = run.i_begin; i < run.i_end; ++i)
+      accessor.setValueOn(openvdb::Coord(i, run.j, run.k));
+  return tree;
 }
 
-// meshToLevelSet at a coarse resolution, interior grown by one voxel to cover the surface band,
+// The mesh voxelized at a coarse resolution, interior grown by one voxel to cover the surface band,
 // scaled to the requested voxel size: a cheap estimate of the active voxel count.
 double coarse_mesh_voxels(const ResolvedDomain& domain, const Placement& fine) {
   const Placement coarse = place_voxels(domain, kCoarseEstimateResolution);

@@ -5,6 +5,7 @@
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
+#include <boost/function_output_iterator.hpp>
 
 #include <algorithm>
 #include <array>
@@ -38,10 +39,11 @@ CgalMesh cgal_mesh(const SurfaceMesh& mesh, const std::string& path) {
   for (const auto& t : mesh.triangles)
     triangles.push_back({static_cast<std::size_t>(t[0]), static_cast<std::size_t>(t[1]),
                          static_cast<std::size_t>(t[2])});
-  pmp::orient_polygon_soup(points, triangles);  // keeps the triangles in order
   // What orienting cannot mend (a triangle that repeats a vertex, a one-sided surface) is no
   // boundary of a volume either; polygon_soup_to_polygon_mesh requires it mended.
-  if (!pmp::is_polygon_soup_a_polygon_mesh(triangles))
+  if (!pmp::is_polygon_soup_a_polygon_mesh(triangles) &&
+      (pmp::orient_polygon_soup(points, triangles),  // keeps the triangles in order
+       !pmp::is_polygon_soup_a_polygon_mesh(triangles)))
     throw Error("mesh " + path +
                 " is not the boundary of a volume: its triangles cannot be oriented consistently "
                 "(a one-sided surface, or a triangle that repeats a vertex)");
@@ -56,6 +58,26 @@ std::string point_text(const Vec3& p) {
   return text.str();
 }
 
+// Thrown by FirstPair at the first pair CGAL reports, so that the search stops there (a flat
+// mesh folded onto itself has a number of crossing pairs quadratic in its size).
+struct FoundPair {
+  std::size_t a, b;
+};
+
+struct FirstPair {
+  void operator()(const std::pair<Face, Face>& pair) const {
+    throw FoundPair{std::min<std::size_t>(pair.first, pair.second),
+                    std::max<std::size_t>(pair.first, pair.second)};
+  }
+};
+
+std::string triangle_text(const SurfaceMesh& mesh, std::size_t t) {
+  const auto& v = mesh.triangles[t];
+  return "triangle " + std::to_string(t) + " (0-based, polygons counted as fans of triangles; " +
+         "centred at " +
+         point_text((mesh.vertices[v[0]] + mesh.vertices[v[1]] + mesh.vertices[v[2]]) / 3.0) + ")";
+}
+
 }  // namespace
 
 void require_no_self_intersection(const SurfaceMesh& mesh, const std::string& path) {
@@ -64,22 +86,19 @@ void require_no_self_intersection(const SurfaceMesh& mesh, const std::string& pa
     throw Error("mesh " + path + " could not be checked for self-intersections (" +
                 std::to_string(mesh.triangles.size() - cgal.number_of_faces()) +
                 " triangle(s) could not be joined to the others)");
-  std::vector<std::pair<Face, Face>> crossing;
-  pmp::self_intersections(cgal, std::back_inserter(crossing));
-  if (crossing.empty()) return;
-  const std::size_t a = std::min<std::size_t>(crossing.front().first, crossing.front().second);
-  const std::size_t b = std::max<std::size_t>(crossing.front().first, crossing.front().second);
-  const auto& t = mesh.triangles[a];
-  const Vec3 centre = (mesh.vertices[t[0]] + mesh.vertices[t[1]] + mesh.vertices[t[2]]) / 3.0;
-  throw Error("mesh " + path + " intersects itself: " + std::to_string(crossing.size()) +
-              " pair(s) of triangles cross or touch away from shared vertices and edges, e.g. "
-              "triangles " +
-              std::to_string(std::min(a, b)) + " and " + std::to_string(std::max(a, b)) +
-              " (0-based, polygons counted as fans of triangles; "
-              "the first is centred at " +
-              point_text(centre) +
-              "); a mesh domain must be a closed surface that bounds a volume without touching "
-              "itself");
+  try {
+    pmp::self_intersections(cgal, boost::make_function_output_iterator(FirstPair{}));
+  } catch (const FoundPair& found) {
+    if (found.a == found.b)  // CGAL reports a degenerate triangle as crossing itself
+      throw Error(
+          "mesh " + path + " has a degenerate " + triangle_text(mesh, found.a) +
+          ": its three vertices lie on a line (the self-intersection test cannot tell how it meets "
+          "its neighbours: remove it, or split the polygon it came from otherwise)");
+    throw Error("mesh " + path + " intersects itself: " + triangle_text(mesh, found.a) +
+                " and triangle " + std::to_string(found.b) +
+                " cross or touch away from the vertices and edges they share; a mesh domain must "
+                "be a closed surface that bounds a volume without touching itself");
+  }
 }
 
 }  // namespace rvor

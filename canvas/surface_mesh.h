@@ -17,6 +17,11 @@ struct SurfaceMesh {
 // position. Throws rvor::Error naming the file (and line, for text formats) on malformed input.
 SurfaceMesh read_surface_mesh(const std::string& path);
 
+// Appends the triangles of a planar polygon (its vertex indices in order), ear-clipped in its
+// plane so that a non-convex polygon stays inside its outline; repeated corners and triangles of
+// zero area (a corner on a side) are left out (polygon_triangulation.cpp).
+void add_polygon(SurfaceMesh& mesh, const std::vector<int>& polygon);
+
 // Throws rvor::Error unless every edge is shared by exactly two triangles (and there is at least
 // one triangle): only closed surfaces bound a volume.
 void require_closed(const SurfaceMesh& mesh, const std::string& path);
@@ -26,10 +31,19 @@ void require_closed(const SurfaceMesh& mesh, const std::string& path);
 // not bound a volume and inside and outside are not defined (mesh_self_intersection.cpp).
 void require_no_self_intersection(const SurfaceMesh& mesh, const std::string& path);
 
-// The mesh's connected surfaces (triangles joined through shared vertices), each with its own
-// vertices, in the order of their first triangles.
-std::vector<SurfaceMesh> connected_surfaces(const SurfaceMesh& mesh);
+// Voxels [i_begin, i_end) of the row (j, k) of an index box.
+struct VoxelRun {
+  int j, k, i_begin, i_end;
+};
 
+// The voxel centres of the index box `dims` (voxel (i, j, k) at origin + h (i, j, k)) that lie
+// inside the mesh: those whose ray in +x crosses it an odd number of times. A surface nested in
+// another bounds a cavity, and a pocket is outside however narrow its opening (the surfaces must
+// not cross: require_no_self_intersection). Centres on the surface go either way.
+std::vector<VoxelRun> inside_runs(const SurfaceMesh& mesh, const Vec3& origin, double h,
+                                  const std::array<int, 3>& dims);
+
+// The bounding box of the vertices the triangles use.
 Box bounds_of(const SurfaceMesh& mesh);
 
 }  // namespace rvor

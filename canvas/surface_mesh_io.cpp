@@ -46,14 +46,6 @@ class LineReader {
   int number_ = 0;
 };
 
-// Appends the fan triangulation of a polygon, dropping triangles with a repeated vertex.
-void add_polygon(SurfaceMesh& mesh, const std::vector<int>& polygon) {
-  for (std::size_t n = 1; n + 1 < polygon.size(); ++n) {
-    const std::array<int, 3> t{polygon[0], polygon[n], polygon[n + 1]};
-    if (t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) mesh.triangles.push_back(t);
-  }
-}
-
 Vec3 parse_point(LineReader& reader, std::istringstream& fields) {
   Vec3 p;
   if (!(fields >> p.x() >> p.y() >> p.z()) || !p.allFinite()) reader.fail("expected x y z");
@@ -97,8 +89,8 @@ SurfaceMesh read_off(const std::string& path) {
     std::istringstream fields(line);
     int corners = 0;
     if (!(fields >> corners) || corners < 3) reader.fail("expected a face with >= 3 vertices");
-    std::vector<int> polygon(corners);
-    for (int& index : polygon)
+    std::vector<int> polygon;  // grows as indices are read: a huge corner count reserves nothing
+    for (int index = 0; static_cast<int>(polygon.size()) < corners; polygon.push_back(index))
       if (!(fields >> index) || index < 0 || index >= vertex_count)
         reader.fail("vertex index missing or out of range");
     add_polygon(mesh, polygon);
@@ -259,10 +251,11 @@ void require_closed(const SurfaceMesh& mesh, const std::string& path) {
 
 Box bounds_of(const SurfaceMesh& mesh) {
   Box box{Vec3::Constant(HUGE_VAL), Vec3::Constant(-HUGE_VAL)};
-  for (const Vec3& p : mesh.vertices) {
-    box.lo = box.lo.cwiseMin(p);
-    box.hi = box.hi.cwiseMax(p);
-  }
+  for (const auto& t : mesh.triangles)  // a vertex no triangle uses bounds nothing
+    for (const int v : t) {
+      box.lo = box.lo.cwiseMin(mesh.vertices[v]);
+      box.hi = box.hi.cwiseMax(mesh.vertices[v]);
+    }
   return box;
 }
 

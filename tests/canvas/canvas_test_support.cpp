@@ -38,6 +38,7 @@ std::vector<std::array<int, 3>> box_triangles() {
 void write_box_off(const std::string& path, const Vec3& lo, const Vec3& hi, bool drop_last_face) {
   const int faces = drop_last_face ? 5 : 6;
   std::ostringstream out;
+  out.precision(17);
   out << "OFF\n# a box\n8 " << faces << " 0\n";
   for (const Vec3& c : box_corners(lo, hi)) out << c.x() << " " << c.y() << " " << c.z() << "\n";
   for (int f = 0; f < faces; ++f) {
@@ -62,6 +63,86 @@ void write_boxes_off(const std::string& path, const std::vector<std::pair<Vec3, 
           << "\n";
     }
   write_text(path, out.str());
+}
+
+namespace {
+
+// A polygon soup with vertices merged by exact position (OFF output).
+class QuadSoup {
+ public:
+  void quad(const std::array<Vec3, 4>& corners) {
+    std::array<int, 4> q{};
+    for (int c = 0; c < 4; ++c) q[c] = index_of(corners[c]);
+    quads_.push_back(q);
+  }
+  std::string off() const {
+    std::ostringstream out;
+    out.precision(17);
+    out << "OFF\n" << vertices_.size() << " " << quads_.size() << " 0\n";
+    for (const Vec3& v : vertices_) out << v.x() << " " << v.y() << " " << v.z() << "\n";
+    for (const auto& q : quads_)
+      out << "4 " << q[0] << " " << q[1] << " " << q[2] << " " << q[3] << "\n";
+    return out.str();
+  }
+
+ private:
+  int index_of(const Vec3& p) {
+    for (std::size_t v = 0; v < vertices_.size(); ++v)
+      if (vertices_[v] == p) return static_cast<int>(v);
+    vertices_.push_back(p);
+    return static_cast<int>(vertices_.size() - 1);
+  }
+  std::vector<Vec3> vertices_;
+  std::vector<std::array<int, 4>> quads_;
+};
+
+// The square [a, b]^2 in y and z at x.
+std::array<Vec3, 4> square_at(double x, double a, double b) {
+  return {Vec3(x, a, a), Vec3(x, b, a), Vec3(x, b, b), Vec3(x, a, b)};
+}
+
+// The five faces of the cube [a, b]^3 other than x = a.
+void cube_without_low_x(QuadSoup& soup, double a, double b) {
+  const auto c = [&](int i, int j, int k) {
+    return Vec3(a + (b - a) * i, a + (b - a) * j, a + (b - a) * k);
+  };
+  soup.quad({c(1, 0, 0), c(1, 1, 0), c(1, 1, 1), c(1, 0, 1)});
+  soup.quad({c(0, 0, 0), c(1, 0, 0), c(1, 0, 1), c(0, 0, 1)});
+  soup.quad({c(0, 1, 0), c(0, 1, 1), c(1, 1, 1), c(1, 1, 0)});
+  soup.quad({c(0, 0, 0), c(0, 1, 0), c(1, 1, 0), c(1, 0, 0)});
+  soup.quad({c(0, 0, 1), c(1, 0, 1), c(1, 1, 1), c(0, 1, 1)});
+}
+
+// The faces between a square `outer` and a square `inner` of the same plane.
+void square_ring(QuadSoup& soup, const std::array<Vec3, 4>& outer,
+                 const std::array<Vec3, 4>& inner) {
+  for (int k = 0; k < 4; ++k)
+    soup.quad({outer[k], outer[(k + 1) % 4], inner[(k + 1) % 4], inner[k]});
+}
+
+}  // namespace
+
+void write_bottle_off(const std::string& path, double neck) {
+  const double lo = 2 - neck / 2, hi = 2 + neck / 2;
+  QuadSoup soup;
+  cube_without_low_x(soup, 0, 4);
+  square_ring(soup, square_at(0, 0, 4), square_at(0, lo, hi));
+  const auto mouth = square_at(0, lo, hi), inner = square_at(1, lo, hi);
+  for (int k = 0; k < 4; ++k)
+    soup.quad({mouth[k], mouth[(k + 1) % 4], inner[(k + 1) % 4], inner[k]});
+  cube_without_low_x(soup, 1, 3);
+  square_ring(soup, square_at(1, 1, 3), inner);
+  write_text(path, soup.off());
+}
+
+bool in_bottle(const Vec3& p, double neck) {
+  const auto within = [](const Vec3& q, const Vec3& lo, const Vec3& hi) {
+    return (q.array() > lo.array()).all() && (q.array() < hi.array()).all();
+  };
+  const double lo = 2 - neck / 2, hi = 2 + neck / 2;
+  return within(p, Vec3::Zero(), Vec3::Constant(4)) &&
+         !within(p, Vec3::Ones(), Vec3::Constant(3)) &&
+         !within(p, Vec3(-1, lo, lo), Vec3(1.5, hi, hi));
 }
 
 void write_box_obj(const std::string& path, const Vec3& lo, const Vec3& hi) {

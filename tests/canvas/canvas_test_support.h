@@ -38,6 +38,11 @@ void write_box_off(const std::string& path, const Vec3& lo, const Vec3& hi,
 // `flip_first_face` reverses the orientation of the first box's first quad.
 void write_boxes_off(const std::string& path, const std::vector<std::pair<Vec3, Vec3>>& boxes,
                      bool flip_first_face = false);
+// One closed surface: the box [0,4]^3 holding the chamber [1,3]^3, which opens to the x = 0 face
+// through a square neck of width `neck` (x in [0,1], y and z in [2 - neck/2, 2 + neck/2]).
+void write_bottle_off(const std::string& path, double neck);
+// Whether point p lies in that bottle's solid (not in the chamber, the neck or outside).
+bool in_bottle(const Vec3& p, double neck);
 void write_box_obj(const std::string& path, const Vec3& lo, const Vec3& hi);  // v/vt/vn, negative
 void write_box_stl_ascii(const std::string& path, const Vec3& lo, const Vec3& hi);
 void write_box_stl_binary(const std::string& path, const Vec3& lo, const Vec3& hi);

@@ -1,0 +1,85 @@
+// add_polygon (surface_mesh.h): ear clipping in the polygon's plane.
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "surface_mesh.h"
+
+namespace rvor {
+
+namespace {
+
+using Point2 = Eigen::Vector2d;
+
+double cross(const Point2& a, const Point2& b, const Point2& c) {
+  return (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+}
+
+// The polygon in its plane: the axis of largest normal component dropped, the other two ordered
+// so that the polygon turns counterclockwise (Newell's normal: any planar polygon, convex or not).
+std::vector<Point2> planar(const SurfaceMesh& mesh, const std::vector<int>& polygon) {
+  Vec3 normal = Vec3::Zero();
+  for (std::size_t n = 0; n < polygon.size(); ++n)
+    normal += mesh.vertices[polygon[n]].cross(mesh.vertices[polygon[(n + 1) % polygon.size()]]);
+  int drop = 0;
+  normal.cwiseAbs().maxCoeff(&drop);
+  const int u = (drop + 1) % 3, v = (drop + 2) % 3;
+  const bool flip = normal[drop] < 0;
+  std::vector<Point2> points;
+  for (const int index : polygon) {
+    const Vec3& p = mesh.vertices[index];
+    points.emplace_back(flip ? p[v] : p[u], flip ? p[u] : p[v]);
+  }
+  return points;
+}
+
+// Whether corner n of the remaining polygon is an ear: convex with a non-zero area, and no other
+// remaining vertex inside it or on its sides.
+bool is_ear(const std::vector<Point2>& p, const std::vector<std::size_t>& left, std::size_t n) {
+  const std::size_t count = left.size();
+  const Point2 &a = p[left[(n + count - 1) % count]], &b = p[left[n]],
+               &c = p[left[(n + 1) % count]];
+  if (cross(a, b, c) <= 0) return false;
+  for (std::size_t m = 0; m < count; ++m) {
+    const Point2& q = p[left[m]];
+    if (q == a || q == b || q == c) continue;
+    if (cross(a, b, q) >= 0 && cross(b, c, q) >= 0 && cross(c, a, q) >= 0) return false;
+  }
+  return true;
+}
+
+void push_triangle(SurfaceMesh& mesh, int a, int b, int c) {
+  if (a != b && b != c && a != c) mesh.triangles.push_back({a, b, c});
+}
+
+}  // namespace
+
+void add_polygon(SurfaceMesh& mesh, const std::vector<int>& corners) {
+  std::vector<int> polygon;  // without repeated consecutive corners
+  for (const int v : corners)
+    if (polygon.empty() || polygon.back() != v) polygon.push_back(v);
+  while (polygon.size() > 1 && polygon.front() == polygon.back()) polygon.pop_back();
+  if (polygon.size() == 3) return push_triangle(mesh, polygon[0], polygon[1], polygon[2]);
+  if (polygon.size() < 3) return;
+  const std::vector<Point2> points = planar(mesh, polygon);
+  std::vector<std::size_t> left(polygon.size());
+  for (std::size_t n = 0; n < left.size(); ++n) left[n] = n;
+  while (left.size() > 3) {
+    std::size_t ear = 0;
+    while (ear < left.size() && !is_ear(points, left, ear)) ++ear;
+    if (ear == left.size()) break;  // not a simple planar polygon: the fan below, as before
+    const std::size_t count = left.size();
+    push_triangle(mesh, polygon[left[(ear + count - 1) % count]], polygon[left[ear]],
+                  polygon[left[(ear + 1) % count]]);
+    left.erase(left.begin() + static_cast<std::ptrdiff_t>(ear));
+  }
+  // The last three corners (or a fan of what is left when no ear was found). A last triangle of
+  // zero area (collinear corners) is dropped: it bounds nothing.
+  if (left.size() == 3 && cross(points[left[0]], points[left[1]], points[left[2]]) == 0) return;
+  for (std::size_t n = 1; n + 1 < left.size(); ++n)
+    push_triangle(mesh, polygon[left[0]], polygon[left[n]], polygon[left[n + 1]]);
+}
+
+}  // namespace rvor
