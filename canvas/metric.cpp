@@ -83,10 +83,29 @@ bool is_spd(const Mat3& G) {
   return has_clearly_positive_spectrum(S);
 }
 
+std::string spd_problem(const Mat3& G) {
+  if (!G.allFinite()) return "is not finite: " + describe(G);
+  if (is_spd(G)) return "";
+  // Positive but nearly singular: say so, a "not positive definite" would mislead.
+  const Mat3 S = 0.5 * (G + G.transpose());
+  const bool symmetric =
+      (G - G.transpose()).cwiseAbs().maxCoeff() <= 1e-9 * G.cwiseAbs().maxCoeff();
+  const Eigen::Vector3d values =
+      Eigen::SelfAdjointEigenSolver<Mat3>(S, Eigen::EigenvaluesOnly).eigenvalues();
+  if (symmetric && values.minCoeff() > 0) {
+    std::ostringstream ratio;
+    ratio << values.minCoeff() / values.maxCoeff();
+    return "is too anisotropic: its smallest to largest eigenvalue ratio " + ratio.str() +
+           " is within rounding of a singular matrix (64 machine epsilons; an anisotropy up to "
+           "about 1e7 is accepted): " +
+           describe(G);
+  }
+  return "is not symmetric positive definite: " + describe(G);
+}
+
 void require_spd(const Mat3& G, const std::string& where) {
-  if (!G.allFinite()) throw Error("metric " + where + " is not finite: " + describe(G));
-  if (!is_spd(G))
-    throw Error("metric " + where + " is not symmetric positive definite: " + describe(G));
+  const std::string problem = spd_problem(G);
+  if (!problem.empty()) throw Error("metric " + where + " " + problem);
 }
 
 Mat3 stored_metric(const Mat3& G, int dimension) {

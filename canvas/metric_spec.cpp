@@ -138,7 +138,8 @@ class SpecParser {
       sol[i] = *value;
     }
     const Mat3 G = tensor_from_sol(sol);
-    if (!is_spd(G)) fail("the uniform tensor is not symmetric positive definite");
+    const std::string problem = spd_problem(G);
+    if (!problem.empty()) fail("the uniform tensor " + problem);
     return G;
   }
 

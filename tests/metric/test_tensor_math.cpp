@@ -183,6 +183,16 @@ TEST(TensorMath, RequireSpdRejectsSemidefiniteAndZeroNamingWhere) {
             std::string::npos);
 }
 
+// A positive definite tensor too close to singular for double rounding is refused as too
+// anisotropic, not as "not positive definite".
+TEST(TensorMath, NearlySingularPositiveTensorsAreCalledTooAnisotropic) {
+  const std::string message = require_spd_message(with_spectrum(Vec3(1, 1, 1e15)), "here");
+  EXPECT_NE(message.find("metric here is too anisotropic"), std::string::npos) << message;
+  EXPECT_EQ(spd_problem(with_spectrum(Vec3(1, 1, 1e12))), "");
+  EXPECT_NE(spd_problem(with_spectrum(Vec3(1, -1e-3, 1))).find("not symmetric positive definite"),
+            std::string::npos);
+}
+
 TEST(TensorMath, IsSpdRejectsEveryRoundedSingularMatrix) {
   // Rotating diag(1, 0, 2) leaves a smallest eigenvalue of rounding noise, often positive.
   for (int i = 0; i < 500; ++i) {

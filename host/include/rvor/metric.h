@@ -22,6 +22,9 @@ bool is_spd(const Mat3& G);
 // Throws rvor::Error "metric <where> is not symmetric positive definite: [..]" (or "is not
 // finite") unless is_spd(G). `where` names the source, e.g. "'swirl' at (0.1, 0.2, 0)".
 void require_spd(const Mat3& G, const std::string& where);
+// What is wrong with G ("is not finite: ...", "is not symmetric positive definite: ...", "is too
+// anisotropic: ..."), or "" when is_spd(G).
+std::string spd_problem(const Mat3& G);
 
 // The tensor as a canvas stores it: rounded to float, and in 2D its xy block (the z row and
 // column of the identity).
