@@ -14,6 +14,7 @@
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 
+#include "closest_element_tree.h"
 #include "medit_internal.h"
 #include "rvor/error.h"
 #include "rvor/medit.h"
@@ -35,10 +36,6 @@ struct Location {
   int element = -1;
   Barycentric weights{};
 };
-
-double distance_to_box(const Vec3& p, const Vec3& lo, const Vec3& hi) {
-  return (lo - p).cwiseMax(p - hi).cwiseMax(0.0).norm();
-}
 
 // The half-space normal . x <= offset.
 struct Plane {
@@ -202,44 +199,6 @@ class BucketGrid {
     for (int i = start_[b]; i < start_[b + 1]; ++i) visit(items_[i]);
   }
 
-  // Calls visit(bucket) for the buckets at Chebyshev distance exactly `ring` from `center`.
-  template <typename Visit>
-  void for_each_bucket_in_ring(const Index3& center, int ring, Visit visit) const {
-    const Index3 lo = block_lo(center, ring), hi = block_hi(center, ring);
-    for (int i = lo[0]; i <= hi[0]; ++i)
-      for (int j = lo[1]; j <= hi[1]; ++j) {
-        if (std::abs(i - center[0]) == ring || std::abs(j - center[1]) == ring) {
-          for (int k = lo[2]; k <= hi[2]; ++k) visit(Index3{i, j, k});
-        } else {  // inside the ring in x and y: only the bottom and top layers are on it
-          if (center[2] - ring >= 0) visit(Index3{i, j, center[2] - ring});
-          if (center[2] + ring < counts_[2]) visit(Index3{i, j, center[2] + ring});
-        }
-      }
-  }
-
-  // The distance from p to the nearest bucket outside the block of `ring` around `center`;
-  // +infinity when that block covers the whole grid. The buckets left lie beyond one of the
-  // block's faces that is not on the grid's boundary: the slab of the grid beyond that face.
-  double distance_beyond_ring(const Vec3& p, const Index3& center, int ring) const {
-    const Index3 lo = block_lo(center, ring), hi = block_hi(center, ring);
-    const Vec3 grid_lo = lo_,
-               grid_hi = lo_ + Vec3(counts_[0], counts_[1], counts_[2]).cwiseProduct(size_);
-    double bound = std::numeric_limits<double>::infinity();
-    for (int a = 0; a < 3; ++a) {
-      if (lo[a] > 0) {
-        Vec3 slab_hi = grid_hi;
-        slab_hi[a] = lo_[a] + lo[a] * size_[a];
-        bound = std::min(bound, distance_to_box(p, grid_lo, slab_hi));
-      }
-      if (hi[a] < counts_[a] - 1) {
-        Vec3 slab_lo = grid_lo;
-        slab_lo[a] = lo_[a] + (hi[a] + 1) * size_[a];
-        bound = std::min(bound, distance_to_box(p, slab_lo, grid_hi));
-      }
-    }
-    return bound;
-  }
-
  private:
   // About one bucket per element, in cubes (squares in 2D) as far as the box allows.
   void size_grid(const SimplexSet& simplices) {
@@ -293,23 +252,41 @@ class BucketGrid {
       Vec3 lo = simplices.vertex(e, 0), hi = lo;
       for (int k = 1; k < simplices.vertex_count(); ++k)
         lo = lo.cwiseMin(simplices.vertex(e, k)), hi = hi.cwiseMax(simplices.vertex(e, k));
-      const Index3 first = bucket_of(lo), last = bucket_of(hi);
       const auto faces = simplices.outward_faces(e);
-      for (int i = first[0]; i <= last[0]; ++i)
-        for (int j = first[1]; j <= last[1]; ++j)
-          for (int k = first[2]; k <= last[2]; ++k)
-            if (may_intersect(faces, simplices.vertex_count(), Index3{i, j, k}))
-              visit(linear(Index3{i, j, k}), static_cast<int>(e));
+      visit_block(faces, simplices.vertex_count(), bucket_of(lo), bucket_of(hi),
+                  [&](const Index3& bucket) { visit(linear(bucket), static_cast<int>(e)); });
     }
   }
 
-  // False when the bucket lies entirely outside one face of the element. Most buckets that
-  // only overlap an element's bounding box go (a Kuhn tetrahedron fills 1/6 of its box), so
-  // queries test fewer candidates. It never drops a bucket the element meets.
-  bool may_intersect(const std::array<Plane, 4>& faces, int face_count,
-                     const Index3& bucket) const {
-    const Vec3 half = 0.5 * size_;
-    const Vec3 center = lo_ + Vec3(bucket[0], bucket[1], bucket[2]).cwiseProduct(size_) + half;
+  // The buckets of the block [first, last] that may meet the element: the block is split in two
+  // along its longest side while it may, so that a long thin element across the grid (an
+  // anisotropic mesh's) costs the buckets along it, not every bucket of its bounding box.
+  template <typename Visit>
+  void visit_block(const std::array<Plane, 4>& faces, int face_count, const Index3& first,
+                   const Index3& last, Visit&& visit) const {
+    if (!may_intersect(faces, face_count, first, last)) return;
+    int axis = 0;
+    for (int a = 1; a < 3; ++a)
+      if (last[a] - first[a] > last[axis] - first[axis]) axis = a;
+    if (last[axis] == first[axis]) return visit(first);  // one bucket
+    const int middle = (first[axis] + last[axis]) / 2;
+    Index3 low_last = last, high_first = first;
+    low_last[axis] = middle;
+    high_first[axis] = middle + 1;
+    visit_block(faces, face_count, first, low_last, visit);
+    visit_block(faces, face_count, high_first, last, visit);
+  }
+
+  // False when the block of buckets [first, last] lies entirely outside one face of the
+  // element. Most buckets that only overlap an element's bounding box go (a Kuhn tetrahedron
+  // fills 1/6 of its box), so queries test fewer candidates. It never drops a bucket the element
+  // meets.
+  bool may_intersect(const std::array<Plane, 4>& faces, int face_count, const Index3& first,
+                     const Index3& last) const {
+    const Vec3 block_lo = lo_ + Vec3(first[0], first[1], first[2]).cwiseProduct(size_);
+    const Vec3 block_hi = lo_ + Vec3(last[0] + 1, last[1] + 1, last[2] + 1).cwiseProduct(size_);
+    const Vec3 half = 0.5 * (block_hi - block_lo);
+    const Vec3 center = block_lo + half;
     for (int f = 0; f < face_count; ++f) {
       const Plane& face = faces[f];
       const double nearest_corner = face.normal.dot(center) - face.normal.cwiseAbs().dot(half);
@@ -317,15 +294,6 @@ class BucketGrid {
       if (nearest_corner > face.offset + slack) return false;
     }
     return true;
-  }
-
-  Index3 block_lo(const Index3& center, int ring) const {
-    return {std::max(0, center[0] - ring), std::max(0, center[1] - ring),
-            std::max(0, center[2] - ring)};
-  }
-  Index3 block_hi(const Index3& center, int ring) const {
-    return {std::min(counts_[0] - 1, center[0] + ring), std::min(counts_[1] - 1, center[1] + ring),
-            std::min(counts_[2] - 1, center[2] + ring)};
   }
 
   std::size_t linear(const Index3& index) const {
@@ -342,15 +310,29 @@ class BucketGrid {
 // Point location: the element holding p, else the closest point of the mesh.
 class PointLocator {
  public:
-  explicit PointLocator(const SimplexSet& simplices) : simplices_(simplices), grid_(simplices) {}
+  explicit PointLocator(const SimplexSet& simplices)
+      : simplices_(simplices), grid_(simplices), tree_(element_boxes(simplices)) {}
 
   Location locate(const Vec3& p) const {
-    const Index3 bucket = grid_.bucket_of(p);
-    if (const auto inside = containing_element(bucket, p)) return *inside;
-    return closest_location(bucket, p);
+    if (const auto inside = containing_element(grid_.bucket_of(p), p)) return *inside;
+    return closest_location(p);
   }
 
  private:
+  // Bounding boxes of the elements, empty for degenerate ones (never the closest).
+  static std::vector<Box> element_boxes(const SimplexSet& simplices) {
+    std::vector<Box> boxes(simplices.size(), Box{Vec3::Constant(1), Vec3::Constant(0)});
+    for (std::size_t e = 0; e < simplices.size(); ++e) {
+      if (simplices.degenerate(e)) continue;
+      boxes[e] = Box{simplices.vertex(e, 0), simplices.vertex(e, 0)};
+      for (int k = 1; k < simplices.vertex_count(); ++k) {
+        boxes[e].lo = boxes[e].lo.cwiseMin(simplices.vertex(e, k));
+        boxes[e].hi = boxes[e].hi.cwiseMax(simplices.vertex(e, k));
+      }
+    }
+    return boxes;
+  }
+
   // Every element holding p overlaps p's bucket, so one bucket decides whether p is inside.
   std::optional<Location> containing_element(const Index3& bucket, const Vec3& p) const {
     std::optional<Location> found;
@@ -363,31 +345,15 @@ class PointLocator {
     return found;
   }
 
-  // Rings of buckets around p's bucket until the best distance found is below what any
-  // unvisited bucket could offer.
-  Location closest_location(const Index3& center, const Vec3& p) const {
-    double best_distance = std::numeric_limits<double>::infinity();
-    Vec3 best_point = p;
-    int best_element = -1;
-    for (int ring = 0;; ++ring) {
-      grid_.for_each_bucket_in_ring(center, ring, [&](const Index3& bucket) {
-        grid_.for_each_element(bucket, [&](int e) {
-          const Vec3 q = simplices_.closest_point(e, p);
-          const double distance = (q - p).norm();
-          if (distance < best_distance || best_element < 0) {  // NaN or inf: still an element
-            best_distance = distance;
-            best_point = q;
-            best_element = e;
-          }
-        });
-      });
-      if (best_distance <= grid_.distance_beyond_ring(p, center, ring)) break;
-    }
-    return {best_element, clamped(simplices_.barycentric(best_element, best_point))};
+  Location closest_location(const Vec3& p) const {
+    const int e = tree_.closest(
+        p, [&](int element) { return (simplices_.closest_point(element, p) - p).norm(); });
+    return {e, clamped(simplices_.barycentric(e, simplices_.closest_point(e, p)))};
   }
 
   const SimplexSet& simplices_;
   BucketGrid grid_;
+  detail::ClosestElementTree tree_;
 };
 
 class MeshMetricField final : public MetricField {

@@ -154,6 +154,24 @@ TEST(MeshMetricField, ThinSlabMesh) {
   }
 }
 
+// Long thin slanted elements (a square grid sheared 40 to 1): each crosses many buckets of the
+// lookup grid diagonally, and the buckets it meets are found by splitting its bounding box.
+TEST(MeshMetricField, LongSlantedElements) {
+  TempDir dir;
+  MeditMesh sheared = unit_square_triangles(12);
+  for (Vec3& v : sheared.vertices) v.x() += 40 * v.y();
+  // The field sheared alike: its logarithm stays affine, so interpolation is exact.
+  const auto unsheared = [](const Vec3& p) {
+    return commuting_field_2d(Vec3(p.x() - 40 * p.y(), p.y(), 0));
+  };
+  const auto files = write_sampled(dir, "sheared", sheared, unsheared);
+  const auto field = load_mesh_metric(files.mesh, files.sol);
+  for (Vec3 p : random_points(2000, 23)) {
+    p = Vec3(p.x() + 40 * p.y(), p.y(), 0);  // inside the sheared square
+    EXPECT_LT(relative_error(field->at(p), unsheared(p)), 1e-12) << p.transpose();
+  }
+}
+
 TEST(MeshMetricField, TwoDimensionalMeshIgnoresZ) {
   TempDir dir;
   const auto files = write_sampled(dir, "square", unit_square_triangles(5), commuting_field_2d);
