@@ -6,6 +6,8 @@
 #include <openvdb/tools/Interpolation.h>
 #include <openvdb/tools/Morphology.h>
 
+#include "memory_estimate.h"
+#include "rvor/canvas_builder.h"
 #include "rvor/error.h"
 #include "rvor/metric_field.h"
 #include "vdb_support.h"
@@ -80,6 +82,44 @@ void validate_stored_tensors(const std::string& path, const std::array<FloatGrid
   }
 }
 
+// Tiles stand for many voxels: voxelized, six grids of a small file could fill the memory.
+// Sampling needs the voxels (the shell of extend_by_one_voxel, per-voxel validation), so a field
+// whose voxels would not fit in the default memory budget is refused up front.
+void require_voxels_fit(const std::string& path, const std::array<FloatGrid::Ptr, 6>& grids) {
+  constexpr double kBytesPerVoxel = 4.5;  // a float and the leaf's share of mask and header
+  double bytes = 0;
+  for (const auto& grid : grids)
+    bytes += kBytesPerVoxel * static_cast<double>(grid->activeVoxelCount());
+  const double budget = static_cast<double>(default_memory_budget());
+  if (bytes > budget)
+    throw Error("VDB metric file " + path + ": its grids hold " +
+                std::to_string(grids[0]->activeVoxelCount()) +
+                " active voxels each (many as tiles), which need ~" + format_bytes(bytes) +
+                " once voxelized, over the memory budget of " + format_bytes(budget) +
+                ": store the metric over the domain only, or coarser");
+}
+
+// The six grids must have values at the same voxels (m13, m23, m33 may be absent in 2D): a
+// component stored where m11 is not would be read by the interpolation without ever being
+// validated, and one missing where m11 has a value would blend in the background 0.
+void require_same_voxels(const std::string& path, const std::array<FloatGrid::Ptr, 6>& grids,
+                         int dimension) {
+  for (int n = 1; n < (dimension == 2 ? 3 : 6); ++n) {
+    for (const bool extra : {true, false}) {
+      openvdb::MaskTree difference(extra ? grids[n]->tree() : grids[0]->tree(), false,
+                                   openvdb::TopologyCopy());
+      difference.topologyDifference(extra ? grids[0]->tree() : grids[n]->tree());
+      difference.voxelizeActiveTiles();
+      const auto voxel = difference.cbeginValueOn();
+      if (!voxel) continue;
+      throw Error("VDB metric file " + path + ": grid '" + kMetricGridNames[n] +
+                  (extra ? "' has a value at voxel " : "' has no value at voxel ") +
+                  voxel_text(voxel.getCoord()) +
+                  (extra ? ", where 'm11' has none" : ", where 'm11' has one"));
+    }
+  }
+}
+
 int stored_dimension(const FloatGrid& grid) {
   if (const auto meta = grid.getMetadata<openvdb::Int32Metadata>("rvor_dimension"))
     return meta->value() == 2 ? 2 : 3;
@@ -95,11 +135,12 @@ class VdbMetricField : public MetricField {
     const openvdb::CoordBBox box = grids_[0]->evalActiveVoxelBoundingBox();
     layer_z_ = box.min().z();
     bounds_ = world_bounds(box);
-    for (const auto& grid : grids_) {
+    for (const auto& grid : grids_)
       if (grid->transform() != grids_[0]->transform())
         throw Error("VDB metric file " + path + ": grids m11 ... m33 have different transforms");
-      grid->tree().voxelizeActiveTiles();
-    }
+    require_voxels_fit(path, grids_);
+    for (const auto& grid : grids_) grid->tree().voxelizeActiveTiles();
+    require_same_voxels(path, grids_, dimension_);
     validate_stored_tensors(path, grids_, dimension_);
     for (const auto& grid : grids_) extend_by_one_voxel(*grid);
   }

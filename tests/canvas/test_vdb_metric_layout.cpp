@@ -1,0 +1,58 @@
+// VDB metric files whose six grids do not hold values at the same voxels (written with OpenVDB
+// directly: rvor's own writer always gives them one layout).
+#include <gtest/gtest.h>
+#include <openvdb/openvdb.h>
+
+#include <string>
+
+#include "canvas_test_support.h"
+#include "rvor/metric_field.h"
+#include "support/temp_dir.h"
+#include "vdb_support.h"
+
+namespace rvor {
+namespace {
+
+// The identity over the index box [-4, 4]^3 in every grid, then `edit` applied to grid `which`.
+template <typename Edit>
+std::string write_metric(const test::TempDir& dir, int which, Edit edit) {
+  openvdb::initialize();
+  openvdb::GridPtrVec grids;
+  for (int n = 0; n < 6; ++n) {
+    auto grid = openvdb::FloatGrid::create(0.0f);
+    grid->setName(kMetricGridNames[n]);
+    const float value = n == 0 || n == 2 || n == 5 ? 1.0f : 0.0f;
+    for (int k = -4; k <= 4; ++k)
+      for (int j = -4; j <= 4; ++j)
+        for (int i = -4; i <= 4; ++i) grid->tree().setValueOn(openvdb::Coord(i, j, k), value);
+    if (n == which) edit(*grid);
+    grids.push_back(grid);
+  }
+  const std::string path = dir.file("metric.vdb");
+  openvdb::io::File(path).write(grids);
+  return path;
+}
+
+TEST(VdbMetricLayout, ComponentsStoredWhereM11IsNotAreNamed) {
+  test::TempDir dir;
+  const std::string extra = write_metric(dir, 1, [](openvdb::FloatGrid& m12) {
+    m12.tree().setValueOn(openvdb::Coord(5, -4, -4), 50.0f);  // beyond m11: never validated
+  });
+  const std::string message = test::error_of([&] { load_vdb_metric(extra); });
+  EXPECT_NE(message.find("grid 'm12' has a value at voxel (5, -4, -4), where 'm11' has none"),
+            std::string::npos)
+      << message;
+
+  const std::string hole = write_metric(
+      dir, 4, [](openvdb::FloatGrid& m23) { m23.tree().setValueOff(openvdb::Coord(0, 1, 2)); });
+  const std::string missing = test::error_of([&] { load_vdb_metric(hole); });
+  EXPECT_NE(missing.find("grid 'm23' has no value at voxel (0, 1, 2), where 'm11' has one"),
+            std::string::npos)
+      << missing;
+
+  const std::string fine = write_metric(dir, -1, [](openvdb::FloatGrid&) {});
+  EXPECT_EQ(load_vdb_metric(fine)->at(Vec3(0.2, 0.1, -0.3)), Mat3::Identity());
+}
+
+}  // namespace
+}  // namespace rvor
