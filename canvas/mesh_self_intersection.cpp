@@ -52,12 +52,6 @@ CgalMesh cgal_mesh(const SurfaceMesh& mesh, const std::string& path) {
   return out;
 }
 
-std::string point_text(const Vec3& p) {
-  std::ostringstream text;
-  text << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
-  return text.str();
-}
-
 // Thrown by FirstPair at the first pair CGAL reports, so that the search stops there (a flat
 // mesh folded onto itself has a number of crossing pairs quadratic in its size).
 struct FoundPair {

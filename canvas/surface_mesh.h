@@ -43,6 +43,9 @@ struct VoxelRun {
 std::vector<VoxelRun> inside_runs(const SurfaceMesh& mesh, const Vec3& origin, double h,
                                   const std::array<int, 3>& dims);
 
+// "(x, y, z)", for messages about the mesh.
+std::string point_text(const Vec3& p);
+
 // The bounding box of the vertices the triangles use.
 Box bounds_of(const SurfaceMesh& mesh);
 

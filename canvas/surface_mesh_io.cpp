@@ -158,7 +158,13 @@ bool looks_binary_stl(const std::string& path) {
   in.seekg(80);
   std::uint32_t count = 0;
   in.read(reinterpret_cast<char*>(&count), 4);
-  return size == 84 + 50 * static_cast<std::uint64_t>(count);  // "solid" headers occur in both
+  if (size == 84 + 50 * static_cast<std::uint64_t>(count)) return true;  // "solid" in both kinds
+  // A binary file of another size (truncated, padded): a NUL byte past the header, which ASCII
+  // STL never holds, so that read_binary_stl reports it rather than the ASCII reader.
+  std::string start(static_cast<std::size_t>(std::min<std::uint64_t>(size - 80, 4096)), ' ');
+  in.seekg(80);
+  in.read(start.data(), static_cast<std::streamsize>(start.size()));
+  return start.find('\0') != std::string::npos;
 }
 
 SurfaceMesh read_binary_stl(const std::string& path) {
@@ -222,6 +228,12 @@ SurfaceMesh read_surface_mesh(const std::string& path) {
   throw Error("mesh file " + path + ": unsupported format (expected .off, .obj or .stl)");
 }
 
+std::string point_text(const Vec3& p) {
+  std::ostringstream text;
+  text << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
+  return text.str();
+}
+
 void require_closed(const SurfaceMesh& mesh, const std::string& path) {
   if (mesh.triangles.empty()) throw Error("mesh file " + path + " has no triangles");
   std::map<std::pair<int, int>, int> edge_uses;
@@ -244,7 +256,9 @@ void require_closed(const SurfaceMesh& mesh, const std::string& path) {
               std::to_string(open) + " edge(s) used by one triangle, " +
               std::to_string(non_manifold) + " by more than two; e.g. the edge between vertices " +
               std::to_string(example->first.first) + " and " +
-              std::to_string(example->first.second) + " (0-based) is used by " +
+              std::to_string(example->first.second) + " (0-based; STL vertices are numbered as " +
+              "welded) from " + point_text(mesh.vertices[example->first.first]) + " to " +
+              point_text(mesh.vertices[example->first.second]) + " is used by " +
               std::to_string(example->second) +
               " triangle(s); a mesh domain must be a closed manifold surface");
 }

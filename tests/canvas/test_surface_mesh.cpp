@@ -63,6 +63,18 @@ TEST(SurfaceMesh, NonManifoldEdgeIsRejectedAsSuch) {
       << message;
 }
 
+// A binary STL whose size does not match its facet count (cut short) is reported as truncated;
+// it used to be read as ASCII STL ("expected 'solid'", or no triangles at all).
+TEST(SurfaceMesh, TruncatedBinaryStlIsReportedAsSuch) {
+  TempDir dir;
+  test::write_box_stl_binary(dir.file("box.stl"), Vec3(0, 0, 0), Vec3(1, 1, 1));
+  std::string bytes = test::read_text(dir.file("box.stl"));
+  bytes.resize(bytes.size() - 30);
+  test::write_text(dir.file("cut.stl"), bytes);
+  const std::string message = error_of([&] { read_surface_mesh(dir.file("cut.stl")); });
+  EXPECT_NE(message.find("truncated binary STL at facet 11"), std::string::npos) << message;
+}
+
 TEST(SurfaceMesh, ErrorsNameFileAndLine) {
   TempDir dir;
   test::write_text(dir.file("bad.obj"), "v 0 0 0\nv 1 0 0\nv 0 1\n");
