@@ -66,13 +66,6 @@ struct ResolvedDomain {
   std::optional<SurfaceMesh> mesh;
 };
 
-std::string format_point(const Vec3& p) {
-  std::ostringstream out;
-  out.precision(6);
-  out << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
-  return out.str();
-}
-
 [[noreturn]] void fail_empty(const DomainSpec& domain, int resolution) {
   throw Error("domain " + domain.description() + " has no voxel inside at resolution " +
               std::to_string(resolution) + ": it is empty or thinner than a voxel");
@@ -318,7 +311,7 @@ void sample_metric(Canvas& canvas, const std::vector<const BoolLeaf*>& leaves, c
           const Mat3 G = stored_metric(given, p.dimension);
           // The message is built only on failure: formatting it per voxel would dominate the build.
           if (G != checked && !is_storable_metric(G, p.dimension))
-            require_storable_metric(G, given, p.dimension, name + " at " + format_point(world));
+            require_storable_metric(G, given, p.dimension, name + " at " + point_text(world));
           checked = G;
           canvas.set_active(brick * canvas.brick_volume() + local_index(c, p), G);
         }

@@ -3,6 +3,7 @@
 // outside the mesh (private to rvor_medit). A uniform grid searched ring by ring visits every
 // empty bucket of a hole or of the space around the mesh; the tree skips them by their boxes.
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <numeric>
 #include <utility>
@@ -37,7 +38,9 @@ class ClosestElementTree {
         for (int n = node.first; n < node.first + node.count; ++n) {
           const int e = elements_[static_cast<std::size_t>(n)];
           const double d = distance(e);
-          if (best < 0 || d < best_distance) best = e, best_distance = d;  // NaN: still one
+          // A NaN distance (overflow) still names an element, and any number replaces it.
+          if (best < 0 || d < best_distance || std::isnan(best_distance))
+            best = e, best_distance = d;
         }
         continue;
       }

@@ -100,6 +100,23 @@ class SimplexSet {
   const std::array<int, 4>& cell(std::size_t e) const { return cells_[e]; }
   const Vec3& vertex(std::size_t e, int k) const { return vertices_[cells_[e][k]]; }
   const std::vector<Vec3>& vertices() const { return vertices_; }
+  // The bounding box of element e.
+  Box box(std::size_t e) const {
+    Box b{vertex(e, 0), vertex(e, 0)};
+    for (int k = 1; k < vertex_count(); ++k)
+      b.lo = b.lo.cwiseMin(vertex(e, k)), b.hi = b.hi.cwiseMax(vertex(e, k));
+    return b;
+  }
+  // The bounding box of the elements (vertices no element uses do not count).
+  Box bounds() const {
+    Box b{Vec3::Constant(std::numeric_limits<double>::infinity()),
+          Vec3::Constant(-std::numeric_limits<double>::infinity())};
+    for (std::size_t e = 0; e < size(); ++e) {
+      const Box element = box(e);
+      b.lo = b.lo.cwiseMin(element.lo), b.hi = b.hi.cwiseMax(element.hi);
+    }
+    return b;
+  }
 
   // The planes of the faces (edges in 2D) of element e, with normals pointing out of it.
   std::array<Plane, 4> outward_faces(std::size_t e) const {
@@ -202,12 +219,10 @@ class BucketGrid {
  private:
   // About one bucket per element, in cubes (squares in 2D) as far as the box allows.
   void size_grid(const SimplexSet& simplices) {
-    // Over the elements' vertices only: a vertex no element uses (one far away, say) would
-    // otherwise stretch the grid until the mesh falls into a few buckets.
-    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-    for (std::size_t e = 0; e < simplices.size(); ++e)
-      for (int k = 0; k < simplices.vertex_count(); ++k)
-        lo = lo.cwiseMin(simplices.vertex(e, k)), hi = hi.cwiseMax(simplices.vertex(e, k));
+    // Over the elements only: a vertex no element uses (one far away, say) would otherwise
+    // stretch the grid until the mesh falls into a few buckets.
+    const Box bounds = simplices.bounds();
+    const Vec3 lo = bounds.lo, hi = bounds.hi;
     const int d = simplices.dimension();
     const Vec3 extent = (hi - lo).cwiseMax(1e-300);
     double volume = 1;
@@ -249,11 +264,9 @@ class BucketGrid {
   void for_each_overlap(const SimplexSet& simplices, Visit visit) const {
     for (std::size_t e = 0; e < simplices.size(); ++e) {
       if (simplices.degenerate(e)) continue;
-      Vec3 lo = simplices.vertex(e, 0), hi = lo;
-      for (int k = 1; k < simplices.vertex_count(); ++k)
-        lo = lo.cwiseMin(simplices.vertex(e, k)), hi = hi.cwiseMax(simplices.vertex(e, k));
+      const Box box = simplices.box(e);
       const auto faces = simplices.outward_faces(e);
-      visit_block(faces, simplices.vertex_count(), bucket_of(lo), bucket_of(hi),
+      visit_block(faces, simplices.vertex_count(), bucket_of(box.lo), bucket_of(box.hi),
                   [&](const Index3& bucket) { visit(linear(bucket), static_cast<int>(e)); });
     }
   }
@@ -322,14 +335,8 @@ class PointLocator {
   // Bounding boxes of the elements, empty for degenerate ones (never the closest).
   static std::vector<Box> element_boxes(const SimplexSet& simplices) {
     std::vector<Box> boxes(simplices.size(), Box{Vec3::Constant(1), Vec3::Constant(0)});
-    for (std::size_t e = 0; e < simplices.size(); ++e) {
-      if (simplices.degenerate(e)) continue;
-      boxes[e] = Box{simplices.vertex(e, 0), simplices.vertex(e, 0)};
-      for (int k = 1; k < simplices.vertex_count(); ++k) {
-        boxes[e].lo = boxes[e].lo.cwiseMin(simplices.vertex(e, k));
-        boxes[e].hi = boxes[e].hi.cwiseMax(simplices.vertex(e, k));
-      }
-    }
+    for (std::size_t e = 0; e < simplices.size(); ++e)
+      if (!simplices.degenerate(e)) boxes[e] = simplices.box(e);
     return boxes;
   }
 
@@ -365,10 +372,7 @@ class MeshMetricField final : public MetricField {
     // Logarithms once per vertex: a query is then a weighted sum and one exponential.
     vertex_logs_.reserve(tensors.size());
     for (const Mat3& G : tensors) vertex_logs_.push_back(metric_log(G));
-    for (std::size_t e = 0; e < simplices_.size(); ++e)  // vertices no element uses do not count
-      for (int k = 0; k < simplices_.vertex_count(); ++k)
-        box_.lo = box_.lo.cwiseMin(simplices_.vertex(e, k)),
-        box_.hi = box_.hi.cwiseMax(simplices_.vertex(e, k));
+    box_ = simplices_.bounds();
   }
 
   MeshMetricField(const MeshMetricField&) = delete;  // locator_ refers to simplices_

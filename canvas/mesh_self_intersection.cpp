@@ -67,8 +67,8 @@ struct FirstPair {
 
 std::string triangle_text(const SurfaceMesh& mesh, std::size_t t) {
   const auto& v = mesh.triangles[t];
-  return "triangle " + std::to_string(t) + " (0-based, polygons counted as fans of triangles; " +
-         "centred at " +
+  return "triangle " + std::to_string(t) +
+         " (0-based, polygons counted as the triangles they are cut into; " + "centred at " +
          point_text((mesh.vertices[v[0]] + mesh.vertices[v[1]] + mesh.vertices[v[2]]) / 3.0) + ")";
 }
 
@@ -84,14 +84,15 @@ void require_no_self_intersection(const SurfaceMesh& mesh, const std::string& pa
     pmp::self_intersections(cgal, boost::make_function_output_iterator(FirstPair{}));
   } catch (const FoundPair& found) {
     if (found.a == found.b)  // CGAL reports a degenerate triangle as crossing itself
-      throw Error(
-          "mesh " + path + " has a degenerate " + triangle_text(mesh, found.a) +
-          ": its three vertices lie on a line (the self-intersection test cannot tell how it meets "
-          "its neighbours: remove it, or split the polygon it came from otherwise)");
+      throw Error("mesh " + path + " has a degenerate " + triangle_text(mesh, found.a) +
+                  ": its three vertices lie on a line, as where a T-junction was closed with a "
+                  "sliver; rvor needs a conforming surface: split the faces at such a vertex "
+                  "instead");
     throw Error("mesh " + path + " intersects itself: " + triangle_text(mesh, found.a) +
                 " and triangle " + std::to_string(found.b) +
-                " cross or touch away from the vertices and edges they share; a mesh domain must "
-                "be a closed surface that bounds a volume without touching itself");
+                " cross or touch other than along an edge they share or at a vertex of one sheet "
+                "of the surface; a mesh domain must be a closed surface that bounds a volume "
+                "without touching itself");
   }
 }
 

@@ -3,6 +3,7 @@
 // perturbation of the rays decide every ray that passes through an edge or a vertex the same way
 // from all the triangles there, so each ray crosses a closed surface an even number of times.
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Exact_rational.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -71,9 +72,36 @@ class SlabCrossings {
         if (side(a.yz, b.yz, q) != expected || side(b.yz, c.yz, q) != expected ||
             side(c.yz, a.yz, q) != expected)
           continue;
-        const double la = area2(b.yz, c.yz, q) / area, lb = area2(c.yz, a.yz, q) / area;
-        row(j, k).push_back(la * a.x + lb * b.x + (1.0 - la - lb) * c.x);
+        row(j, k).push_back(crossing_x(a, b, c, q, area));
       }
+  }
+
+  // Where the ray through q meets the triangle, which holds it: barycentric interpolation of the
+  // x's, in doubles unless the (y, z) area is small against its rounding (a triangle nearly
+  // edge-on to x, whose double area can be 0 or of the wrong sign: then exactly). Kept within the
+  // triangle's x range either way.
+  static double crossing_x(const Projected& a, const Projected& b, const Projected& c,
+                           const Point2& q, double area) {
+    const double magnitude = std::abs((b.yz.x() - a.yz.x()) * (c.yz.y() - a.yz.y())) +
+                             std::abs((b.yz.y() - a.yz.y()) * (c.yz.x() - a.yz.x()));
+    double x = 0;
+    if (std::abs(area) > 1e-10 * magnitude) {
+      const double la = area2(b.yz, c.yz, q) / area, lb = area2(c.yz, a.yz, q) / area;
+      x = la * a.x + lb * b.x + (1.0 - la - lb) * c.x;
+    } else {
+      using Q = CGAL::Exact_rational;
+      // The return type spelled out: GMP's expression templates would refer to dead temporaries.
+      const auto exact_area2 = [](const Point2& u, const Point2& v, const Point2& w) -> Q {
+        return (Q(v.x()) - Q(u.x())) * (Q(w.y()) - Q(u.y())) -
+               (Q(v.y()) - Q(u.y())) * (Q(w.x()) - Q(u.x()));
+      };
+      const Q whole = exact_area2(a.yz, b.yz, c.yz);
+      x = CGAL::to_double(
+          Q((exact_area2(b.yz, c.yz, q) * Q(a.x) + exact_area2(c.yz, a.yz, q) * Q(b.x) +
+             exact_area2(a.yz, b.yz, q) * Q(c.x)) /
+            whole));
+    }
+    return std::clamp(x, std::min({a.x, b.x, c.x}), std::max({a.x, b.x, c.x}));
   }
 
   // Pairs each row's sorted crossings: voxels between the first and the second are inside, and

@@ -86,19 +86,24 @@ bool is_spd(const Mat3& G) {
 std::string spd_problem(const Mat3& G) {
   if (!G.allFinite()) return "is not finite: " + describe(G);
   if (is_spd(G)) return "";
-  // Positive but nearly singular: say so, a "not positive definite" would mislead.
+  // Positive but nearly singular: say so, a "not positive definite" would mislead. The ratio is
+  // that of the block is_spd judges (a 2D metric's xy block apart from its z entry).
   const Mat3 S = 0.5 * (G + G.transpose());
   const bool symmetric =
       (G - G.transpose()).cwiseAbs().maxCoeff() <= 1e-9 * G.cwiseAbs().maxCoeff();
-  const Eigen::Vector3d values =
-      Eigen::SelfAdjointEigenSolver<Mat3>(S, Eigen::EigenvaluesOnly).eigenvalues();
-  if (symmetric && values.minCoeff() > 0) {
+  const bool planar = S(0, 2) == 0 && S(1, 2) == 0;
+  const Eigen::VectorXd values =
+      planar ? Eigen::VectorXd(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(
+                                   S.topLeftCorner<2, 2>(), Eigen::EigenvaluesOnly)
+                                   .eigenvalues())
+             : Eigen::VectorXd(
+                   Eigen::SelfAdjointEigenSolver<Mat3>(S, Eigen::EigenvaluesOnly).eigenvalues());
+  if (symmetric && values.minCoeff() > 0 && (!planar || S(2, 2) > 0)) {
     std::ostringstream ratio;
     ratio << values.minCoeff() / values.maxCoeff();
-    return "is too anisotropic: its smallest to largest eigenvalue ratio " + ratio.str() +
-           " is within rounding of a singular matrix (64 machine epsilons; an anisotropy up to "
-           "about 1e7 is accepted): " +
-           describe(G);
+    return "is too anisotropic: the ratio of its smallest to its largest eigenvalue" +
+           std::string(planar ? " in the xy plane, " : ", ") + ratio.str() +
+           ", is within rounding of a singular matrix (below 64 machine epsilons): " + describe(G);
   }
   return "is not symmetric positive definite: " + describe(G);
 }

@@ -17,19 +17,31 @@ double cross(const Point2& a, const Point2& b, const Point2& c) {
   return (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
 }
 
+// The side of c from the line a -> b: +1 left, -1 right, 0 on it to within rounding (a corner on
+// a side must count as on it, or an ear would leave it as a T-junction).
+int side(const Point2& a, const Point2& b, const Point2& c) {
+  const double value = cross(a, b, c);
+  const double rounding = 1e-12 * (b - a).norm() * (c - a).norm();
+  return value > rounding ? 1 : value < -rounding ? -1 : 0;
+}
+
 // The polygon in its plane: the axis of largest normal component dropped, the other two ordered
 // so that the polygon turns counterclockwise (Newell's normal: any planar polygon, convex or not).
 std::vector<Point2> planar(const SurfaceMesh& mesh, const std::vector<int>& polygon) {
+  // Relative to the first corner: far from the origin, the products of absolute coordinates
+  // would drown a small polygon's normal in rounding.
+  const Vec3& origin = mesh.vertices[polygon[0]];
   Vec3 normal = Vec3::Zero();
   for (std::size_t n = 0; n < polygon.size(); ++n)
-    normal += mesh.vertices[polygon[n]].cross(mesh.vertices[polygon[(n + 1) % polygon.size()]]);
+    normal += (mesh.vertices[polygon[n]] - origin)
+                  .cross(mesh.vertices[polygon[(n + 1) % polygon.size()]] - origin);
   int drop = 0;
   normal.cwiseAbs().maxCoeff(&drop);
   const int u = (drop + 1) % 3, v = (drop + 2) % 3;
   const bool flip = normal[drop] < 0;
   std::vector<Point2> points;
   for (const int index : polygon) {
-    const Vec3& p = mesh.vertices[index];
+    const Vec3 p = mesh.vertices[index] - origin;  // small numbers for the side tests
     points.emplace_back(flip ? p[v] : p[u], flip ? p[u] : p[v]);
   }
   return points;
@@ -41,11 +53,11 @@ bool is_ear(const std::vector<Point2>& p, const std::vector<std::size_t>& left, 
   const std::size_t count = left.size();
   const Point2 &a = p[left[(n + count - 1) % count]], &b = p[left[n]],
                &c = p[left[(n + 1) % count]];
-  if (cross(a, b, c) <= 0) return false;
+  if (side(a, b, c) <= 0) return false;
   for (std::size_t m = 0; m < count; ++m) {
     const Point2& q = p[left[m]];
     if (q == a || q == b || q == c) continue;
-    if (cross(a, b, q) >= 0 && cross(b, c, q) >= 0 && cross(c, a, q) >= 0) return false;
+    if (side(a, b, q) >= 0 && side(b, c, q) >= 0 && side(c, a, q) >= 0) return false;
   }
   return true;
 }
@@ -66,18 +78,23 @@ void add_polygon(SurfaceMesh& mesh, const std::vector<int>& corners) {
   const std::vector<Point2> points = planar(mesh, polygon);
   std::vector<std::size_t> left(polygon.size());
   for (std::size_t n = 0; n < left.size(); ++n) left[n] = n;
+  // The search for the next ear starts past the last one, so that a convex polygon is cut into
+  // a strip rather than a fan: a fan's centre would be shared by every triangle, which the
+  // self-intersection test pays for quadratically.
+  std::size_t start = 0;
   while (left.size() > 3) {
-    std::size_t ear = 0;
-    while (ear < left.size() && !is_ear(points, left, ear)) ++ear;
-    if (ear == left.size()) break;  // not a simple planar polygon: the fan below, as before
     const std::size_t count = left.size();
+    std::size_t tried = 0, ear = start % count;
+    for (; tried < count && !is_ear(points, left, ear); ++tried) ear = (ear + 1) % count;
+    if (tried == count) break;  // not a simple planar polygon: the fan below, as before
     push_triangle(mesh, polygon[left[(ear + count - 1) % count]], polygon[left[ear]],
                   polygon[left[(ear + 1) % count]]);
     left.erase(left.begin() + static_cast<std::ptrdiff_t>(ear));
+    start = ear + 1;
   }
   // The last three corners (or a fan of what is left when no ear was found). A last triangle of
   // zero area (collinear corners) is dropped: it bounds nothing.
-  if (left.size() == 3 && cross(points[left[0]], points[left[1]], points[left[2]]) == 0) return;
+  if (left.size() == 3 && side(points[left[0]], points[left[1]], points[left[2]]) == 0) return;
   for (std::size_t n = 1; n + 1 < left.size(); ++n)
     push_triangle(mesh, polygon[left[0]], polygon[left[n]], polygon[left[n + 1]]);
 }

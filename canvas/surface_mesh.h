@@ -10,7 +10,7 @@ namespace rvor {
 
 struct SurfaceMesh {
   std::vector<Vec3> vertices;
-  std::vector<std::array<int, 3>> triangles;  // polygons are fan-triangulated
+  std::vector<std::array<int, 3>> triangles;  // polygons are ear-clipped (add_polygon)
 };
 
 // Reads .off, .obj or .stl (ASCII or binary) by extension. STL vertices are welded by exact

@@ -230,6 +230,7 @@ SurfaceMesh read_surface_mesh(const std::string& path) {
 
 std::string point_text(const Vec3& p) {
   std::ostringstream text;
+  text.precision(10);  // coordinates far from the origin (UTM) still tell points apart
   text << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
   return text.str();
 }
@@ -256,8 +257,9 @@ void require_closed(const SurfaceMesh& mesh, const std::string& path) {
               std::to_string(open) + " edge(s) used by one triangle, " +
               std::to_string(non_manifold) + " by more than two; e.g. the edge between vertices " +
               std::to_string(example->first.first) + " and " +
-              std::to_string(example->first.second) + " (0-based; STL vertices are numbered as " +
-              "welded) from " + point_text(mesh.vertices[example->first.first]) + " to " +
+              std::to_string(example->first.second) +
+              " (0-based; in an STL file, in the order they first appear) from " +
+              point_text(mesh.vertices[example->first.first]) + " to " +
               point_text(mesh.vertices[example->first.second]) + " is used by " +
               std::to_string(example->second) +
               " triangle(s); a mesh domain must be a closed manifold surface");

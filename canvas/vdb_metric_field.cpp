@@ -1,4 +1,5 @@
 #include <array>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -69,9 +70,7 @@ void validate_stored_tensors(const std::string& path, const std::array<FloatGrid
     SolTensor t{};
     for (int n = 0; n < 6; ++n) {
       float value = 0;
-      if (!accessors[n].probeValue(c, value) && !(dimension == 2 && n >= 3))
-        throw Error("VDB metric file " + path + ": grid '" + kMetricGridNames[n] +
-                    "' has no value at voxel " + voxel_text(c) + ", where 'm11' has one");
+      accessors[n].probeValue(c, value);  // present: require_same_voxels
       t[n] = value;
     }
     if (dimension == 2) t[3] = t[4] = 0, t[5] = 1;
@@ -87,16 +86,18 @@ void validate_stored_tensors(const std::string& path, const std::array<FloatGrid
 // whose voxels would not fit in the default memory budget is refused up front.
 void require_voxels_fit(const std::string& path, const std::array<FloatGrid::Ptr, 6>& grids) {
   constexpr double kBytesPerVoxel = 4.5;  // a float and the leaf's share of mask and header
-  double bytes = 0;
-  for (const auto& grid : grids)
-    bytes += kBytesPerVoxel * static_cast<double>(grid->activeVoxelCount());
+  double voxels = 0;
+  for (const auto& grid : grids) voxels += static_cast<double>(grid->activeVoxelCount());
+  const double bytes = kBytesPerVoxel * voxels;
   const double budget = static_cast<double>(default_memory_budget());
-  if (bytes > budget)
-    throw Error("VDB metric file " + path + ": its grids hold " +
-                std::to_string(grids[0]->activeVoxelCount()) +
-                " active voxels each (many as tiles), which need ~" + format_bytes(bytes) +
-                " once voxelized, over the memory budget of " + format_bytes(budget) +
-                ": store the metric over the domain only, or coarser");
+  if (bytes > budget) {
+    std::ostringstream count;
+    count << voxels;
+    throw Error("VDB metric file " + path + ": its six grids hold " + count.str() +
+                " active voxels in all (many as tiles), which need ~" + format_bytes(bytes) +
+                " once voxelized, over 75% of this machine's memory (" + format_bytes(budget) +
+                "): store the metric over the domain only, or coarser");
+  }
 }
 
 // The six grids must have values at the same voxels (m13, m23, m33 may be absent in 2D): a

@@ -252,7 +252,8 @@ void add_voronoi_command(CLI::App& app) {
       "with --dual the files listed there, with --png voronoi.png.");
   cmd->add_option("--domain", options->domain,
                   "box:X0,Y0,Z0,X1,Y1,Z1 | rect:X0,Y0,X1,Y1 | mesh:FILE(.off/.obj/.stl: closed "
-                  "surfaces that do not intersect; one inside another bounds a cavity) | "
+                  "surfaces that neither cross nor touch each other or themselves and have no "
+                  "zero-area triangles; one inside another bounds a cavity) | "
                   "implicit:NAME[:k=v,...] (sphere, ellipsoid, torus, disk)")
       ->required();
   cmd->add_option("--resolution", options->resolution,

@@ -1,8 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <sstream>
 
 #include "canvas_test_support.h"
 #include "rvor/canvas_builder.h"
@@ -226,6 +229,73 @@ TEST(BuildCanvas, PocketsBehindNarrowOpeningsAreOutside) {
   }
 }
 
+// Rays through the mesh's vertices and edges: an octahedron whose corners are voxel centres (a
+// tiny tetrahedron at two corners of the bounds makes the voxel size 1 and the first centre 0).
+// Each such ray must still cross the surface an even number of times.
+TEST(BuildCanvas, RaysThroughVerticesAndEdgesKeepTheirParity) {
+  test::TempDir dir;
+  test::write_text(dir.file("octahedron.off"),
+                   "OFF\n14 16 0\n14 8 8\n2 8 8\n8 14 8\n8 2 8\n8 8 14\n8 8 2\n"
+                   "-0.5 -0.5 -0.5\n-0.3 -0.5 -0.5\n-0.5 -0.3 -0.5\n-0.5 -0.5 -0.3\n"
+                   "16.5 16.5 16.5\n16.3 16.5 16.5\n16.5 16.3 16.5\n16.5 16.5 16.3\n"
+                   "3 0 2 4\n3 2 1 4\n3 1 3 4\n3 3 0 4\n3 2 0 5\n3 1 2 5\n3 3 1 5\n3 0 3 5\n"
+                   "3 6 8 7\n3 6 7 9\n3 6 9 8\n3 7 8 9\n3 10 12 11\n3 10 11 13\n3 10 13 12\n"
+                   "3 11 12 13\n");
+  const Canvas canvas = build("mesh:" + dir.file("octahedron.off"), 17, test::euclidean_metric(3));
+  ASSERT_EQ(canvas.voxel_size, 1.0);
+  ASSERT_EQ(canvas.world_of(VoxelIndex{0, 0, 0}), Vec3::Zero());
+  std::size_t checked = 0;
+  for (int k = 0; k < canvas.dims[2]; ++k)
+    for (int j = 0; j < canvas.dims[1]; ++j)
+      for (int i = 0; i < canvas.dims[0]; ++i) {
+        const int taxicab = std::abs(i - 8) + std::abs(j - 8) + std::abs(k - 8);
+        if (taxicab == 6) continue;  // on the surface: either way
+        EXPECT_EQ(canvas.slot_of(i, j, k) >= 0, taxicab < 6) << i << " " << j << " " << k;
+        ++checked;
+      }
+  EXPECT_GT(checked, 4000u);
+}
+
+// A face that nearly contains the x direction: its (y, z) area rounds to 0 in double, and the
+// crossing must then be placed exactly (it was NaN, and whole rows went wrong). The tetrahedron
+// is the reviewer's case; every voxel centre clearly inside or outside is checked.
+TEST(BuildCanvas, FacesNearlyAlongTheRaysCrossWhereTheyAre) {
+  test::TempDir dir;
+  const std::vector<Vec3> corners = {
+      Vec3(-0.5, 1.0000000000000004, 1.0000000000000002), Vec3(10.0, 7.0, 7.0),
+      Vec3(3.0, 12.999999999999996, 12.999999999999996), Vec3(15.5, -0.5, 10.0)};
+  test::write_text(dir.file("sliver.off"),
+                   "OFF\n8 8 0\n-0.5 1.0000000000000004 1.0000000000000002\n10 7 7\n"
+                   "3 12.999999999999996 12.999999999999996\n15.5 -0.5 10\n0 13 -0.5\n1 13 0\n"
+                   "0 12 0\n0.3 12.7 0.5\n3 0 1 2\n3 0 3 1\n3 1 3 2\n3 0 2 3\n3 4 5 6\n"
+                   "3 4 7 5\n3 5 7 6\n3 4 6 7\n");
+  const Canvas canvas = build("mesh:" + dir.file("sliver.off"), 16, test::euclidean_metric(3));
+  ASSERT_EQ(canvas.voxel_size, 1.0);
+  ASSERT_EQ(canvas.world_of(VoxelIndex{0, 0, 0}), Vec3::Zero());
+  const auto volume = [](const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+    return (b - a).cross(c - a).dot(d - a);
+  };
+  const int faces[4][4] = {{1, 2, 3, 0}, {0, 2, 3, 1}, {0, 1, 3, 2}, {0, 1, 2, 3}};
+  std::size_t inside = 0;
+  for (int k = 0; k < canvas.dims[2]; ++k)
+    for (int j = 0; j < canvas.dims[1]; ++j)
+      for (int i = 0; i < canvas.dims[0]; ++i) {
+        const Vec3 p(i, j, k);
+        bool in = true, clear = true;
+        for (const auto& f : faces) {
+          const double here = volume(corners[f[0]], corners[f[1]], corners[f[2]], p);
+          const double opposite =
+              volume(corners[f[0]], corners[f[1]], corners[f[2]], corners[f[3]]);
+          clear = clear && std::abs(here) > 1e-6 * std::abs(opposite);
+          in = in && (here > 0) == (opposite > 0);
+        }
+        if (!clear || (j >= 12 && i <= 1 && k <= 1)) continue;  // on a face, or by the small one
+        EXPECT_EQ(canvas.slot_of(i, j, k) >= 0, in) << i << " " << j << " " << k;
+        inside += in;
+      }
+  EXPECT_GT(inside, 100u);
+}
+
 // Vertices are taken to index coordinates in double: in float (meshToLevelSet's input) a box at
 // UTM-like coordinates lost a whole layer of voxels.
 TEST(BuildCanvas, MeshesFarFromTheOriginKeepEveryVoxel) {
@@ -237,27 +307,51 @@ TEST(BuildCanvas, MeshesFarFromTheOriginKeepEveryVoxel) {
             std::size_t(canvas.dims[0]) * canvas.dims[1] * canvas.dims[2]);
 }
 
+// An L-shaped prism with hexagonal caps, scaled by `size` and moved by `offset` (plus 0.3, 0.7,
+// 0.1); with
+// `box_beside`, also the separate box [offset + 3, offset + 13] x [offset, offset + 10]^2.
+std::string l_prism_off(double size, double offset, bool box_beside = false) {
+  const double corners[12][3] = {{0, 0, 0}, {2, 0, 0}, {2, 1, 0}, {1, 1, 0}, {1, 2, 0}, {0, 2, 0},
+                                 {0, 0, 1}, {2, 0, 1}, {2, 1, 1}, {1, 1, 1}, {1, 2, 1}, {0, 2, 1}};
+  std::ostringstream off;
+  off.precision(17);
+  off << "OFF\n" << (box_beside ? 20 : 12) << " " << (box_beside ? 14 : 8) << " 0\n";
+  for (const auto& c : corners)
+    off << offset + 0.3 + size * c[0] << " " << offset + 0.7 + size * c[1] << " "
+        << offset + 0.1 + size * c[2] << "\n";
+  for (int k = 0; box_beside && k < 8; ++k)
+    off << offset + (k & 1 ? 13 : 3) << " " << offset + (k & 2 ? 10 : 0) << " "
+        << offset + (k & 4 ? 10 : 0) << "\n";
+  off << "6 1 0 5 4 3 2\n6 8 9 10 11 6 7\n4 0 1 7 6\n4 1 2 8 7\n4 2 3 9 8\n4 3 4 10 9\n"
+         "4 4 5 11 10\n4 5 0 6 11\n";
+  if (box_beside)
+    off << "4 12 14 15 13\n4 16 17 19 18\n4 12 13 17 16\n4 14 18 19 15\n4 12 16 18 14\n"
+           "4 13 15 19 17\n";
+  return off.str();
+}
+
 // Polygons are triangulated in their plane: an L-shaped cap whose fan from its first corner
-// leaves the outline (and then crosses the sides), and a square face with a corner on one of its
-// sides, whose fan has a triangle of zero area, both bound their volume.
+// leaves the outline (and then crosses the sides), also 2 cm wide at UTM-like coordinates beside
+// a larger body, and a square face with a corner on one of its sides, whose fan has a triangle of
+// zero area, all bound their volume.
 TEST(BuildCanvas, NonConvexAndCollinearPolygonsAreTriangulatedInside) {
   test::TempDir dir;
-  test::write_text(dir.file("l.off"),
-                   "OFF\n12 8 0\n0 0 0\n2 0 0\n2 1 0\n1 1 0\n1 2 0\n0 2 0\n0 0 1\n2 0 1\n"
-                   "2 1 1\n1 1 1\n1 2 1\n0 2 1\n6 1 0 5 4 3 2\n6 8 9 10 11 6 7\n4 0 1 7 6\n"
-                   "4 1 2 8 7\n4 2 3 9 8\n4 3 4 10 9\n4 4 5 11 10\n4 5 0 6 11\n");
+  test::write_text(dir.file("l.off"), l_prism_off(1, 0));
+  test::write_text(dir.file("far_l.off"), l_prism_off(0.01, 5e6, true));
   test::write_text(dir.file("side.off"),
                    "OFF\n9 6 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n"
                    "0.5 0 0\n5 0 3 2 1 8\n4 4 5 6 7\n5 0 8 1 5 4\n4 1 2 6 5\n4 2 3 7 6\n"
                    "4 3 0 4 7\n");
   EXPECT_NEAR(active_volume(build("mesh:" + dir.file("l.off"), 40, test::euclidean_metric(3))), 3.0,
               0.03 * 3.0);
+  // Its normal from products of absolute coordinates was rounding: an overlapping triangulation.
+  EXPECT_EQ(test::error_of(
+                [&] { build("mesh:" + dir.file("far_l.off"), 128, test::euclidean_metric(3)); }),
+            "");
   EXPECT_NEAR(active_volume(build("mesh:" + dir.file("side.off"), 40, test::euclidean_metric(3))),
               1.0, 0.03);
 }
 
-// A vertex no face uses does not widen the canvas (it used to: a unit cube with a stray vertex
-// at x = 3 got a 32 x 11 x 11 canvas at resolution 32).
 TEST(BuildCanvas, VerticesNoFaceUsesDoNotWidenTheCanvas) {
   test::TempDir dir;
   test::write_text(dir.file("stray.off"),
@@ -329,7 +423,7 @@ TEST(BuildCanvas, SparseShapesAreEstimatedBelowTheirIndexBox) {
   options.memory_budget = 1000000;  // the coarse mesh estimate is over it
   const std::string message =
       build_error(parse_domain("mesh:" + dir.file("box.off")), test::euclidean_metric(3), options);
-  // Coarse (64^3) level set grown by one voxel: 66^3 / 64^3 of the true 128^3.
+  // Coarse (64^3) voxels grown by one voxel: 66^3 / 64^3 of the true 128^3.
   EXPECT_NE(message.find("canvas of ~2.3e+06 active voxels"), std::string::npos) << message;
 }
 
