@@ -229,6 +229,15 @@ TEST(BuildCanvas, PocketsBehindNarrowOpeningsAreOutside) {
   }
 }
 
+// The canvas of a mesh file whose bounds are `resolution` long: voxels of size 1, centred at
+// integer coordinates from 0 (checked).
+Canvas unit_voxel_canvas(const std::string& path, int resolution) {
+  const Canvas canvas = build("mesh:" + path, resolution, test::euclidean_metric(3));
+  EXPECT_EQ(canvas.voxel_size, 1.0);
+  EXPECT_EQ(canvas.world_of(VoxelIndex{0, 0, 0}), Vec3::Zero());
+  return canvas;
+}
+
 // Rays through the mesh's vertices and edges: an octahedron whose corners are voxel centres (a
 // tiny tetrahedron at two corners of the bounds makes the voxel size 1 and the first centre 0).
 // Each such ray must still cross the surface an even number of times.
@@ -241,9 +250,7 @@ TEST(BuildCanvas, RaysThroughVerticesAndEdgesKeepTheirParity) {
                    "3 0 2 4\n3 2 1 4\n3 1 3 4\n3 3 0 4\n3 2 0 5\n3 1 2 5\n3 3 1 5\n3 0 3 5\n"
                    "3 6 8 7\n3 6 7 9\n3 6 9 8\n3 7 8 9\n3 10 12 11\n3 10 11 13\n3 10 13 12\n"
                    "3 11 12 13\n");
-  const Canvas canvas = build("mesh:" + dir.file("octahedron.off"), 17, test::euclidean_metric(3));
-  ASSERT_EQ(canvas.voxel_size, 1.0);
-  ASSERT_EQ(canvas.world_of(VoxelIndex{0, 0, 0}), Vec3::Zero());
+  const Canvas canvas = unit_voxel_canvas(dir.file("octahedron.off"), 17);
   std::size_t checked = 0;
   for (int k = 0; k < canvas.dims[2]; ++k)
     for (int j = 0; j < canvas.dims[1]; ++j)
@@ -269,9 +276,7 @@ TEST(BuildCanvas, FacesNearlyAlongTheRaysCrossWhereTheyAre) {
                    "3 12.999999999999996 12.999999999999996\n15.5 -0.5 10\n0 13 -0.5\n1 13 0\n"
                    "0 12 0\n0.3 12.7 0.5\n3 0 1 2\n3 0 3 1\n3 1 3 2\n3 0 2 3\n3 4 5 6\n"
                    "3 4 7 5\n3 5 7 6\n3 4 6 7\n");
-  const Canvas canvas = build("mesh:" + dir.file("sliver.off"), 16, test::euclidean_metric(3));
-  ASSERT_EQ(canvas.voxel_size, 1.0);
-  ASSERT_EQ(canvas.world_of(VoxelIndex{0, 0, 0}), Vec3::Zero());
+  const Canvas canvas = unit_voxel_canvas(dir.file("sliver.off"), 16);
   const auto volume = [](const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
     return (b - a).cross(c - a).dot(d - a);
   };
