@@ -29,10 +29,13 @@ class ClosestElementTree {
     int best = -1;
     double best_distance = std::numeric_limits<double>::infinity();
     if (nodes_.empty()) return best;
-    std::vector<int> stack{0};
-    while (!stack.empty()) {
-      const Node& node = nodes_[static_cast<std::size_t>(stack.back())];
-      stack.pop_back();
+    // A stack on the call's own frame: queries run per voxel, a heap allocation each would cost
+    // more than the search. The tree is balanced, so its depth stays below 64.
+    int stack[2 * kMaxDepth];
+    int size = 0;
+    stack[size++] = 0;
+    while (size > 0) {
+      const Node& node = nodes_[static_cast<std::size_t>(stack[--size])];
       if (best >= 0 && box_distance(p, node.box) >= best_distance) continue;
       if (node.count > 0) {
         for (int n = node.first; n < node.first + node.count; ++n) {
@@ -46,8 +49,8 @@ class ClosestElementTree {
       }
       const double left = box_distance(p, nodes_[node.left].box);
       const double right = box_distance(p, nodes_[node.right].box);
-      stack.push_back(left < right ? node.right : node.left);  // the nearer one on top
-      stack.push_back(left < right ? node.left : node.right);
+      stack[size++] = left < right ? node.right : node.left;  // the nearer one on top
+      stack[size++] = left < right ? node.left : node.right;
     }
     return best;
   }
@@ -59,6 +62,7 @@ class ClosestElementTree {
     int left = -1, right = -1;
   };
   static constexpr int kLeafSize = 4;
+  static constexpr int kMaxDepth = 64;  // median splits: log2(elements) levels
 
   static double box_distance(const Vec3& p, const Box& box) {
     return (box.lo - p).cwiseMax(p - box.hi).cwiseMax(0.0).norm();

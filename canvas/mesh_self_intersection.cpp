@@ -5,7 +5,6 @@
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
-#include <boost/function_output_iterator.hpp>
 
 #include <algorithm>
 #include <array>
@@ -52,19 +51,6 @@ CgalMesh cgal_mesh(const SurfaceMesh& mesh, const std::string& path) {
   return out;
 }
 
-// Thrown by FirstPair at the first pair CGAL reports, so that the search stops there (a flat
-// mesh folded onto itself has a number of crossing pairs quadratic in its size).
-struct FoundPair {
-  std::size_t a, b;
-};
-
-struct FirstPair {
-  void operator()(const std::pair<Face, Face>& pair) const {
-    throw FoundPair{std::min<std::size_t>(pair.first, pair.second),
-                    std::max<std::size_t>(pair.first, pair.second)};
-  }
-};
-
 std::string triangle_text(const SurfaceMesh& mesh, std::size_t t) {
   const auto& v = mesh.triangles[t];
   return "triangle " + std::to_string(t) +
@@ -80,20 +66,23 @@ void require_no_self_intersection(const SurfaceMesh& mesh, const std::string& pa
     throw Error("mesh " + path + " could not be checked for self-intersections (" +
                 std::to_string(mesh.triangles.size() - cgal.number_of_faces()) +
                 " triangle(s) could not be joined to the others)");
-  try {
-    pmp::self_intersections(cgal, boost::make_function_output_iterator(FirstPair{}));
-  } catch (const FoundPair& found) {
-    if (found.a == found.b)  // CGAL reports a degenerate triangle as crossing itself
-      throw Error("mesh " + path + " has a degenerate " + triangle_text(mesh, found.a) +
-                  ": its three vertices lie on a line, as where a T-junction was closed with a "
-                  "sliver; rvor needs a conforming surface: split the faces at such a vertex "
-                  "instead");
-    throw Error("mesh " + path + " intersects itself: " + triangle_text(mesh, found.a) +
-                " and triangle " + std::to_string(found.b) +
-                " cross or touch other than along an edge they share or at a vertex of one sheet "
-                "of the surface; a mesh domain must be a closed surface that bounds a volume "
-                "without touching itself");
-  }
+  // The first pair only: a flat mesh folded onto itself has a number of crossing pairs quadratic
+  // in its size.
+  std::vector<std::pair<Face, Face>> found;
+  pmp::self_intersections(cgal, std::back_inserter(found), CGAL::parameters::maximum_number(1));
+  if (found.empty()) return;
+  const std::size_t a = std::min<std::size_t>(found.front().first, found.front().second);
+  const std::size_t b = std::max<std::size_t>(found.front().first, found.front().second);
+  if (a == b)  // CGAL reports a degenerate triangle as crossing itself
+    throw Error("mesh " + path + " has a degenerate " + triangle_text(mesh, a) +
+                ": its three vertices lie on a line, as where a T-junction was closed with a "
+                "sliver; rvor needs a conforming surface: split the faces at such a vertex "
+                "instead");
+  throw Error("mesh " + path + " intersects itself: " + triangle_text(mesh, a) + " and triangle " +
+              std::to_string(b) +
+              " cross or touch other than along an edge they share or at a vertex of one sheet "
+              "of the surface; a mesh domain must be a closed surface that bounds a volume "
+              "without touching itself");
 }
 
 }  // namespace rvor

@@ -46,13 +46,25 @@ Mat3 normalised_weighted_sum(const std::vector<Mat3>& terms, const std::vector<d
   return sum;
 }
 
+// The eigenvalues is_spd judges a symmetric S by: a 2D metric's z entry is decoupled from its xy
+// block, so those of the xy block alone (a large xy block next to S(2,2) = 1 is no singular
+// matrix), else those of S.
+Eigen::VectorXd judged_eigenvalues(const Mat3& S) {
+  if (S(0, 2) == 0 && S(1, 2) == 0)
+    return Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(S.topLeftCorner<2, 2>(),
+                                                          Eigen::EigenvaluesOnly)
+        .eigenvalues();
+  return Eigen::SelfAdjointEigenSolver<Mat3>(S, Eigen::EigenvaluesOnly).eigenvalues();
+}
+
 // A rotated singular matrix often comes out of rounding with a tiny positive eigenvalue
 // (~eps |S|): eigenvalues that small are noise, not a positive spectrum.
-template <typename Matrix>
-bool has_clearly_positive_spectrum(const Matrix& S) {
-  Eigen::SelfAdjointEigenSolver<Matrix> eigen(S, Eigen::EigenvaluesOnly);
-  const auto values = eigen.eigenvalues();
+bool clearly_positive(const Eigen::VectorXd& values) {
   return values.minCoeff() > 64 * std::numeric_limits<double>::epsilon() * values.maxCoeff();
+}
+
+bool is_symmetric(const Mat3& G) {
+  return (G - G.transpose()).cwiseAbs().maxCoeff() <= 1e-9 * G.cwiseAbs().maxCoeff();
 }
 
 }  // namespace
@@ -69,40 +81,26 @@ SolTensor tensor_to_sol(const Mat3& G) {
 
 bool is_spd(const Mat3& G) {
   if (!G.allFinite()) return false;
-  const double scale = G.cwiseAbs().maxCoeff();
-  if (scale <= 0) return false;
-  if ((G - G.transpose()).cwiseAbs().maxCoeff() > 1e-9 * scale) return false;
+  if (G.cwiseAbs().maxCoeff() <= 0 || !is_symmetric(G)) return false;
   const Mat3 S = 0.5 * (G + G.transpose());
   Eigen::LLT<Mat3> cholesky(S);
   if (cholesky.info() != Eigen::Success) return false;
   // Cholesky accepts some matrices that are numerically singular: require a clearly positive
-  // spectrum. A 2D metric's z entry is decoupled from its xy block: judge them separately, so
-  // that a large xy block next to G(2,2) = 1 is not mistaken for a singular matrix.
-  if (S(0, 2) == 0 && S(1, 2) == 0)
-    return S(2, 2) > 0 && has_clearly_positive_spectrum(Eigen::Matrix2d(S.topLeftCorner<2, 2>()));
-  return has_clearly_positive_spectrum(S);
+  // spectrum (S(2,2) > 0 follows from Cholesky's success).
+  return clearly_positive(judged_eigenvalues(S));
 }
 
 std::string spd_problem(const Mat3& G) {
   if (!G.allFinite()) return "is not finite: " + describe(G);
   if (is_spd(G)) return "";
-  // Positive but nearly singular: say so, a "not positive definite" would mislead. The ratio is
-  // that of the block is_spd judges (a 2D metric's xy block apart from its z entry).
+  // Positive but nearly singular: say so, a "not positive definite" would mislead.
   const Mat3 S = 0.5 * (G + G.transpose());
-  const bool symmetric =
-      (G - G.transpose()).cwiseAbs().maxCoeff() <= 1e-9 * G.cwiseAbs().maxCoeff();
-  const bool planar = S(0, 2) == 0 && S(1, 2) == 0;
-  const Eigen::VectorXd values =
-      planar ? Eigen::VectorXd(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(
-                                   S.topLeftCorner<2, 2>(), Eigen::EigenvaluesOnly)
-                                   .eigenvalues())
-             : Eigen::VectorXd(
-                   Eigen::SelfAdjointEigenSolver<Mat3>(S, Eigen::EigenvaluesOnly).eigenvalues());
-  if (symmetric && values.minCoeff() > 0 && (!planar || S(2, 2) > 0)) {
+  const Eigen::VectorXd values = judged_eigenvalues(S);
+  if (is_symmetric(G) && values.minCoeff() > 0 && S(2, 2) > 0) {
     std::ostringstream ratio;
     ratio << values.minCoeff() / values.maxCoeff();
     return "is too anisotropic: the ratio of its smallest to its largest eigenvalue" +
-           std::string(planar ? " in the xy plane, " : ", ") + ratio.str() +
+           std::string(values.size() == 2 ? " in the xy plane, " : ", ") + ratio.str() +
            ", is within rounding of a singular matrix (below 64 machine epsilons): " + describe(G);
   }
   return "is not symmetric positive definite: " + describe(G);
