@@ -119,17 +119,12 @@ Mat3 stored_metric(const Mat3& G, int dimension) {
   return stored;
 }
 
-namespace {
-
-// Eigenvalues of the tensor's xy block in 2D, of the whole tensor in 3D.
-Eigen::VectorXd planar_eigenvalues(const Mat3& G, int dimension) {
+Eigen::VectorXd metric_eigenvalues(const Mat3& G, int dimension) {
   const int n = dimension == 3 ? 3 : 2;
   const Eigen::MatrixXd block = G.topLeftCorner(n, n);
   return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(block, Eigen::EigenvaluesOnly)
       .eigenvalues();
 }
-
-}  // namespace
 
 bool is_storable_metric(const Mat3& stored, int dimension) {
   if (!is_spd(stored)) return false;
@@ -140,7 +135,7 @@ bool is_storable_metric(const Mat3& stored, int dimension) {
   const double det = n == 3 ? stored.determinant() : stored.topLeftCorner<2, 2>().determinant();
   if (trace <= kMostMetricEigenvalue && det / std::pow(trace, n - 1) >= kLeastMetricEigenvalue)
     return true;
-  const Eigen::VectorXd values = planar_eigenvalues(stored, dimension);
+  const Eigen::VectorXd values = metric_eigenvalues(stored, dimension);
   return values.minCoeff() >= kLeastMetricEigenvalue && values.maxCoeff() <= kMostMetricEigenvalue;
 }
 
@@ -153,7 +148,7 @@ void require_storable_metric(const Mat3& stored, const Mat3& given, int dimensio
   if (!is_spd(stored))
     throw Error("metric " + where + " is not symmetric positive definite once rounded to float " +
                 "(canvases keep tensors in float): " + describe(given));
-  const Eigen::VectorXd values = planar_eigenvalues(stored, dimension);
+  const Eigen::VectorXd values = metric_eigenvalues(stored, dimension);
   const double least = values.minCoeff(), most = values.maxCoeff();
   if (least >= kLeastMetricEigenvalue && most <= kMostMetricEigenvalue) return;
   std::ostringstream out;

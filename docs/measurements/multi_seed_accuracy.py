@@ -68,5 +68,6 @@ for name, mask in [("all", np.ones(len(X), bool)),
     e = error[mask]
     wrong = mask & (label != nearest)
     print(f"  {name}: {mask.sum()} voxels, {100 * (e > 1e-4).mean():.2f}% beyond 1e-4, worst "
-          f"{e.max():.3g}; {wrong.sum()} labelled by another seed than the nearest, up to "
+          f"{e.max():.3g}; {wrong.sum()} ({100 * wrong.sum() / len(X):.1f}% of all voxels) "
+          f"labelled by another seed than the nearest, up to "
           f"{((own - exact)[wrong].max() / step if wrong.any() else 0):.2f} voxel lengths farther")

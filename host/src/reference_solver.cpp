@@ -243,18 +243,15 @@ void ReferenceSolver::initialise_seed_blocks(const Canvas& canvas, std::size_t f
 }
 
 void ReferenceSolver::mark_seed_block(const Canvas& canvas, std::size_t s, bool assign_values) {
-  const int rz = dimension_ == 3 ? kSeedBlockRadius : 0;
-  const VoxelIndex c = canvas.voxel_containing(seeds_[s].position);
-  for (int dk = -rz; dk <= rz; ++dk)
-    for (int dj = -kSeedBlockRadius; dj <= kSeedBlockRadius; ++dj)
-      for (int di = -kSeedBlockRadius; di <= kSeedBlockRadius; ++di) {
-        const int64_t slot = canvas.slot_of(c.i + di, c.j + dj, c.k + dk);
-        if (slot < 0) continue;
-        const int32_t voxel = static_cast<int32_t>(slot);
-        const bool was_frozen = frozen_[voxel];
-        frozen_[voxel] = 1;
-        if (assign_values) offer_exact_value(voxel, static_cast<int32_t>(s), was_frozen);
-      }
+  const VoxelIndex centre = canvas.voxel_containing(seeds_[s].position);
+  for_each_seed_block_voxel(centre, dimension_, [&](const VoxelIndex& x) {
+    const int64_t slot = canvas.slot_of(x);
+    if (slot < 0) return;
+    const int32_t voxel = static_cast<int32_t>(slot);
+    const bool was_frozen = frozen_[voxel];
+    frozen_[voxel] = 1;
+    if (assign_values) offer_exact_value(voxel, static_cast<int32_t>(s), was_frozen);
+  });
 }
 
 // A voxel that was not boundary data (or is claimed) takes the exact value even if its old value

@@ -5,8 +5,9 @@
 #include <cstdlib>
 #include <tuple>
 
-#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
+
+#include "rvor/metric.h"
 
 namespace rvor {
 
@@ -19,6 +20,7 @@ struct IndexSeed {
   Mat3 G;                    // the metric of that voxel
   double least_scale = 0.0;  // sqrt of G's least eigenvalue: u0(x) >= least_scale |x - centre|
   double block_reach = 0.0;  // at least the largest u0 over its own block
+  Vec3 axis_reach = Vec3::Zero();  // sqrt((G^-1)_aa): {q : |q|_G <= r} spans r times it per axis
 
   double u0(const VoxelIndex& x) const { return metric_length(G, Vec3(x.i, x.j, x.k) - centre); }
   bool owns(const VoxelIndex& x) const {
@@ -38,28 +40,18 @@ std::vector<IndexSeed> index_seeds(const Canvas& canvas, const std::vector<Vec3>
     if (canvas.dimension == 2) seed.centre.z() = 0, seed.voxel.k = 0;
     seed.G = canvas.metric_at(static_cast<std::size_t>(canvas.slot_of(seed.voxel)));
     const int n = canvas.dimension == 3 ? 3 : 2;
-    const Eigen::MatrixXd block = seed.G.topLeftCorner(n, n);
-    const Eigen::VectorXd eigenvalues =
-        Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(block, Eigen::EigenvaluesOnly).eigenvalues();
+    const Eigen::VectorXd eigenvalues = metric_eigenvalues(seed.G, canvas.dimension);
     seed.least_scale = std::sqrt(std::max(0.0, eigenvalues.minCoeff()));
     // u0 <= sqrt(largest eigenvalue) |q|, |q| at most the block's farthest corner from the seed.
     Vec3 corner = Vec3::Zero();
     const int v[3] = {seed.voxel.i, seed.voxel.j, seed.voxel.k};
     for (int a = 0; a < n; ++a) corner[a] = std::abs(v[a] - seed.centre[a]) + kSeedBlockRadius;
     seed.block_reach = std::sqrt(std::max(0.0, eigenvalues.maxCoeff())) * corner.norm();
+    const Mat3 D = seed.G.inverse();
+    for (int a = 0; a < n; ++a) seed.axis_reach[a] = std::sqrt(std::max(0.0, D(a, a)));
     result.push_back(seed);
   }
   return result;
-}
-
-// Calls visit(x) for the voxels of the seed's block (active or not).
-template <typename Visit>
-void for_each_block_voxel(const IndexSeed& seed, int dimension, Visit&& visit) {
-  const int rz = dimension == 3 ? kSeedBlockRadius : 0;
-  for (int dk = -rz; dk <= rz; ++dk)
-    for (int dj = -kSeedBlockRadius; dj <= kSeedBlockRadius; ++dj)
-      for (int di = -kSeedBlockRadius; di <= kSeedBlockRadius; ++di)
-        visit(VoxelIndex{seed.voxel.i + di, seed.voxel.j + dj, seed.voxel.k + dk});
 }
 
 // Seeds listed per cell of a coarse grid over the canvas, each in every cell that its reach box
@@ -116,12 +108,10 @@ class SeedGrid {
            static_cast<std::size_t>(cells_[0]) * (j + static_cast<std::size_t>(cells_[1]) * k);
   }
 
-  // Half-widths of {q : q^T G q <= reach^2} are reach sqrt((G^-1)_aa).
   CellBox cell_box(const IndexSeed& seed, double reach) const {
-    const Mat3 D = seed.G.inverse();
     CellBox box;
     for (int a = 0; a < 3; ++a) {
-      const double half = a < dimension_ ? reach * std::sqrt(std::max(0.0, D(a, a))) : 0.0;
+      const double half = reach * seed.axis_reach[a];  // 0 along z in 2D
       const double lo = std::clamp(seed.centre[a] - half, 0.0, dims_[a] - 1.0);
       const double hi = std::clamp(seed.centre[a] + half, 0.0, dims_[a] - 1.0);
       box.first[a] = static_cast<int>(std::floor(lo)) / cell_;
@@ -180,7 +170,7 @@ std::vector<std::int32_t> possible_claimants(const std::vector<IndexSeed>& seeds
 // The claims in `owner`'s block among the seeds `near` (the owner's possible claimants).
 void claim_block(const Canvas& canvas, const std::vector<IndexSeed>& seeds, std::size_t owner,
                  const std::vector<std::int32_t>& near, std::vector<SeedClaim>& claims) {
-  for_each_block_voxel(seeds[owner], canvas.dimension, [&](const VoxelIndex& x) {
+  for_each_seed_block_voxel(seeds[owner].voxel, canvas.dimension, [&](const VoxelIndex& x) {
     if (canvas.slot_of(x) < 0) return;
     std::pair<double, std::int32_t> best{seeds[owner].u0(x), static_cast<std::int32_t>(owner)};
     for (const std::int32_t t : near) best = std::min(best, {seeds[t].u0(x), t});

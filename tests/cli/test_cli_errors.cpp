@@ -261,19 +261,18 @@ TEST_F(CliErrors, BenchTakesTheDeviceFromTheEnvironment) {
 // A device that does not exist gives one line (the devices found on the same line), saying that
 // the name came from $RVOR_DEVICE; "opencl: 0" is not "opencl:0".
 TEST_F(CliErrors, DeviceErrorsAreOneLineAndNameTheirSource) {
-  for (const std::string& command :
-       {"RVOR_DEVICE=opencl:99 " +
-            voronoi("--domain rect:-1,-1,1,1 --resolution 16 --seeds " + seeds2d()),
-        voronoi("--domain rect:-1,-1,1,1 --resolution 16 --device 'opencl: 0' --seeds " +
-                seeds2d())}) {
-    const CommandResult result = run_command(command);
+  const CommandResult from_environment =
+      run_command("RVOR_DEVICE=opencl:99 " +
+                  voronoi("--domain rect:-1,-1,1,1 --resolution 16 --seeds " + seeds2d()));
+  const CommandResult spaced = run_command(
+      voronoi("--domain rect:-1,-1,1,1 --resolution 16 --device 'opencl: 0' --seeds " + seeds2d()));
+  for (const CommandResult& result : {from_environment, spaced}) {
     EXPECT_EQ(result.exit_code, 1) << "stderr: " << result.err;
     EXPECT_EQ(result.err.find('\n'), result.err.size() - 1) << "more than one line: " << result.err;
   }
-  EXPECT_NE(run_command("RVOR_DEVICE=opencl:99 " +
-                        voronoi("--domain rect:-1,-1,1,1 --resolution 16 --seeds " + seeds2d()))
-                .err.find("RVOR_DEVICE=opencl:99: no OpenCL device matches"),
-            std::string::npos);
+  EXPECT_NE(from_environment.err.find("RVOR_DEVICE=opencl:99: no OpenCL device matches"),
+            std::string::npos)
+      << from_environment.err;
   const CommandResult devices = run_command("RVOR_DEVICE=quantum " + rvor_binary() + " devices");
   EXPECT_NE(devices.out.find("but it cannot be used: unknown device 'quantum'"), std::string::npos)
       << devices.out;

@@ -28,10 +28,16 @@ Canvas make_canvas(const std::string& domain, const std::string& metric, int res
   return build_canvas(spec, *field, options);
 }
 
+// The stencils as the engine packs them: weights in its length unit.
+PackedStencils engine_stencils(const Canvas& canvas) {
+  return pack_stencils(canvas, device_length_unit(canvas));
+}
+
 // Compares each active slot with a Selling decomposition computed here, independently of the
 // packer's caches and threads.
 void expect_packed_stencils(const Canvas& canvas, const PackedStencils& packed) {
-  const double h2 = canvas.voxel_size * canvas.voxel_size;
+  const double unit = device_length_unit(canvas);
+  const double h2 = canvas.voxel_size * canvas.voxel_size / (unit * unit);
   std::size_t compared = 0;
   for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
     if (!canvas.active[slot]) continue;
@@ -69,7 +75,7 @@ std::size_t distinct_shapes(const PackedStencils& packed) {
 // A varying field: every slot checked, and the packers (slot ranges in parallel) merge their
 // tables without duplicates. Returns the shape count.
 std::size_t expect_varying_packing(const Canvas& canvas) {
-  const PackedStencils packed = pack_stencils(canvas);
+  const PackedStencils packed = engine_stencils(canvas);
   EXPECT_FALSE(packed.uniform);
   expect_packed_stencils(canvas, packed);
   EXPECT_EQ(distinct_shapes(packed), packed.shape_count());
@@ -89,7 +95,7 @@ TEST(StencilPacking, TwoDimensionalFieldOnACurvedDomain) {
 
 TEST(StencilPacking, UniformMetricHasOneRecordAndOneShape) {
   const Canvas canvas = make_canvas("box:-1,-1,-1,1,1,1", "uniform:10,3,5,2,1,4", 24);
-  const PackedStencils packed = pack_stencils(canvas);
+  const PackedStencils packed = engine_stencils(canvas);
   ASSERT_TRUE(packed.uniform);
   EXPECT_EQ(packed.records.size(), std::size_t{kStencilRecord});
   EXPECT_EQ(packed.shape_count(), 1u);
@@ -105,7 +111,7 @@ int unpacked_reach(std::uint32_t packed, int axis) {
 // claim axis readers only when e_i lies along an axis. Returns how many bricks have a reach below
 // the canvas's largest on some axis.
 std::size_t expect_reach_covers_every_read(const Canvas& canvas) {
-  const PackedStencils packed = pack_stencils(canvas);
+  const PackedStencils packed = engine_stencils(canvas);
   const std::vector<std::uint32_t> reach = reader_reach(canvas, packed);
   EXPECT_EQ(reach.size(), canvas.brick_count());
   const std::size_t volume = static_cast<std::size_t>(canvas.brick_volume());
@@ -162,7 +168,7 @@ TEST(ReaderReach, DiagonalMetricsAreReadAlongAxesOnly) {
   for (const char* metric : {"euclidean", "uniform:4,0,1,0,0,9"}) {
     const Canvas canvas = make_canvas("box:-1,-1,-1,1,1,1", metric, 24);
     expect_reach_covers_every_read(canvas);
-    for (std::uint32_t r : reader_reach(canvas, pack_stencils(canvas)))
+    for (std::uint32_t r : reader_reach(canvas, engine_stencils(canvas)))
       ASSERT_NE(r & kAxisReaders, 0u) << metric;
   }
 }

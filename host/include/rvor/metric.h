@@ -25,6 +25,9 @@ void require_spd(const Mat3& G, const std::string& where);
 // What is wrong with G ("is not finite: ...", "is not symmetric positive definite: ...", "is too
 // anisotropic: ..."), or "" when is_spd(G).
 std::string spd_problem(const Mat3& G);
+// Eigenvalues (ascending) of G's xy block in 2D, of G in 3D: the metric a canvas of that
+// dimension uses.
+Eigen::VectorXd metric_eigenvalues(const Mat3& G, int dimension);
 
 // The tensor as a canvas stores it: rounded to float, and in 2D its xy block (the z row and
 // column of the identity).

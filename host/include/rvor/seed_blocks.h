@@ -11,6 +11,17 @@ namespace rvor {
 
 constexpr int kSeedBlockRadius = 2;  // r
 
+// Calls visit(x) for each voxel index x of the block centred on voxel `centre` (active or not,
+// inside the canvas or not); a 2D canvas's block is one layer.
+template <typename Visit>
+void for_each_seed_block_voxel(const VoxelIndex& centre, int dimension, Visit&& visit) {
+  const int rz = dimension == 3 ? kSeedBlockRadius : 0;
+  for (int dk = -rz; dk <= rz; ++dk)
+    for (int dj = -kSeedBlockRadius; dj <= kSeedBlockRadius; ++dj)
+      for (int di = -kSeedBlockRadius; di <= kSeedBlockRadius; ++di)
+        visit(VoxelIndex{centre.i + di, centre.j + dj, centre.k + dk});
+}
+
 // A block voxel whose least u0 belongs to a seed whose own block does not contain it (two seeds a
 // few voxels apart, or a strongly anisotropic metric): the propagators assign these after the
 // blocks, so that a voxel is never frozen to a seed that is not its nearest.

@@ -49,6 +49,9 @@ struct LocalDelaunay {
   std::size_t added = 0;    // Delaunay simplices of near-degenerate configurations not witnessed
 };
 
+// The metric of the voxel holding seeds[seed]; throws if that voxel is not active.
+Mat3 seed_metric(const Canvas& canvas, const std::vector<Vec3>& seeds, std::size_t seed);
+
 LocalDelaunay resolve_near_degenerate(const Canvas& canvas, const Nerve& nerve,
                                       const std::vector<Vec3>& seeds);
 // The nerve's top simplices unchanged, none marked.

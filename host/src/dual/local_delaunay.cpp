@@ -304,12 +304,6 @@ std::vector<int32_t> seeds_of(const NerveSimplex& s) {
   return std::vector<int32_t>(s.seeds.begin(), s.seeds.begin() + s.vertex_count);
 }
 
-Mat3 seeds_metric(const Canvas& canvas, const std::vector<Vec3>& seeds, int32_t seed) {
-  const int64_t slot =
-      canvas.slot_of(canvas.voxel_containing(seeds[static_cast<std::size_t>(seed)]));
-  return slot >= 0 ? canvas.metric_at(static_cast<std::size_t>(slot)) : Mat3::Identity();
-}
-
 NerveSimplex unwitnessed(const std::vector<int32_t>& face, const Canvas& canvas,
                          const std::vector<Vec3>& seeds) {
   NerveSimplex s;
@@ -322,8 +316,9 @@ NerveSimplex unwitnessed(const std::vector<int32_t>& face, const Canvas& canvas,
   s.nearest.position = s.farthest.position = centroid;
   s.nearest.slot = s.farthest.slot = canvas.slot_of(canvas.voxel_containing(centroid));
   // The distance a witness there would carry (local fields size their solves by it).
-  const Mat3 G = s.nearest.slot >= 0 ? canvas.metric_at(static_cast<std::size_t>(s.nearest.slot))
-                                     : seeds_metric(canvas, seeds, face[0]);
+  const Mat3 G = s.nearest.slot >= 0
+                     ? canvas.metric_at(static_cast<std::size_t>(s.nearest.slot))
+                     : seed_metric(canvas, seeds, static_cast<std::size_t>(face[0]));
   double distance = 0.0;
   for (int32_t seed : face)
     distance =

@@ -88,12 +88,8 @@ void set_simplices(const Nerve& nerve, const dual::LocalDelaunay& local, Straigh
 
 std::vector<Mat3> seed_metrics(const Canvas& canvas, const std::vector<Vec3>& seeds) {
   std::vector<Mat3> metrics;
-  for (std::size_t i = 0; i < seeds.size(); ++i) {
-    const int64_t slot = canvas.slot_of(canvas.voxel_containing(seeds[i]));
-    if (slot < 0)
-      throw Error("straight dual: seed " + std::to_string(i) + " is not in an active voxel");
-    metrics.push_back(canvas.metric_at(static_cast<std::size_t>(slot)));
-  }
+  for (std::size_t i = 0; i < seeds.size(); ++i)
+    metrics.push_back(dual::seed_metric(canvas, seeds, i));
   return metrics;
 }
 
@@ -184,5 +180,16 @@ StraightDual build_straight_dual(const Canvas& canvas, const Nerve& nerve,
   dual.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return dual;
 }
+
+namespace dual {
+
+Mat3 seed_metric(const Canvas& canvas, const std::vector<Vec3>& seeds, std::size_t seed) {
+  const int64_t slot = canvas.slot_of(canvas.voxel_containing(seeds[seed]));
+  if (slot < 0)
+    throw Error("straight dual: seed " + std::to_string(seed) + " is not in an active voxel");
+  return canvas.metric_at(static_cast<std::size_t>(slot));
+}
+
+}  // namespace dual
 
 }  // namespace rvor

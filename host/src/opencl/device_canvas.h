@@ -38,7 +38,7 @@ struct PackedStencils {
 
 // Throws rvor::Error when an offset does not fit in int8 (anisotropy too large for the canvas).
 // The weights are rho_i (length_unit / h)^2: distances in units of length_unit.
-PackedStencils pack_stencils(const Canvas& canvas, double length_unit = 1.0);
+PackedStencils pack_stencils(const Canvas& canvas, double length_unit);
 
 // The unit of the device's distances: a power of two near the metric length of one voxel step,
 // h sqrt(tr G / d) averaged in log over the canvas. The float solve then works with numbers near

@@ -95,14 +95,14 @@ class OpenCLPropagator final : public Propagator {
                          VoronoiField& field) override {
     return guarded("solving", [&] {
       const auto start = std::chrono::steady_clock::now();
-      prepare(canvas, seeds, 0);
+      const std::vector<cl_int4> claims = prepare(canvas, seeds, 0);
       device_field_hash_.reset();
       queue_.enqueueFillBuffer(canvas_->state, opencl::kInfiniteState, 0,
                                canvas_->slots * sizeof(cl_ulong));
       reset_stamps();
       step_ = front_step(canvas, seeds);
       if (step_ > 0.0f) build_stepping_kernel();
-      return finish(canvas, 0, seeds.size(), field, start, std::nullopt);
+      return finish(canvas, 0, seeds.size(), claims, field, start, std::nullopt);
     });
   }
 
@@ -112,11 +112,11 @@ class OpenCLPropagator final : public Propagator {
       const auto start = std::chrono::steady_clock::now();
       require_field_for(canvas, field, "insert()");
       if (first_new > seeds.size()) throw Error("insert(): first_new is past the last seed");
-      prepare(canvas, seeds, first_new);
+      const std::vector<cl_int4> claims = prepare(canvas, seeds, first_new);
       step_ = 0.0f;  // an insertion changes a region around its seeds: no stepping
       const std::optional<std::uint64_t> held_field_hash = hold_field(field);
       device_field_hash_.reset();
-      return finish(canvas, first_new, seeds.size(), field, start, held_field_hash);
+      return finish(canvas, first_new, seeds.size(), claims, field, start, held_field_hash);
     });
   }
 
@@ -161,8 +161,9 @@ class OpenCLPropagator final : public Propagator {
     return device_.info.is_gpu ? RelaxationVariant::voxel_phases : RelaxationVariant::brick_lanes;
   }
 
-  // Uploads the seeds, and lists the claims of the seeds from first_new on (rvor/seed_blocks.h).
-  void prepare(const Canvas& canvas, const std::vector<Vec3>& seeds, std::size_t first_new) {
+  // Uploads the seeds; returns the claims of the seeds from first_new on (rvor/seed_blocks.h).
+  std::vector<cl_int4> prepare(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                               std::size_t first_new) {
     // Labels leave TENTATIVE_LABEL (kernels/state_word.clh) free for front stepping.
     if (seeds.size() > kMostOpenCLSeeds)
       throw Error("too many seeds: " + std::to_string(seeds.size()) + " (the OpenCL engine takes " +
@@ -177,9 +178,10 @@ class OpenCLPropagator final : public Propagator {
     }
     queue_.enqueueWriteBuffer(canvas_->seeds, CL_TRUE, 0, records.size() * sizeof(float),
                               records.data());
-    claims_.clear();
+    std::vector<cl_int4> claims;
     for (const SeedClaim& claim : foreign_seed_claims(canvas, seeds, first_new))
-      claims_.push_back({{claim.voxel.i, claim.voxel.j, claim.voxel.k, claim.label}});
+      claims.push_back({{claim.voxel.i, claim.voxel.j, claim.voxel.k, claim.label}});
+    return claims;
   }
 
   // Uploads the canvas unless the device holds it already.
@@ -311,7 +313,8 @@ class OpenCLPropagator final : public Propagator {
   // held_field_hash: the device state was `field` bit for bit, with that hash (an insertion into
   // the field returned last); then only the bricks the propagation touched are read back.
   PropagationStats finish(const Canvas& canvas, std::size_t first_seed, std::size_t seed_count,
-                          VoronoiField& field, std::chrono::steady_clock::time_point start,
+                          const std::vector<cl_int4>& claims, VoronoiField& field,
+                          std::chrono::steady_clock::time_point start,
                           std::optional<std::uint64_t> held_field_hash) {
     queue_.enqueueFillBuffer(canvas_->update_counter, cl_ulong{0}, 0, sizeof(cl_ulong));
     queue_.enqueueFillBuffer(canvas_->touched, cl_uchar{0}, 0, canvas_->bricks);
@@ -327,7 +330,7 @@ class OpenCLPropagator final : public Propagator {
     if (first_seed > 0) prepare_seed_blocks(0, first_seed, true, seed_stamp);
     prepare_seed_blocks(first_seed, seed_count, false, seed_stamp);
     initialise_seeds(first_seed, seed_count, seed_stamp);
-    claim_seed_voxels(seed_stamp);
+    claim_seed_voxels(claims, seed_stamp);
     activate_initial_bricks();
     PropagationStats stats;
     const int colour_count = colours(canvas);
@@ -392,15 +395,15 @@ class OpenCLPropagator final : public Propagator {
                                 cl::NDRange(kBookkeepingGroup));
   }
 
-  void claim_seed_voxels(cl_uint stamp) {
-    if (claims_.empty()) return;
+  void claim_seed_voxels(const std::vector<cl_int4>& claims, cl_uint stamp) {
+    if (claims.empty()) return;
     const DeviceCanvasRef d = *canvas_;
-    const cl::Buffer claims(context_, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                            claims_.size() * sizeof(cl_int4), claims_.data());
-    set_args(claim_, static_cast<cl_int>(claims_.size()), claims, d.seeds, d.state, d.activity,
+    const cl::Buffer buffer(context_, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                            claims.size() * sizeof(cl_int4), const_cast<cl_int4*>(claims.data()));
+    set_args(claim_, static_cast<cl_int>(claims.size()), buffer, d.seeds, d.state, d.activity,
              d.table, d.dims, d.grid, d.flags, d.changed, stamp, d.touched);
     queue_.enqueueNDRangeKernel(claim_, cl::NullRange,
-                                cl::NDRange(round_up(claims_.size(), kBookkeepingGroup)),
+                                cl::NDRange(round_up(claims.size(), kBookkeepingGroup)),
                                 cl::NDRange(kBookkeepingGroup));
   }
 
@@ -562,8 +565,7 @@ class OpenCLPropagator final : public Propagator {
   cl::Kernel freeze_, init_, claim_, relax_, commit_, activate_, compact_, spread_,
       flag_multi_label_;
   cl::Kernel least_of_, pend_below_, relax_stepping_;
-  std::vector<cl_int4> claims_;  // of the seeds being added (prepare)
-  std::string build_options_;    // of the program the kernels above come from
+  std::string build_options_;  // of the program the kernels above come from
   // Front stepping: evaluations above the threshold stay tentative (kernels/state_word.clh);
   // +inf: off. step_: how far the threshold moves past the least tentative distance.
   float threshold_ = std::numeric_limits<float>::infinity(), step_ = 0.0f;

@@ -76,7 +76,6 @@ const Device* find_device(const std::vector<Device>& devices, const std::string&
   if (name == "opencl") return first([](const Device&) { return true; });
   if (name == "pocl")
     return first([](const Device& d) { return d.info.platform == "Portable Computing Language"; });
-  check_device_name(name);
   if (name.rfind("opencl:", 0) != 0)
     throw Error("'" + name + "' is not an OpenCL device (\"cpu\" is the CPU reference solver)");
   const long index = std::stol(name.substr(7));  // "opencl:N", N digits
@@ -107,6 +106,7 @@ std::vector<Device> enumerate_devices() {
 }
 
 Device select_device(const std::string& name) {
+  check_device_name(name);  // a misspelt name fails before the platforms start
   const std::vector<Device> devices = enumerate_devices();
   const Device* device = find_device(devices, name);
   if (!device)
@@ -216,10 +216,7 @@ void check_device_name(const std::string& name) {
 }
 
 void require_device(const std::string& name) {
-  if (name != "cpu")
-    opencl::select_device(name);
-  else
-    check_device_name(name);
+  if (name != "cpu") opencl::select_device(name);
 }
 
 std::vector<OpenCLDeviceInfo> list_opencl_devices() {
