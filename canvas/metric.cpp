@@ -59,8 +59,9 @@ Eigen::VectorXd judged_eigenvalues(const Mat3& S) {
 
 // A rotated singular matrix often comes out of rounding with a tiny positive eigenvalue
 // (~eps |S|): eigenvalues that small are noise, not a positive spectrum.
+constexpr double kClearlyPositiveRatio = 64 * std::numeric_limits<double>::epsilon();
 bool clearly_positive(const Eigen::VectorXd& values) {
-  return values.minCoeff() > 64 * std::numeric_limits<double>::epsilon() * values.maxCoeff();
+  return values.minCoeff() > kClearlyPositiveRatio * values.maxCoeff();
 }
 
 bool is_symmetric(const Mat3& G) {
@@ -90,20 +91,39 @@ bool is_spd(const Mat3& G) {
   return clearly_positive(judged_eigenvalues(S));
 }
 
+namespace {
+
+// The "too anisotropic" text for judged eigenvalues that are positive but not clearly so.
+std::string too_anisotropic(const Eigen::VectorXd& values, const std::string& block,
+                            const Mat3& G) {
+  std::ostringstream ratio;
+  ratio << values.minCoeff() / values.maxCoeff();
+  return "is too anisotropic: the ratio of its smallest to its largest eigenvalue" + block + ", " +
+         ratio.str() +
+         ", is within rounding of a singular matrix (below 64 machine epsilons): " + describe(G);
+}
+
+}  // namespace
+
 std::string spd_problem(const Mat3& G) {
   if (!G.allFinite()) return "is not finite: " + describe(G);
   if (is_spd(G)) return "";
   // Positive but nearly singular: say so, a "not positive definite" would mislead.
   const Mat3 S = 0.5 * (G + G.transpose());
   const Eigen::VectorXd values = judged_eigenvalues(S);
-  if (is_symmetric(G) && values.minCoeff() > 0 && S(2, 2) > 0) {
-    std::ostringstream ratio;
-    ratio << values.minCoeff() / values.maxCoeff();
-    return "is too anisotropic: the ratio of its smallest to its largest eigenvalue" +
-           std::string(values.size() == 2 ? " in the xy plane, " : ", ") + ratio.str() +
-           ", is within rounding of a singular matrix (below 64 machine epsilons): " + describe(G);
-  }
+  if (is_symmetric(G) && values.minCoeff() > 0 && S(2, 2) > 0)
+    return too_anisotropic(values, values.size() == 2 ? " in the xy plane" : "", G);
   return "is not symmetric positive definite: " + describe(G);
+}
+
+std::string metric_problem(const Mat3& G, int dimension) {
+  const std::string problem = spd_problem(G);
+  if (!problem.empty()) return problem;
+  // is_spd judges a tensor with m13 = m23 = 0 by its xy block (it does not know the dimension):
+  // in 3D its m33 counts too.
+  const Eigen::VectorXd values = metric_eigenvalues(G, dimension);
+  if (!clearly_positive(values)) return too_anisotropic(values, "", G);
+  return "";
 }
 
 void require_spd(const Mat3& G, const std::string& where) {
@@ -129,14 +149,17 @@ Eigen::VectorXd metric_eigenvalues(const Mat3& G, int dimension) {
 bool is_storable_metric(const Mat3& stored, int dimension) {
   if (!is_spd(stored)) return false;
   // Without an eigen solve where the bounds settle it: the largest eigenvalue is at most the
-  // trace, the smallest at least det / trace^(n-1).
+  // trace, the smallest at least det / trace^(n-1), so their ratio at least det / trace^n.
   const int n = dimension == 3 ? 3 : 2;
   const double trace = stored.topLeftCorner(n, n).trace();
   const double det = n == 3 ? stored.determinant() : stored.topLeftCorner<2, 2>().determinant();
-  if (trace <= kMostMetricEigenvalue && det / std::pow(trace, n - 1) >= kLeastMetricEigenvalue)
+  const double least_bound = det / std::pow(trace, n - 1);
+  if (trace <= kMostMetricEigenvalue && least_bound >= kLeastMetricEigenvalue &&
+      least_bound / trace > kClearlyPositiveRatio)
     return true;
   const Eigen::VectorXd values = metric_eigenvalues(stored, dimension);
-  return values.minCoeff() >= kLeastMetricEigenvalue && values.maxCoeff() <= kMostMetricEigenvalue;
+  return clearly_positive(values) && values.minCoeff() >= kLeastMetricEigenvalue &&
+         values.maxCoeff() <= kMostMetricEigenvalue;
 }
 
 void require_storable_metric(const Mat3& stored, const Mat3& given, int dimension,
@@ -148,6 +171,8 @@ void require_storable_metric(const Mat3& stored, const Mat3& given, int dimensio
   if (!is_spd(stored))
     throw Error("metric " + where + " is not symmetric positive definite once rounded to float " +
                 "(canvases keep tensors in float): " + describe(given));
+  const std::string problem = metric_problem(stored, dimension);
+  if (!problem.empty()) throw Error("metric " + where + " " + problem);
   const Eigen::VectorXd values = metric_eigenvalues(stored, dimension);
   const double least = values.minCoeff(), most = values.maxCoeff();
   if (least >= kLeastMetricEigenvalue && most <= kMostMetricEigenvalue) return;

@@ -138,7 +138,7 @@ class SpecParser {
       sol[i] = *value;
     }
     const Mat3 G = tensor_from_sol(sol);
-    const std::string problem = spd_problem(G);
+    const std::string problem = metric_problem(G, dimension_);
     if (!problem.empty()) fail("the uniform tensor " + problem);
     return G;
   }

@@ -475,7 +475,9 @@ TEST(BuildCanvas, TensorsThatFloatCannotHoldAreRejectedWithTheirPosition) {
       {1e-40 * Mat3::Identity(), "outside [1e-30, 1e+30]"},
       {1e31 * Mat3::Identity(), "outside [1e-30, 1e+30]"},
       {1e300 * Mat3::Identity(), "does not fit in float"},
-      {(Mat3() << 1, 1 - 1e-9, 0, 1 - 1e-9, 1, 0, 0, 0, 1).finished(), "rounded to float"}};
+      {(Mat3() << 1, 1 - 1e-9, 0, 1 - 1e-9, 1, 0, 0, 0, 1).finished(), "rounded to float"},
+      // Positive, in range, but z nearly singular next to the xy block: judged in 3D.
+      {Vec3(1, 1, 1e-20).asDiagonal().toDenseMatrix(), "too anisotropic"}};
   for (const auto& [tensor, expected] : cases) {
     const FunctionMetric corner(
         3,

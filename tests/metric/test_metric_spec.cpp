@@ -107,6 +107,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadSpec{"UniformIndefinite", "uniform:1,2,1", 2, "not symmetric positive definite"},
         BadSpec{"UniformNegative3d", "uniform:1,0,1,0,0,-1", 3, "not symmetric positive definite"},
         BadSpec{"UniformZero", "uniform:0,0,0", 2, "not symmetric positive definite"},
+        // Nearly singular along z or along x: both too anisotropic in 3D (m33 used to be judged
+        // apart from the xy block when m13 = m23 = 0, so the first was accepted).
+        BadSpec{"UniformNearlySingularZ3d", "uniform:1,0,1,0,0,1e-20", 3, "too anisotropic"},
+        BadSpec{"UniformNearlySingularX3d", "uniform:1e-20,0,1,0,0,1", 3, "too anisotropic"},
         BadSpec{"SwirlIn3d", "swirl", 3, "'swirl' is a 2D field, the domain is 3D"},
         BadSpec{"StarredIn3d", "starred:scale=2", 3, "is a 2D field"},
         BadSpec{"UnidimensionalIn3d", "unidimensional_shock", 3, "is a 2D field"},

@@ -193,6 +193,24 @@ TEST(TensorMath, NearlySingularPositiveTensorsAreCalledTooAnisotropic) {
             std::string::npos);
 }
 
+// spd_problem cannot tell a 3D tensor with m13 = m23 = 0 from a 2D one; metric_problem judges
+// the eigenvalues of the dimension's block, so a nearly zero m33 counts in 3D only.
+TEST(TensorMath, MetricProblemJudgesTheCanvasDimension) {
+  const Mat3 thin_z = tensor_from_sol({1, 0, 1, 0, 0, 1e-20});
+  EXPECT_EQ(spd_problem(thin_z), "");
+  EXPECT_EQ(metric_problem(thin_z, 2), "");
+  EXPECT_NE(metric_problem(thin_z, 3).find("too anisotropic"), std::string::npos);
+  EXPECT_FALSE(is_storable_metric(stored_metric(thin_z, 3), 3));
+  EXPECT_TRUE(is_storable_metric(stored_metric(thin_z, 2), 2));
+  const Mat3 thin_x = tensor_from_sol({1e-20, 0, 1, 0, 0, 1});
+  EXPECT_NE(metric_problem(thin_x, 3).find("too anisotropic"), std::string::npos);
+  EXPECT_NE(metric_problem(thin_x, 2).find("too anisotropic"), std::string::npos);
+  // Strong but representable anisotropy stays accepted, with or without the eigen solve.
+  EXPECT_EQ(metric_problem(tensor_from_sol({1, 0, 1, 0, 0, 1e-12}), 3), "");
+  EXPECT_TRUE(is_storable_metric(stored_metric(tensor_from_sol({1, 0, 1, 0, 0, 1e-12}), 3), 3));
+  EXPECT_TRUE(is_storable_metric(stored_metric(with_spectrum(Vec3(1e-2, 1, 1e2)), 3), 3));
+}
+
 TEST(TensorMath, IsSpdRejectsEveryRoundedSingularMatrix) {
   // Rotating diag(1, 0, 2) leaves a smallest eigenvalue of rounding noise, often positive.
   for (int i = 0; i < 500; ++i) {

@@ -25,6 +25,10 @@ void require_spd(const Mat3& G, const std::string& where);
 // What is wrong with G ("is not finite: ...", "is not symmetric positive definite: ...", "is too
 // anisotropic: ..."), or "" when is_spd(G).
 std::string spd_problem(const Mat3& G);
+// spd_problem, with G judged as the metric of a canvas of `dimension`: in 3D every eigenvalue
+// counts, so a tensor with m13 = m23 = 0 and a nearly zero m33 is too anisotropic (spd_problem
+// alone cannot tell it from a 2D tensor, whose m33 is unused).
+std::string metric_problem(const Mat3& G, int dimension);
 // Eigenvalues (ascending) of G's xy block in 2D, of G in 3D: the metric a canvas of that
 // dimension uses.
 Eigen::VectorXd metric_eigenvalues(const Mat3& G, int dimension);
