@@ -121,18 +121,32 @@ void require_same_voxels(const std::string& path, const std::array<FloatGrid::Pt
   }
 }
 
-int stored_dimension(const FloatGrid& grid) {
-  if (const auto meta = grid.getMetadata<openvdb::Int32Metadata>("rvor_dimension"))
-    return meta->value() == 2 ? 2 : 3;
+// The field's dimension: the file's rvor_dimension metadata where it has one, else 2 for values
+// on one z layer (files from elsewhere). A file marked 2D must hold one layer: which one would be
+// the plane is not for the reader to guess.
+int stored_dimension(const std::string& path, const FloatGrid& grid) {
   const openvdb::CoordBBox box = grid.evalActiveVoxelBoundingBox();
-  return box.min().z() == box.max().z() ? 2 : 3;  // files from elsewhere: one layer means 2D
+  const bool one_layer = box.min().z() == box.max().z();
+  const auto meta = grid.getMetadata<openvdb::Int32Metadata>("rvor_dimension");
+  if (!meta) return one_layer ? 2 : 3;
+  if (meta->value() != 2 && meta->value() != 3)
+    throw Error("VDB metric file " + path + ": metadata rvor_dimension is " +
+                std::to_string(meta->value()) + ", not 2 or 3");
+  if (meta->value() == 2 && !one_layer)
+    throw Error("VDB metric file " + path +
+                ": marked 2D (metadata rvor_dimension = 2) but grid 'm11' holds values on z " +
+                "layers " + std::to_string(box.min().z()) + " to " + std::to_string(box.max().z()) +
+                " (a 2D metric is one layer)");
+  return meta->value();
 }
 
 class VdbMetricField : public MetricField {
  public:
   VdbMetricField(const std::string& path, std::array<FloatGrid::Ptr, 6> grids)
       : path_(path), grids_(std::move(grids)) {
-    dimension_ = stored_dimension(*grids_[0]);
+    dimension_ = stored_dimension(path, *grids_[0]);
+    guessed_2d_ =
+        dimension_ == 2 && !grids_[0]->getMetadata<openvdb::Int32Metadata>("rvor_dimension");
     const openvdb::CoordBBox box = grids_[0]->evalActiveVoxelBoundingBox();
     layer_z_ = box.min().z();
     bounds_ = world_bounds(box);
@@ -147,7 +161,10 @@ class VdbMetricField : public MetricField {
   }
 
   int dimension() const override { return dimension_; }
-  std::string description() const override { return "vdb:" + path_; }
+  // Says why a file without rvor_dimension is 2D: a 3D domain refuses it by this description.
+  std::string description() const override {
+    return "vdb:" + path_ + (guessed_2d_ ? " (2D: its values lie on one z layer)" : "");
+  }
   std::optional<Box> natural_domain() const override { return bounds_; }
 
   Mat3 at(const Vec3& p) const override {
@@ -196,6 +213,7 @@ class VdbMetricField : public MetricField {
   std::string path_;
   std::array<FloatGrid::Ptr, 6> grids_;
   int dimension_ = 3;
+  bool guessed_2d_ = false;  // one z layer and no rvor_dimension metadata
   int layer_z_ = 0;
   Box bounds_;
 };

@@ -54,5 +54,46 @@ TEST(VdbMetricLayout, ComponentsStoredWhereM11IsNotAreNamed) {
   EXPECT_EQ(load_vdb_metric(fine)->at(Vec3(0.2, 0.1, -0.3)), Mat3::Identity());
 }
 
+// The identity on the z layers [z0, z1] of [-4, 4]^2, each grid marked with `dimension` (0: no
+// metadata).
+std::string write_layers(const test::TempDir& dir, int z0, int z1, int dimension) {
+  openvdb::initialize();
+  openvdb::GridPtrVec grids;
+  for (int n = 0; n < 6; ++n) {
+    auto grid = openvdb::FloatGrid::create(0.0f);
+    grid->setName(kMetricGridNames[n]);
+    if (dimension != 0) grid->insertMeta("rvor_dimension", openvdb::Int32Metadata(dimension));
+    const float value = n == 0 || n == 2 || n == 5 ? 1.0f : 0.0f;
+    for (int k = z0; k <= z1; ++k)
+      for (int j = -4; j <= 4; ++j)
+        for (int i = -4; i <= 4; ++i) grid->tree().setValueOn(openvdb::Coord(i, j, k), value);
+    grids.push_back(grid);
+  }
+  const std::string path = dir.file("layers.vdb");
+  openvdb::io::File(path).write(grids);
+  return path;
+}
+
+// A file marked 2D with several z layers used to be read on its lowest layer, silently.
+TEST(VdbMetricLayout, FilesMarkedTwoDimensionalHoldOneLayer) {
+  test::TempDir dir;
+  const std::string message = test::error_of([&] { load_vdb_metric(write_layers(dir, -1, 2, 2)); });
+  EXPECT_NE(message.find("marked 2D (metadata rvor_dimension = 2) but grid 'm11' holds values on "
+                         "z layers -1 to 2"),
+            std::string::npos)
+      << message;
+  EXPECT_NE(test::error_of([&] {
+              load_vdb_metric(write_layers(dir, 0, 0, 5));
+            }).find("metadata rvor_dimension is 5, not 2 or 3"),
+            std::string::npos);
+  EXPECT_EQ(load_vdb_metric(write_layers(dir, 3, 3, 2))->dimension(), 2);
+  // Marked 3D, one layer is a 3D field (a slab); without metadata it is taken as 2D and says so.
+  EXPECT_EQ(load_vdb_metric(write_layers(dir, 3, 3, 3))->dimension(), 3);
+  const auto guessed = load_vdb_metric(write_layers(dir, 3, 3, 0));
+  EXPECT_EQ(guessed->dimension(), 2);
+  EXPECT_NE(guessed->description().find("(2D: its values lie on one z layer)"), std::string::npos);
+  EXPECT_EQ(load_vdb_metric(write_layers(dir, 0, 1, 0))->dimension(), 3);
+}
+
 }  // namespace
 }  // namespace rvor
