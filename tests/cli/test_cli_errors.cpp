@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "rvor/devices.h"
 #include "support/run_command.h"
 #include "support/temp_dir.h"
 
@@ -279,6 +280,28 @@ TEST_F(CliErrors, DeviceErrorsAreOneLineAndNameTheirSource) {
   const CommandResult missing = run_command("RVOR_DEVICE=opencl:99 " + rvor_binary() + " devices");
   EXPECT_NE(missing.out.find("but it cannot be used: no OpenCL device matches"), std::string::npos)
       << missing.out;
+}
+
+// PoCL aborts the process on an empty POCL_CACHE_DIR (an assertion, exit 134), lists no device when
+// it cannot create the directory, and fails every build when the path is a file: each is one
+// clear error naming POCL_CACHE_DIR. (No PoCL device: the others are not PoCL's to report.)
+TEST_F(CliErrors, UnusablePoclCacheDirectoriesAreNamed) {
+  const std::string file = dir.file("not-a-directory");
+  write_text(file, "x\n");
+  const CommandResult empty = run_command(
+      "POCL_CACHE_DIR= " + voronoi("--domain rect:-1,-1,1,1 --resolution 16 --seeds " + seeds2d()));
+  EXPECT_EQ(empty.exit_code, 1) << "stderr: " << empty.err;
+  EXPECT_NE(empty.err.find("POCL_CACHE_DIR is set but empty"), std::string::npos) << empty.err;
+  if (list_opencl_devices().empty()) GTEST_SKIP() << "no OpenCL device";
+  for (const std::string& path : {file, std::string("/proc/rvor-no-such-dir")}) {
+    const CommandResult result =
+        run_command("POCL_CACHE_DIR=" + path + " " +
+                    voronoi("--domain rect:-1,-1,1,1 --resolution 16 --seeds " + seeds2d()));
+    EXPECT_EQ(result.exit_code, 1) << "stderr: " << result.err;
+    EXPECT_NE(result.err.find("POCL_CACHE_DIR=" + path + " is not a writable directory"),
+              std::string::npos)
+        << result.err;
+  }
 }
 
 }  // namespace

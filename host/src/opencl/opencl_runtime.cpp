@@ -1,6 +1,9 @@
 #include "opencl_runtime.h"
 
+#include <unistd.h>
+
 #include <cstdlib>
+#include <filesystem>
 #include <functional>
 #include <map>
 #include <mutex>
@@ -43,7 +46,32 @@ OpenCLDeviceInfo describe(const cl::Platform& platform, const cl::Device& device
   return info;
 }
 
+// PoCL keeps compiled kernels in POCL_CACHE_DIR (else under $XDG_CACHE_HOME or ~/.cache). It
+// aborts the process on an empty value, lists no device when it cannot create the directory, and
+// fails every program build when the path is a file: empty is refused before the ICD loader
+// starts PoCL, the others are named in the errors they cause (pocl_cache_problem).
+void refuse_empty_pocl_cache_dir() {
+  const char* value = std::getenv("POCL_CACHE_DIR");
+  if (value && !*value)
+    throw Error(
+        "POCL_CACHE_DIR is set but empty (PoCL would abort): unset it, or set it to a "
+        "writable directory for PoCL's compiled kernels");
+}
+
+// "; POCL_CACHE_DIR=... is not a writable directory ..." when it is set to a path PoCL cannot use,
+// else "". Called once something failed: a missing directory is created, as PoCL would have.
+std::string pocl_cache_problem() {
+  const char* value = std::getenv("POCL_CACHE_DIR");
+  if (!value || !*value) return "";
+  std::error_code error;
+  std::filesystem::create_directories(value, error);
+  if (std::filesystem::is_directory(value, error) && access(value, W_OK | X_OK) == 0) return "";
+  return std::string("; POCL_CACHE_DIR=") + value +
+         " is not a writable directory, and PoCL needs one for its compiled kernels";
+}
+
 std::vector<cl::Platform> platforms_or_none() {
+  refuse_empty_pocl_cache_dir();
   std::vector<cl::Platform> platforms;
   try {
     cl::Platform::get(&platforms);
@@ -111,7 +139,7 @@ Device select_device(const std::string& name) {
   const Device* device = find_device(devices, name);
   if (!device)
     throw Error("no OpenCL device matches '" + name + "'" + kFallbackHint +
-                "; OpenCL devices found:" + list_for_message(devices));
+                "; OpenCL devices found:" + list_for_message(devices) + pocl_cache_problem());
   if (!device->info.missing_requirement.empty())
     throw Error("OpenCL device '" + device->info.name +
                 "' cannot run rvor's kernels: " + device->info.missing_requirement + kFallbackHint);
@@ -159,7 +187,7 @@ cl::Program build_program(const cl::Context& context, const cl::Device& device,
       log = "(no build log)";
     }
     throw Error("OpenCL program build failed (" + status_name(e.err()) + ", options '" + options +
-                "'); build log:\n" + log);
+                "'" + pocl_cache_problem() + "); build log:\n" + log);
   }
   cache.emplace(key, program);
   return program;
