@@ -15,6 +15,7 @@
 #include "rvor/devices.h"
 #include "rvor/error.h"
 #include "rvor/metric_field.h"
+#include "rvor/spec_text.h"
 #include "terminal.h"
 
 namespace rvor::cli {
@@ -29,13 +30,22 @@ struct BenchOptions {
   std::string device = default_device_name();  // $RVOR_DEVICE, else auto
   RelaxationVariant variant = RelaxationVariant::automatic;
   std::optional<double> front_step;
-  int repetitions = 1;
+  int repetitions = 2;  // the first solve may include compiling the kernels
   std::size_t inserted_seeds = 0;
   bool no_reference = false;
   bool no_fastsweeping = false;
   bool json = false;
   bool quiet = false;
 };
+
+// --front-step: 0 (off) or a step the engine takes (OpenCLOptions::front_step, at least 0.25).
+const CLI::Validator front_step_range(
+    [](const std::string& text) -> std::string {
+      const std::optional<double> value = parse_decimal(text);
+      if (value && (*value == 0.0 || (*value >= 0.25 && *value <= 1000.0))) return "";
+      return "'" + text.substr(0, 40) + "' is not 0 (off) or a step from 0.25 to 1000";
+    },
+    "K");
 
 // The field for the default domain: in 3D where it has a 3D form, else in 2D.
 std::unique_ptr<MetricField> field_for_default_domain(const std::string& metric) {
@@ -243,7 +253,7 @@ void add_bench_command(CLI::App& app) {
   cmd->add_option("--seeds", options->seeds, "Number of random seeds (default 1000)")
       ->check(seed_count(1));
   cmd->add_option("--rng-seed", options->rng_seed, "Random generator seed")
-      ->check(rng_seed_value())
+      ->check(rng_seed_value)
       ->capture_default_str();
   const CLI::Option* device = add_device_option(cmd, options->device, "the reference itself");
   const std::map<std::string, RelaxationVariant> variants = {
@@ -261,10 +271,11 @@ void add_bench_command(CLI::App& app) {
                   "threshold stay tentative; once per colour cycle it moves K past the least "
                   "tentative value), at least 0.25; 0: off; default automatic: 3 for non-axis "
                   "stencils and Voronoi cells at least 50 voxels across, else off")
-      ->check(finite_number & CLI::Range(0.0, 1000.0));
+      ->check(finite_number & front_step_range);
   cmd->add_option("--repeat", options->repetitions,
-                  "Solves per case with the same engine; the fastest counts (the first includes "
-                  "the canvas upload)")
+                  "Solves per case with the same engine; the fastest counts (the first also "
+                  "uploads the canvas, and compiles the kernels where PoCL's cache lacks them: "
+                  "seconds at small sizes)")
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
   cmd->add_option("--insert", options->inserted_seeds,
@@ -273,7 +284,8 @@ void add_bench_command(CLI::App& app) {
       ->check(seed_count(0))
       ->capture_default_str();
   cmd->add_flag("--no-reference", options->no_reference, "Skip the CPU reference (slow at 256^3)");
-  cmd->add_flag("--no-fastsweeping", options->no_fastsweeping, "Skip OpenVDB FastSweeping");
+  cmd->add_flag("--no-fastsweeping", options->no_fastsweeping,
+                "Skip OpenVDB FastSweeping (it runs on 3D canvases only)");
   cmd->add_flag("--json", options->json, "Print one JSON object with a `cases` array");
   cmd->add_flag("--quiet", options->quiet, "No progress lines on stderr");
   cmd->callback([options, device] {

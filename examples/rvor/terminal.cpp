@@ -1,6 +1,7 @@
 #include "terminal.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <iomanip>
@@ -43,7 +44,9 @@ std::uint64_t parse_byte_size(const std::string& text) {
   const std::optional<double> value =
       parse_decimal(suffix == std::string::npos ? text : text.substr(0, text.size() - 1));
   const double factor = suffix == std::string::npos ? 1.0 : factors[suffix];
-  if (!value || !(*value > 0) || !std::isfinite(*value * factor) || *value * factor > 1.8e19)
+  // At least one byte: a budget that rounds to 0 would mean "the default".
+  if (!value || !(*value * factor >= 1) || !std::isfinite(*value * factor) ||
+      *value * factor > 1.8e19)
     throw Error("memory budget '" + text + "' is not a positive size like 512M, 8G or 1000000");
   return static_cast<std::uint64_t>(*value * factor);
 }
@@ -83,6 +86,17 @@ const CLI::Validator finite_number(
       return "";
     },
     "FINITE");
+
+const CLI::Validator rng_seed_value(
+    [](const std::string& text) -> std::string {
+      std::uint64_t value = 0;
+      const char* end = text.data() + text.size();
+      const auto [last, error] = std::from_chars(text.data(), end, value);
+      if (text.empty() || error != std::errc() || last != end)
+        return "'" + text.substr(0, 40) + "' is not a whole number from 0 to 2^64 - 1";
+      return "";
+    },
+    "SEED");
 
 const CLI::Validator non_empty_path(
     [](const std::string& text) -> std::string {

@@ -46,9 +46,9 @@ inline CLI::Validator seed_count(double least) {
   return whole_number_in(least, static_cast<double>(kMostOpenCLSeeds),
                          std::to_string(kMostOpenCLSeeds));
 }
-inline CLI::Validator rng_seed_value() {
-  return whole_number_in(0, 18446744073709551615.0, "2^64 - 1");
-}
+// --rng-seed: a whole number that fits in 64 bits, checked on its digits (2^64 - 1 is no double:
+// a comparison in double let 2^64 and above through, saturated to 2^64 - 1).
+extern const CLI::Validator rng_seed_value;
 extern const CLI::Validator finite_number;
 // A file or directory name that is not empty ("--seeds $UNSET" would otherwise mean "none").
 extern const CLI::Validator non_empty_path;

@@ -287,7 +287,7 @@ void add_voronoi_command(CLI::App& app) {
                   "Draw N seeds uniformly in the canvas's voxels (the domain to half a voxel)")
       ->check(seed_count(0));
   cmd->add_option("--rng-seed", options->rng_seed, "Random generator seed for --random-seeds")
-      ->check(rng_seed_value())
+      ->check(rng_seed_value)
       ->capture_default_str();
   const CLI::Option* device =
       add_device_option(cmd, options->device, "sequential reference, double precision");

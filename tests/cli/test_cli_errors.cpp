@@ -206,6 +206,9 @@ TEST_F(CliErrors, ParseErrorsAreOneLineWithExitCodeOne) {
         std::string(""), std::string("voronoi --domain rect:-1,-1,1,1 --random-seeds -1"),
         std::string("bench --insert -1"), std::string("bench --seeds 0"),
         std::string("bench --rng-seed 99999999999999999999"), std::string("bench --front-step nan"),
+        // 2^64, which a comparison in double took for 2^64 - 1; a step the engine would refuse.
+        std::string("bench --rng-seed 18446744073709551616"), std::string("bench --front-step 0.1"),
+        std::string("voronoi --quiet --domain rect:-1,-1,1,1 --random-seeds 3 --memory-budget 0.5"),
         std::string("voronoi --domain rect:-1,-1,1,1 --metric uniform:1,0,1 --metric-vdb m.vdb")}) {
     const CommandResult result = run_command(tool + " " + args);
     EXPECT_EQ(result.exit_code, 1) << args << ": " << result.err;

@@ -187,6 +187,8 @@ BenchResult run_benchmark_case(const BenchCase& c,
     time_fastsweeping(canvas, seeds, field, r);
     report(progress, "OpenVDB FastSweeping: sweep " + seconds_text(*r.fastsweeping_seconds) +
                          ", init " + seconds_text(*r.fastsweeping_init_seconds));
+  } else if (c.fastsweeping) {
+    report(progress, "OpenVDB FastSweeping: skipped (the baseline runs on 3D canvases only)");
   }
   if (c.reference && c.device == "cpu") {  // the engine is the reference: no second run
     r.reference_seconds = r.seconds;

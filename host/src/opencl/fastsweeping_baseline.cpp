@@ -121,7 +121,10 @@ FastSweepingRun fast_sweeping_voronoi(const Canvas& canvas, const std::vector<Ve
   openvdb::tools::FastSweeping<openvdb::FloatGrid, int> sweeper;
   auto start = Clock::now();
   if (!sweeper.initExt(*sdf, SphereOwnerLabel(canvas, owner), -1, 0.0f, /*isInputSdf=*/true))
-    throw Error("OpenVDB FastSweeping could not be initialised from the seeds");
+    throw Error(
+        "OpenVDB FastSweeping could not be initialised from the seeds (it needs room "
+        "around them: a coarser canvas than about 4 voxels across can leave it none; "
+        "--no-fastsweeping skips the baseline)");
   run.init_seconds = seconds_since(start);
   run.swept_voxels = sweeper.sweepingVoxelCount();
   start = Clock::now();
