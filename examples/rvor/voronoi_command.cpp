@@ -1,8 +1,10 @@
 // rvor voronoi: domain + metric + seeds -> distance and label per voxel, written as .vdb (and
 // .vtu, probes) with a report.json.
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -88,6 +90,56 @@ std::vector<std::string> output_names(const VoronoiOptions& o, bool every = fals
   return names;
 }
 
+// The files the run reads, each with the option that names it ("" where not given).
+std::vector<std::pair<std::string, std::string>> input_files(const VoronoiOptions& o) {
+  std::vector<std::pair<std::string, std::string>> inputs = {{"--seeds", o.seeds_file},
+                                                             {"--probe", o.probe_file},
+                                                             {"--metric-file", o.metric_sol},
+                                                             {"--metric-mesh", o.metric_mesh},
+                                                             {"--metric-vdb", o.metric_vdb}};
+  if (o.domain.rfind("mesh:", 0) == 0) inputs.push_back({"--domain mesh:", o.domain.substr(5)});
+  return inputs;
+}
+
+// The outputs an earlier rvor voronoi run left in `dir`, as its report.json lists them (names
+// rvor voronoi writes only): what --overwrite removes when this run does not write them again.
+// None without such a report: files that merely share an output's name are the user's.
+std::vector<std::string> earlier_outputs(const std::string& dir, const VoronoiOptions& o) {
+  const std::filesystem::path path = std::filesystem::path(dir) / "report.json";
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(std::filesystem::symlink_status(path, error))) return {};
+  std::ifstream in(path);
+  const nlohmann::json report = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  if (!report.is_object()) return {};
+  const auto generator = report.find("generator"), listed = report.find("outputs");
+  if (generator == report.end() || *generator != "rvor voronoi" || listed == report.end() ||
+      !listed->is_array())
+    return {};
+  const std::vector<std::string> known = output_names(o, /*every=*/true);
+  std::vector<std::string> names;
+  for (const nlohmann::json& name : *listed)
+    if (name.is_string() && std::find(known.begin(), known.end(), name) != known.end())
+      names.push_back(name.get<std::string>());
+  return names;
+}
+
+// An input file that this run would replace or remove (an earlier run's seeds.xyz given to
+// --seeds, say) is refused, --overwrite or not: it is the user's data, not only an old output.
+void refuse_replacing_inputs(const VoronoiOptions& o, const std::vector<std::string>& earlier) {
+  std::vector<std::string> touched = output_names(o);
+  touched.insert(touched.end(), earlier.begin(), earlier.end());
+  for (const auto& [option, file] : input_files(o)) {
+    if (file.empty()) continue;
+    for (const std::string& name : touched) {
+      const std::filesystem::path output = std::filesystem::path(o.out_dir) / name;
+      std::error_code error;
+      if (std::filesystem::equivalent(output, file, error) && !error)
+        throw Error(option + " " + file + " is " + output.string() +
+                    ", which this run would replace: copy it elsewhere, or choose another --out");
+    }
+  }
+}
+
 std::vector<Vec3> choose_seeds(const VoronoiOptions& o, const Canvas& canvas) {
   if (!o.seeds_file.empty() && o.random_seed_count > 0)
     throw Error("give either --seeds or --random-seeds, not both");
@@ -132,6 +184,9 @@ void run_voronoi(const VoronoiOptions& o) {
   Progress progress(o.quiet);
   const std::string out = o.out_dir;
   prepare_output_directory(out);
+  const std::vector<std::string> earlier =
+      o.overwrite ? earlier_outputs(out, o) : std::vector<std::string>{};
+  refuse_replacing_inputs(o, earlier);
   OutputSet outputs(out, output_names(o), o.overwrite);  // in place once everything succeeded
   auto path = [&](const std::string& name) { return outputs.path(name); };
 
@@ -225,7 +280,7 @@ void run_voronoi(const VoronoiOptions& o) {
   if (!dual_report.is_null()) report["dual"] = dual_report;
   if (!curved_report.is_null()) report["curved_dual"] = curved_report;
   write_file_atomically(path("report.json"), [&](std::ostream& s) { s << report.dump(2) << "\n"; });
-  outputs.commit(output_names(o, /*every=*/true));
+  outputs.commit(earlier);
   if (!o.quiet)
     print_voronoi_summary(std::cout, out, output_names(o), canvas.active_voxel_count, seeds.size(),
                           summary, propagation_seconds, total);
@@ -313,7 +368,8 @@ void add_voronoi_command(CLI::App& app) {
   cmd->add_flag("--vtu", options->vtu, "Also write the labeled canvas as canvas.vtu (ParaView)");
   cmd->add_flag("--overwrite", options->overwrite,
                 "Replace the outputs of an earlier run in --out; its files that this run does "
-                "not write are removed, so that the directory holds one run's outputs");
+                "not write (as its report.json lists them) are removed, so that the directory "
+                "holds one run's outputs. An input file of this run is never replaced");
   cmd->add_option("--memory-budget", options->memory_budget,
                   "Refuse canvases needing more memory than this (bytes, or with K/M/G/T); "
                   "default 75% of physical memory");

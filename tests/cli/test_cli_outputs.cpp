@@ -179,6 +179,41 @@ TEST_F(CliOutputs, OverwriteReplacesAnEarlierRun) {
   EXPECT_TRUE(std::filesystem::exists(out() + "/probe.csv"));
 }
 
+// --overwrite removes only what an earlier run's report.json lists: files of the user's that
+// merely share an output's name stay (they used to be removed), and so does a set whose report
+// was not rvor's.
+TEST_F(CliOutputs, OverwriteLeavesFilesNoEarlierRunWrote) {
+  std::filesystem::create_directories(out());
+  write_text(out() + "/dual.mesh", "my own mesh\n");
+  write_text(out() + "/canvas.vtu", "my own canvas\n");
+  ASSERT_EQ(run_uniform_2d("--overwrite").exit_code, 0);
+  EXPECT_TRUE(std::filesystem::exists(out() + "/dual.mesh"));
+  EXPECT_TRUE(std::filesystem::exists(out() + "/canvas.vtu"));
+  // Now an earlier run's report lists canvas.vtu? No: this run wrote no canvas.vtu, so its report
+  // does not, and the next --overwrite run leaves the user's file again.
+  ASSERT_EQ(run_uniform_2d("--overwrite").exit_code, 0);
+  EXPECT_TRUE(std::filesystem::exists(out() + "/canvas.vtu"));
+}
+
+// An input that is also one of the run's outputs (a seed file named seeds.xyz in --out) would be
+// replaced by rvor's copy: refused even with --overwrite, and left as it was.
+TEST_F(CliOutputs, InputsAreNeverReplacedByOutputs) {
+  std::filesystem::create_directories(out());
+  write_text(out() + "/seeds.xyz", "# my seeds\n0 0\n");
+  const CommandResult result =
+      run_command(rvor_binary() + " voronoi --quiet --overwrite --out " + out() +
+                  " --domain rect:-1,-1,1,1 --resolution 16 --seeds " + out() + "/seeds.xyz");
+  EXPECT_EQ(result.exit_code, 1) << result.err;
+  EXPECT_NE(result.err.find("--seeds " + out() + "/seeds.xyz is " + out() +
+                            "/seeds.xyz, which this run would replace"),
+            std::string::npos)
+      << result.err;
+  std::ifstream in(out() + "/seeds.xyz");
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_EQ(text.str(), "# my seeds\n0 0\n");
+}
+
 // Seeds that share a voxel leave all but one with an empty cell: said on the terminal and counted
 // in report.json, not silent.
 TEST_F(CliOutputs, SeedsSharingAVoxelAreReported) {
