@@ -56,6 +56,24 @@ void fill_active(GridType& grid, const Canvas& canvas, Value value) {
     if (!leaf->isEmpty()) grid.tree().addLeaf(leaf.release());
 }
 
+// io::File::write does not check its stream: a full disk or a file size limit leaves a truncated
+// file without an error. The file is read back instead, every grid with its active voxels.
+void require_written(const std::string& temporary, const openvdb::GridPtrVec& grids) {
+  const std::string unreadable = "the file written does not read back whole (disk full, or a file ";
+  try {
+    openvdb::io::File file(temporary);
+    file.open(/*delayLoad=*/false);
+    for (const openvdb::GridBase::Ptr& grid : grids) {
+      const openvdb::GridBase::Ptr back = file.readGrid(grid->getName());
+      if (!back || back->activeVoxelCount() != grid->activeVoxelCount())
+        throw Error(unreadable + "size limit?): grid '" + grid->getName() + "'");
+    }
+    file.close();
+  } catch (const openvdb::Exception& error) {
+    throw Error(unreadable + "size limit?): " + error.what());
+  }
+}
+
 void write_grids_atomically(const std::string& path, const openvdb::GridPtrVec& grids) {
   openvdb::initialize();
   const std::string temporary = temporary_path_for(path);
@@ -63,7 +81,11 @@ void write_grids_atomically(const std::string& path, const openvdb::GridPtrVec& 
     openvdb::io::File file(temporary);
     file.write(grids);
     file.close();
+    require_written(temporary, grids);
   } catch (const openvdb::Exception& error) {
+    std::remove(temporary.c_str());
+    throw Error("cannot write VDB file " + path + ": " + error.what());
+  } catch (const Error& error) {
     std::remove(temporary.c_str());
     throw Error("cannot write VDB file " + path + ": " + error.what());
   }
