@@ -9,6 +9,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <openvdb/io/Archive.h>
 #include <openvdb/io/File.h>
 
 #include "rvor/atomic_file.h"
@@ -56,40 +57,25 @@ void fill_active(GridType& grid, const Canvas& canvas, Value value) {
     if (!leaf->isEmpty()) grid.tree().addLeaf(leaf.release());
 }
 
-// io::File::write does not check its stream: a full disk or a file size limit leaves a truncated
-// file without an error. The file is read back instead, every grid with its active voxels.
-void require_written(const std::string& temporary, const openvdb::GridPtrVec& grids) {
-  const std::string unreadable = "the file written does not read back whole (disk full, or a file ";
-  try {
-    openvdb::io::File file(temporary);
-    file.open(/*delayLoad=*/false);
-    for (const openvdb::GridBase::Ptr& grid : grids) {
-      const openvdb::GridBase::Ptr back = file.readGrid(grid->getName());
-      if (!back || back->activeVoxelCount() != grid->activeVoxelCount())
-        throw Error(unreadable + "size limit?): grid '" + grid->getName() + "'");
-    }
-    file.close();
-  } catch (const openvdb::Exception& error) {
-    throw Error(unreadable + "size limit?): " + error.what());
+// io::File::write does not check its stream: a full disk or a file size limit left a truncated
+// file, published without an error. The same writer (the archive's, seekable, as io::File calls
+// it) goes into a stream that write_file_atomically checks instead.
+class CheckedArchiveWriter : public openvdb::io::Archive {
+ public:
+  void write_seekable(std::ostream& out, const openvdb::GridPtrVec& grids) const {
+    Archive::write(out, grids, /*seekable=*/true);
   }
-}
+};
 
 void write_grids_atomically(const std::string& path, const openvdb::GridPtrVec& grids) {
   openvdb::initialize();
-  const std::string temporary = temporary_path_for(path);
   try {
-    openvdb::io::File file(temporary);
-    file.write(grids);
-    file.close();
-    require_written(temporary, grids);
+    write_file_atomically(
+        path, [&](std::ostream& out) { CheckedArchiveWriter().write_seekable(out, grids); },
+        /*binary=*/true);
   } catch (const openvdb::Exception& error) {
-    std::remove(temporary.c_str());
-    throw Error("cannot write VDB file " + path + ": " + error.what());
-  } catch (const Error& error) {
-    std::remove(temporary.c_str());
     throw Error("cannot write VDB file " + path + ": " + error.what());
   }
-  publish_temporary(temporary, path);
 }
 
 void require_same_placement(const openvdb::GridBase& grid, const Canvas& canvas,

@@ -43,8 +43,12 @@ void OutputSet::commit(const std::vector<std::string>& earlier_names) {
   for (const std::string& name : names_)
     if (!fs::is_regular_file(path(name)))
       throw Error("internal error: output " + name + " was not written");
-  for (const std::string& name : names_)
-    publish_temporary(path(name), (fs::path(dir_) / name).string());
+  for (const std::string& name : names_) {
+    const std::string target = (fs::path(dir_) / name).string();
+    // Without replace_, a file another run published meanwhile must stay (the constructor's check
+    // was long ago).
+    replace_ ? publish_temporary(path(name), target) : publish_new(path(name), target);
+  }
   if (replace_)
     for (const std::string& name : earlier_names) {
       if (std::find(names_.begin(), names_.end(), name) != names_.end()) continue;

@@ -31,6 +31,31 @@ void publish_temporary(const std::string& temporary, const std::string& path) {
   }
 }
 
+void publish_new(const std::string& temporary, const std::string& path) {
+  // link() never replaces its target: a file that appeared at `path` since it was checked (another
+  // run writing to the same directory) stays.
+  if (link(temporary.c_str(), path.c_str()) == 0) {
+    std::error_code ignored;
+    fs::remove(temporary, ignored);
+    return;
+  }
+  const int link_error = errno;
+  std::error_code ignored;
+  if (link_error == EEXIST) {
+    fs::remove(temporary, ignored);
+    throw Error("cannot write " + path +
+                ": it appeared while rvor was writing (another run with the same output "
+                "directory?); it was left as it is");
+  }
+  // A file system without hard links: check, then rename (the check and the rename are apart).
+  if (fs::exists(fs::symlink_status(path, ignored))) {
+    fs::remove(temporary, ignored);
+    throw Error("cannot write " + path +
+                ": it appeared while rvor was writing; it was left as it is");
+  }
+  publish_temporary(temporary, path);
+}
+
 void write_file_atomically(const std::string& path,
                            const std::function<void(std::ostream&)>& writer, bool binary) {
   const std::string temporary = temporary_path_for(path);

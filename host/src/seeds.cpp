@@ -1,5 +1,6 @@
 #include "rvor/seeds.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -132,11 +133,23 @@ std::vector<Vec3> random_seeds(const Canvas& canvas, std::size_t count, std::uin
   std::mt19937_64 random(rng_seed);
   std::uniform_int_distribution<std::size_t> pick(0, active_slots.size() - 1);
   std::uniform_real_distribution<double> jitter(-0.49, 0.49);
+  // Distinct voxels (two seeds in one voxel leave one an empty cell): a voxel drawn again is drawn
+  // anew, which leaves the draws before the first repeat as they were. Past half the canvas,
+  // repeats would be most draws: a shuffle's first `count` voxels instead.
+  const bool shuffled = 2 * count > active_slots.size();
+  if (shuffled) std::shuffle(active_slots.begin(), active_slots.end(), random);
+  std::vector<bool> taken(shuffled ? 0 : active_slots.size(), false);
   std::vector<Vec3> seeds;
   seeds.reserve(count);
   for (std::size_t n = 0; n < count; ++n) {
     Vec3 offset(jitter(random), jitter(random), canvas.dimension == 3 ? jitter(random) : 0.0);
-    seeds.push_back(canvas.world_of(active_slots[pick(random)]) + canvas.voxel_size * offset);
+    std::size_t voxel = n;
+    if (!shuffled) {
+      do voxel = pick(random);
+      while (taken[voxel]);
+      taken[voxel] = true;
+    }
+    seeds.push_back(canvas.world_of(active_slots[voxel]) + canvas.voxel_size * offset);
   }
   return seeds;
 }

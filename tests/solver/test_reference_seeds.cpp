@@ -1,6 +1,7 @@
 // Several seeds: labels of the nearer seed, incremental insertion, independence of seed order.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <string>
 
@@ -110,6 +111,23 @@ void print(const std::string& what, const FieldComparison& c, std::size_t voxels
 }
 
 class SeedsByDimension : public ::testing::TestWithParam<int> {};
+
+// Drawn seeds lie in distinct voxels, sparse (redrawn repeats) or dense (a shuffle), up to every
+// voxel of the canvas: two in one voxel would leave one an empty cell.
+TEST_P(SeedsByDimension, RandomSeedsLieInDistinctVoxels) {
+  const int dimension = GetParam();
+  const Canvas canvas = make_uniform_box_canvas(dimension, Vec3(-1, -1, -1), Vec3(1, 1, 1),
+                                                dimension == 3 ? 8 : 16, Mat3::Identity());
+  for (const std::size_t count :
+       {std::size_t{40}, canvas.active_voxel_count / 2 + 1, canvas.active_voxel_count}) {
+    std::vector<int64_t> slots;
+    for (const Vec3& seed : random_seeds(canvas, count, 3))
+      slots.push_back(canvas.slot_of(canvas.voxel_containing(seed)));
+    std::sort(slots.begin(), slots.end());
+    EXPECT_EQ(std::unique(slots.begin(), slots.end()), slots.end()) << count << " seeds";
+    EXPECT_GE(slots.front(), 0) << count << " seeds";
+  }
+}
 
 TEST_P(SeedsByDimension, TwoSeedsLabelTheNearerSeed) {
   const int dimension = GetParam();

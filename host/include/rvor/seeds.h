@@ -22,9 +22,9 @@ void write_xyz(const std::string& path, const std::vector<Vec3>& points, int dim
 // A 2D canvas ignores z (read_xyz with a dimension checks files).
 void validate_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds);
 
-// `count` points: an active voxel drawn uniformly, then a point within 0.49 voxel of its centre
-// along each axis, so the seed's containing voxel is that active voxel; deterministic in
-// `rng_seed`. Throws when `count` exceeds the active voxels (seeds sharing a voxel).
+// `count` points: distinct active voxels drawn uniformly, then in each a point within 0.49 voxel
+// of its centre along each axis, so the seed's containing voxel is that active voxel;
+// deterministic in `rng_seed`. Throws when `count` exceeds the active voxels.
 std::vector<Vec3> random_seeds(const Canvas& canvas, std::size_t count, std::uint64_t rng_seed);
 
 }  // namespace rvor
