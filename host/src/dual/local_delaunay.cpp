@@ -181,22 +181,27 @@ class Resolver {
     d.kept = margin >= 0.0;
     if (sphere && margin < kSearchVoxels * d.voxel) {
       d.sphere = *sphere;
-      d.configuration = configuration(t, *sphere, d.G, d.voxel, ring);
+      d.configuration = configuration(t, *sphere, d.G, d.voxel);
       d.empty_outside =
           empty_margin(seeds_, t, d_, *sphere, d.G, without(ring, d.configuration)) >= 0.0;
     }
     return d;
   }
 
-  // The seeds of t and those of its ring within kSearchVoxels of its circumsphere, sorted (so
-  // that the subsets below come out sorted).
+  // The seeds within kSearchVoxels of t's circumsphere that the nerve joins to t through such
+  // seeds, t's own included, sorted (so that the subsets below come out sorted). Grown through the
+  // neighbours of every seed added, not t's ring alone: the simplices witnessed on exactly
+  // cospherical seeds share their sphere, so they all get the same configuration, triangulated
+  // once; each with the subset its own ring reached, their triangulations overlapped (a regular
+  // hexagon on a fine canvas). Growth stops past kMaxConfiguration seeds (not decided).
   std::vector<int32_t> configuration(const Top& t, const Sphere& sphere, const Mat3& G,
-                                     double voxel, const std::vector<int32_t>& ring) const {
+                                     double voxel) const {
     std::vector<int32_t> near(t.begin(), t.begin() + d_ + 1);
-    for (int32_t e : ring)
-      if (std::find(near.begin(), near.end(), e) == near.end() &&
-          metric_length(G, seeds_[e] - sphere.centre) - sphere.radius < kSearchVoxels * voxel)
-        near.push_back(e);
+    for (std::size_t i = 0; i < near.size() && near.size() <= std::size_t{kMaxConfiguration}; ++i)
+      for (int32_t e : neighbours_[near[i]])
+        if (std::find(near.begin(), near.end(), e) == near.end() &&
+            metric_length(G, seeds_[e] - sphere.centre) - sphere.radius < kSearchVoxels * voxel)
+          near.push_back(e);
     std::sort(near.begin(), near.end());
     return near;
   }
@@ -216,12 +221,15 @@ class Resolver {
       Top c{-1, -1, -1, -1};
       for (int m = 0; m <= d_; ++m) c[m] = near[local[m]];  // sorted, as `near` is
       found.triangulation.push_back(c);
-      const std::optional<Sphere> s = circumsphere(seeds_, c, d_, d.G);
-      if (!s || metric_length(d.G, s->centre - d.sphere.centre) > 0.5 * d.sphere.radius) continue;
-      if (!in_domain(s->centre)) continue;
-      const double outside = empty_margin(seeds_, c, d_, *s, d.G, around);
+      // CGAL's flat simplices (an icosahedron's four coplanar cospherical seeds, rounded off their
+      // plane) have no circumsphere in floating point: they are inscribed in the configuration's
+      // (dropped, they left a hole in its triangulation).
+      const Sphere s = circumsphere(seeds_, c, d_, d.G).value_or(d.sphere);
+      if (metric_length(d.G, s.centre - d.sphere.centre) > 0.5 * d.sphere.radius) continue;
+      if (!in_domain(s.centre)) continue;
+      const double outside = empty_margin(seeds_, c, d_, s, d.G, around);
       if (outside < 0.0) continue;
-      const double margin = std::min(outside, empty_margin(seeds_, c, d_, *s, d.G, near));
+      const double margin = std::min(outside, empty_margin(seeds_, c, d_, s, d.G, near));
       found.added.emplace_back(c, margin < kFlagVoxels * d.voxel);
     }
     sort_unique(found.triangulation);
