@@ -250,9 +250,11 @@ TEST(DualChecks, MoreThanFourCosphericalSeedsGiveOneTriangulation) {
   const std::vector<Vec3> octagon = {Vec3(5, 0, 0),  Vec3(3, 4, 0),  Vec3(0, 5, 0),
                                      Vec3(-3, 4, 0), Vec3(-5, 0, 0), Vec3(-3, -4, 0),
                                      Vec3(0, -5, 0), Vec3(3, -4, 0)};
-  std::vector<Vec3> dodecagon, prism, icosahedron;
+  std::vector<Vec3> dodecagon, icosagon, prism, icosahedron;
   for (int k = 0; k < 12; ++k)
     dodecagon.push_back(0.5 * Vec3(std::cos(k * M_PI / 6), std::sin(k * M_PI / 6), 0));
+  for (int k = 0; k < 20; ++k)
+    icosagon.push_back(0.5 * Vec3(std::cos(k * M_PI / 10), std::sin(k * M_PI / 10), 0));
   for (double z : {-0.4, 0.4})
     for (int k = 0; k < 6; ++k)
       prism.push_back(Vec3(0.5 * std::cos(k * M_PI / 3), 0.5 * std::sin(k * M_PI / 3), z));
@@ -267,6 +269,7 @@ TEST(DualChecks, MoreThanFourCosphericalSeedsGiveOneTriangulation) {
       {2, 10, 16, octagon},
       {2, 10, 48, octagon},
       {2, 1, 64, dodecagon},
+      {2, 1, 64, icosagon},
       {3, 1, 24, prism, 3 * std::sqrt(3.0) / 2 * 0.25 * 0.8},
       {3, 1, 24, icosahedron, 5.0 / 12 * (3 + std::sqrt(5.0)) * std::pow(2 * scale, 3)}};
   for (const Case& c : cases) {

@@ -278,7 +278,9 @@ class Resolver {
   // kFlagVoxels, the canvas cannot order them and the simplex is flagged near-degenerate.
   static constexpr double kSearchVoxels = 1.0;
   static constexpr double kFlagVoxels = 0.5;
-  static constexpr int kMaxConfiguration = 12;
+  // Larger configurations are left as witnessed (12 bounded the enumeration of subsets that
+  // CGAL's triangulation replaced; a 16- or 20-gon of cocircular seeds needs more).
+  static constexpr int kMaxConfiguration = 32;
 
   const Canvas& canvas_;
   const std::vector<Vec3>& seeds_;
