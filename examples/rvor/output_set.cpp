@@ -1,6 +1,10 @@
 #include "output_set.h"
 
+#include <signal.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <filesystem>
 
 #include "rvor/atomic_file.h"
@@ -10,8 +14,32 @@ namespace fs = std::filesystem;
 
 namespace rvor::cli {
 
+namespace {
+
+// Staging directories (".outputs.tmp-PID-N") of runs that were killed before they could remove
+// theirs: those whose process is gone. A live process's, or one whose name does not parse, stays.
+void remove_abandoned_staging(const std::string& dir) {
+  const std::string prefix = ".outputs.tmp-";
+  std::error_code error;
+  for (const fs::directory_entry& entry : fs::directory_iterator(dir, error)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind(prefix, 0) != 0 || !entry.is_directory(error)) continue;
+    const std::string rest = name.substr(prefix.size());
+    const std::size_t dash = rest.find('-');
+    if (dash == 0 || dash == std::string::npos || dash > 9 ||
+        rest.find_first_not_of("0123456789") != dash)
+      continue;
+    const long pid = std::stol(rest.substr(0, dash));
+    if (pid == getpid() || kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;
+    fs::remove_all(entry.path(), error);
+  }
+}
+
+}  // namespace
+
 OutputSet::OutputSet(std::string dir, std::vector<std::string> names, bool replace)
     : dir_(std::move(dir)), names_(std::move(names)), replace_(replace) {
+  remove_abandoned_staging(dir_);
   for (const std::string& name : names_) {
     const fs::path target = fs::path(dir_) / name;
     std::error_code error;

@@ -193,7 +193,9 @@ void run_voronoi(const VoronoiOptions& o) {
   progress.begin("building canvas");
   const DomainSpec domain = parse_domain(o.domain);
   if (o.png && domain.dimension() != 2)
-    throw Error("--png draws 2D results only: use a rect: domain (3D results: --vtu for ParaView)");
+    throw Error(
+        "--png draws 2D results only: use a 2D domain (rect: or implicit:disk) "
+        "(3D results: --vtu for ParaView)");
   const std::vector<Vec3> probes =
       o.probe_file.empty() ? std::vector<Vec3>{} : read_xyz(o.probe_file, domain.dimension());
   const std::unique_ptr<MetricField> metric = load_metric(o, domain.dimension());
@@ -339,7 +341,8 @@ void add_voronoi_command(CLI::App& app) {
   cmd->add_option("--seeds", options->seeds_file, "Seeds, one point per line (2 or 3 coordinates)")
       ->check(non_empty_path);
   cmd->add_option("--random-seeds", options->random_seed_count,
-                  "Draw N seeds uniformly in the canvas's voxels (the domain to half a voxel)")
+                  "Draw N seeds uniformly in distinct voxels of the canvas (the domain to half a "
+                  "voxel)")
       ->check(seed_count(0));
   cmd->add_option("--rng-seed", options->rng_seed, "Random generator seed for --random-seeds")
       ->check(rng_seed_value)

@@ -237,6 +237,16 @@ TEST_F(CliErrors, SeedFilesThatDoNotFitTheDomain) {
   }
 }
 
+// A seed file with more seeds than voxels (here 300 copies of one point on 256 voxels) is refused
+// before the solve: the seed blocks' claims grew with the square of the seeds per voxel.
+TEST_F(CliErrors, MoreSeedsInAFileThanVoxels) {
+  std::string many;
+  for (int n = 0; n < 300; ++n) many += "0.1 0.2\n";
+  write_text(dir.file("many.xyz"), many);
+  expect_error("--domain rect:-1,-1,1,1 --resolution 16 --seeds " + dir.file("many.xyz"),
+               "300 seeds on a canvas of 256 active voxels: at least 44 would share a voxel");
+}
+
 TEST_F(CliErrors, MoreRandomSeedsThanVoxels) {
   expect_error("--domain rect:-1,-1,1,1 --resolution 4 --random-seeds 100", "16 active voxels");
 }

@@ -1,5 +1,7 @@
 // End-to-end runs of `rvor voronoi`: the files it writes open in real readers and hold the
 // right numbers.
+#include <unistd.h>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -195,6 +197,21 @@ TEST_F(CliOutputs, OverwriteLeavesFilesNoEarlierRunWrote) {
   EXPECT_TRUE(std::filesystem::exists(out() + "/canvas.vtu"));
 }
 
+// A run killed before it could clean up leaves its staging directory; the next run into the same
+// --out removes it once its process is gone (a live process's stays).
+TEST_F(CliOutputs, AbandonedStagingDirectoriesAreRemoved) {
+  const CommandResult shell = run_command("sh -c 'echo $$'");  // a process id that has ended
+  const std::string dead = shell.out.substr(0, shell.out.find('\n'));
+  const std::string abandoned = out() + "/.outputs.tmp-" + dead + "-12345";
+  const std::string live = out() + "/.outputs.tmp-" + std::to_string(getpid()) + "-12345";
+  std::filesystem::create_directories(abandoned);
+  std::filesystem::create_directories(live);
+  write_text(abandoned + "/canvas.vtu", "partial\n");
+  ASSERT_EQ(run_uniform_2d("").exit_code, 0);
+  EXPECT_FALSE(std::filesystem::exists(abandoned));
+  EXPECT_TRUE(std::filesystem::exists(live));
+}
+
 // An input that is also one of the run's outputs (a seed file named seeds.xyz in --out) would be
 // replaced by rvor's copy: refused even with --overwrite, and left as it was.
 TEST_F(CliOutputs, InputsAreNeverReplacedByOutputs) {
@@ -214,7 +231,7 @@ TEST_F(CliOutputs, InputsAreNeverReplacedByOutputs) {
   EXPECT_EQ(text.str(), "# my seeds\n0 0\n");
 }
 
-// Seeds that share a voxel leave all but one with an empty cell: said on the terminal and counted
+// Seeds that share a voxel can leave some with an empty cell: said on the terminal and counted
 // in report.json, not silent.
 TEST_F(CliOutputs, SeedsSharingAVoxelAreReported) {
   write_text(dir.file("seeds.xyz"), "0.1 0.1\n0.1 0.1\n0.5 0.5\n");

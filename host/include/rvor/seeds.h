@@ -18,7 +18,8 @@ std::vector<Vec3> read_xyz(const std::string& path, int dimension);
 void write_xyz(const std::string& path, const std::vector<Vec3>& points, int dimension);
 
 // Throws rvor::Error "seed N at (x, y, z) is outside the domain" when a seed's containing voxel
-// is not an active canvas voxel, or its coordinates are not finite; and on an empty seed list.
+// is not an active canvas voxel, or its coordinates are not finite; on an empty seed list, and on
+// more seeds than active voxels.
 // A 2D canvas ignores z (read_xyz with a dimension checks files).
 void validate_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds);
 
