@@ -24,7 +24,22 @@ std::string format_point(const Vec3& p) {
 
 // Parses 2 or 3 numbers separated by whitespace and/or commas; nothing else may follow. Returns
 // how many, 0 on a malformed line.
+// Whether a separator (',' or ';') has no number before or after it: "1,,2", ",1,2", "1,2,".
+bool has_empty_field(const std::string& line) {
+  bool after_separator = true;  // the line's start counts as one
+  bool any_separator = false;
+  for (const char c : line) {
+    if (c == ' ' || c == '\t' || c == '\r') continue;
+    const bool separator = c == ',' || c == ';';
+    if (separator && after_separator) return true;
+    after_separator = separator;
+    any_separator = any_separator || separator;
+  }
+  return any_separator && after_separator;
+}
+
 int parse_point(std::string line, Vec3& point) {
+  if (has_empty_field(line)) return 0;
   for (char& c : line)
     if (c == ',' || c == ';' || c == '\t') c = ' ';
   std::istringstream in(line);
@@ -42,9 +57,20 @@ int parse_point(std::string line, Vec3& point) {
   return count;
 }
 
-// A line quoted in an error message, cut short.
+// A line quoted in an error message, cut short, its control bytes (a lone '\r' of old Mac line
+// ends, NUL) written as \xNN so that the terminal shows them instead of acting on them.
 std::string quoted_line(const std::string& line) {
-  return "'" + (line.size() > 80 ? line.substr(0, 80) + "..." : line) + "'";
+  std::string text;
+  for (const char c : line.substr(0, 80)) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte >= 0x20 && byte != 0x7F) {
+      text += c;
+      continue;
+    }
+    const char* digits = "0123456789ABCDEF";
+    text += std::string("\\x") + digits[byte >> 4] + digits[byte & 15];
+  }
+  return "'" + text + (line.size() > 80 ? "..." : "") + "'";
 }
 
 struct PointFile {
@@ -58,6 +84,7 @@ PointFile read_point_file(const std::string& path) {
   PointFile file;
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
+    if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 BOM
     const auto first = line.find_first_not_of(" \t\r");
     if (first == std::string::npos || line[first] == '#') continue;
     if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -73,6 +100,9 @@ PointFile read_point_file(const std::string& path) {
     file.points.push_back(point);
     file.lines.push_back(number);
   }
+  if (in.bad())
+    throw Error(path + ": read error after line " +
+                std::to_string(file.lines.empty() ? 0 : file.lines.back()));
   if (file.points.empty()) throw Error(path + ": no points in file");
   return file;
 }

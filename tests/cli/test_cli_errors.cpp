@@ -73,6 +73,25 @@ TEST_F(CliErrors, MalformedSeedFile) {
                "bad.xyz:2");
 }
 
+// Empty fields between separators are no numbers ("0.1,,0.2" was read as 2D "0.1 0.2"); control
+// bytes are shown escaped; a UTF-8 byte order mark before the first line is skipped.
+TEST_F(CliErrors, SeedFilesWithEmptyFieldsOrControlBytes) {
+  for (const char* line : {"0.1,,0.2\n", ",0.1,0.2\n", "0.1,0.2,\n", "0.1;;0.2\n"}) {
+    write_text(dir.file("fields.xyz"), std::string("0 0\n") + line);
+    expect_error("--domain rect:-1,-1,1,1 --resolution 16 --seeds " + dir.file("fields.xyz"),
+                 "fields.xyz:2: expected 2 or 3 finite numbers");
+  }
+  write_text(dir.file("mac.xyz"), "0.1 0.2\r0.3 0.4\r");
+  expect_error("--domain rect:-1,-1,1,1 --resolution 16 --seeds " + dir.file("mac.xyz"),
+               "got '0.1 0.2\\x0D0.3 0.4'");
+  write_text(dir.file("bom.xyz"),
+             "\xEF\xBB\xBF"
+             "0.1 0.2\n-0.5 0.3\n");
+  const CommandResult result = run_command(
+      voronoi("--domain rect:-1,-1,1,1 --resolution 16 --seeds " + dir.file("bom.xyz")));
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+}
+
 TEST_F(CliErrors, EmptySeedFile) {
   write_text(dir.file("empty.xyz"), "# nothing\n");
   expect_error("--domain rect:-1,-1,1,1 --resolution 16 --seeds " + dir.file("empty.xyz"),
