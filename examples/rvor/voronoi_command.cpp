@@ -140,12 +140,14 @@ void refuse_replacing_inputs(const VoronoiOptions& o, const std::vector<std::str
   }
 }
 
-std::vector<Vec3> choose_seeds(const VoronoiOptions& o, const Canvas& canvas) {
+// The seeds of a --seeds file, read before the canvas is built (a bad file is reported at once,
+// not after a long build); none with --random-seeds, which are drawn on the canvas.
+std::vector<Vec3> seeds_from_file(const VoronoiOptions& o, int dimension) {
   if (!o.seeds_file.empty() && o.random_seed_count > 0)
     throw Error("give either --seeds or --random-seeds, not both");
-  if (!o.seeds_file.empty()) return read_xyz(o.seeds_file, canvas.dimension);
-  if (o.random_seed_count > 0) return random_seeds(canvas, o.random_seed_count, o.rng_seed);
-  throw Error("no seeds: give --seeds FILE.xyz or --random-seeds N");
+  if (o.seeds_file.empty() && o.random_seed_count == 0)
+    throw Error("no seeds: give --seeds FILE.xyz or --random-seeds N");
+  return o.seeds_file.empty() ? std::vector<Vec3>{} : read_xyz(o.seeds_file, dimension);
 }
 
 nlohmann::json summary_json(const FieldSummary& s) {
@@ -198,6 +200,7 @@ void run_voronoi(const VoronoiOptions& o) {
         "(3D results: --vtu for ParaView)");
   const std::vector<Vec3> probes =
       o.probe_file.empty() ? std::vector<Vec3>{} : read_xyz(o.probe_file, domain.dimension());
+  const std::vector<Vec3> given_seeds = seeds_from_file(o, domain.dimension());
   const std::unique_ptr<MetricField> metric = load_metric(o, domain.dimension());
   CanvasOptions canvas_options;
   canvas_options.resolution = o.resolution;
@@ -206,7 +209,8 @@ void run_voronoi(const VoronoiOptions& o) {
   const double canvas_seconds =
       progress.end(std::to_string(canvas.active_voxel_count) + " active voxels");
 
-  const std::vector<Vec3> seeds = choose_seeds(o, canvas);
+  const std::vector<Vec3> seeds =
+      o.random_seed_count > 0 ? random_seeds(canvas, o.random_seed_count, o.rng_seed) : given_seeds;
   validate_seeds(canvas, seeds);
   progress.begin("propagating from " + std::to_string(seeds.size()) + " seeds");
   std::unique_ptr<Propagator> propagator = make_propagator(o.device);
