@@ -13,24 +13,36 @@
 namespace rvor {
 namespace {
 
-// The identity over the index box [-4, 4]^3 in every grid, then `edit` applied to grid `which`.
-template <typename Edit>
-std::string write_metric(const test::TempDir& dir, int which, Edit edit) {
+// The identity on the z layers [z0, z1] of [-4, 4]^2 in every grid, each grid marked with
+// rvor_dimension = `dimension` (0: no metadata).
+openvdb::GridPtrVec identity_grids(int z0, int z1, int dimension) {
   openvdb::initialize();
   openvdb::GridPtrVec grids;
   for (int n = 0; n < 6; ++n) {
     auto grid = openvdb::FloatGrid::create(0.0f);
     grid->setName(kMetricGridNames[n]);
+    if (dimension != 0) grid->insertMeta("rvor_dimension", openvdb::Int32Metadata(dimension));
     const float value = n == 0 || n == 2 || n == 5 ? 1.0f : 0.0f;
-    for (int k = -4; k <= 4; ++k)
+    for (int k = z0; k <= z1; ++k)
       for (int j = -4; j <= 4; ++j)
         for (int i = -4; i <= 4; ++i) grid->tree().setValueOn(openvdb::Coord(i, j, k), value);
-    if (n == which) edit(*grid);
     grids.push_back(grid);
   }
+  return grids;
+}
+
+std::string write_grids(const test::TempDir& dir, const openvdb::GridPtrVec& grids) {
   const std::string path = dir.file("metric.vdb");
   openvdb::io::File(path).write(grids);
   return path;
+}
+
+// The identity over the index box [-4, 4]^3 in every grid, then `edit` applied to grid `which`.
+template <typename Edit>
+std::string write_metric(const test::TempDir& dir, int which, Edit edit) {
+  const openvdb::GridPtrVec grids = identity_grids(-4, 4, 0);
+  if (which >= 0) edit(static_cast<openvdb::FloatGrid&>(*grids[which]));
+  return write_grids(dir, grids);
 }
 
 TEST(VdbMetricLayout, ComponentsStoredWhereM11IsNotAreNamed) {
@@ -54,24 +66,8 @@ TEST(VdbMetricLayout, ComponentsStoredWhereM11IsNotAreNamed) {
   EXPECT_EQ(load_vdb_metric(fine)->at(Vec3(0.2, 0.1, -0.3)), Mat3::Identity());
 }
 
-// The identity on the z layers [z0, z1] of [-4, 4]^2, each grid marked with `dimension` (0: no
-// metadata).
 std::string write_layers(const test::TempDir& dir, int z0, int z1, int dimension) {
-  openvdb::initialize();
-  openvdb::GridPtrVec grids;
-  for (int n = 0; n < 6; ++n) {
-    auto grid = openvdb::FloatGrid::create(0.0f);
-    grid->setName(kMetricGridNames[n]);
-    if (dimension != 0) grid->insertMeta("rvor_dimension", openvdb::Int32Metadata(dimension));
-    const float value = n == 0 || n == 2 || n == 5 ? 1.0f : 0.0f;
-    for (int k = z0; k <= z1; ++k)
-      for (int j = -4; j <= 4; ++j)
-        for (int i = -4; i <= 4; ++i) grid->tree().setValueOn(openvdb::Coord(i, j, k), value);
-    grids.push_back(grid);
-  }
-  const std::string path = dir.file("layers.vdb");
-  openvdb::io::File(path).write(grids);
-  return path;
+  return write_grids(dir, identity_grids(z0, z1, dimension));
 }
 
 // A file marked 2D with several z layers used to be read on its lowest layer, silently.
