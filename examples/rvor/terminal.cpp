@@ -69,11 +69,13 @@ std::string parse_error_text(const CLI::App& app, const CLI::ParseError& error, 
 
 CLI::Validator whole_number_in(double least, double most, const std::string& most_text) {
   return CLI::Validator(
-      [=](const std::string& text) -> std::string {
+      [=](std::string& text) -> std::string {
         const std::optional<double> value = parse_decimal(text);
         if (!value || !(*value >= least) || *value > most || std::floor(*value) != *value)
           return "'" + text.substr(0, 40) + "' is not a whole number from " +
                  std::to_string(static_cast<long long>(least)) + " to " + most_text;
+        // Handed on in plain decimal: CLI11 converts with base 0, so "010" would be octal 8.
+        text = std::to_string(static_cast<long long>(*value));
         return "";
       },
       "COUNT");
@@ -88,12 +90,13 @@ const CLI::Validator finite_number(
     "FINITE");
 
 const CLI::Validator rng_seed_value(
-    [](const std::string& text) -> std::string {
+    [](std::string& text) -> std::string {
       std::uint64_t value = 0;
       const char* end = text.data() + text.size();
       const auto [last, error] = std::from_chars(text.data(), end, value);
       if (text.empty() || error != std::errc() || last != end)
         return "'" + text.substr(0, 40) + "' is not a whole number from 0 to 2^64 - 1";
+      text = std::to_string(value);  // plain decimal: CLI11 would read "010" as octal
       return "";
     },
     "SEED");

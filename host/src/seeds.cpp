@@ -179,7 +179,11 @@ std::vector<Vec3> random_seeds(const Canvas& canvas, std::size_t count, std::uin
   std::vector<Vec3> seeds;
   seeds.reserve(count);
   for (std::size_t n = 0; n < count; ++n) {
-    Vec3 offset(jitter(random), jitter(random), canvas.dimension == 3 ? jitter(random) : 0.0);
+    // Drawn one statement at a time: the order of a call's arguments is the compiler's choice.
+    const double z = canvas.dimension == 3 ? jitter(random) : 0.0;
+    const double y = jitter(random);
+    const double x = jitter(random);
+    const Vec3 offset(x, y, z);
     std::size_t voxel = n;
     if (!shuffled) {
       do voxel = pick(random);

@@ -1,6 +1,8 @@
 // Bad input through the real tool: each case must end with exit code 1 (not a crash), exactly one
 // line on stderr that names the problem and where, and no output file left behind.
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -254,6 +256,27 @@ TEST_F(CliErrors, SeedFilesThatDoNotFitTheDomain) {
         std::string("--domain ") + c.domain + " --resolution 16 --seeds " + dir.file("seeds.xyz"),
         c.fragment);
   }
+}
+
+// Whole numbers are decimal: CLI11 converts with base 0, so a leading zero made "010" octal 8.
+TEST_F(CliErrors, WholeNumbersWithLeadingZerosAreDecimal) {
+  const auto seeds_of = [&](const std::string& args) {
+    const std::string out_dir = dir.file("seeds-" + std::to_string(std::hash<std::string>{}(args)));
+    const CommandResult result =
+        run_command(rvor_binary() + " voronoi --quiet --device cpu --out " + out_dir +
+                    " --domain rect:-1,-1,1,1 " + args);
+    EXPECT_EQ(result.exit_code, 0) << args << ": " << result.err;
+    std::ifstream in(out_dir + "/seeds.xyz");
+    std::stringstream text;
+    text << in.rdbuf();
+    return text.str();
+  };
+  EXPECT_EQ(seeds_of("--resolution 16 --random-seeds 010 --rng-seed 010"),
+            seeds_of("--resolution 16 --random-seeds 10 --rng-seed 10"));
+  EXPECT_NE(seeds_of("--resolution 16 --random-seeds 10 --rng-seed 010"),
+            seeds_of("--resolution 16 --random-seeds 10 --rng-seed 8"));
+  EXPECT_EQ(seeds_of("--resolution 016 --random-seeds 09 --rng-seed 09"),
+            seeds_of("--resolution 16 --random-seeds 9 --rng-seed 9"));
 }
 
 // A seed file with more seeds than voxels (here 300 copies of one point on 256 voxels) is refused
