@@ -249,11 +249,12 @@ void add_bench_command(CLI::App& app) {
                   "NAME[:key=value,...], NAME one of: " + join(analytic_metric_names()));
   cmd->add_option("--resolution", options->resolution,
                   "Voxels along the longest side (default 256)")
+      ->transform(decimal_integer)
       ->check(CLI::Range(2, 65536));
   cmd->add_option("--seeds", options->seeds, "Number of random seeds (default 1000)")
-      ->check(seed_count(1));
+      ->transform(seed_count(1));
   cmd->add_option("--rng-seed", options->rng_seed, "Random generator seed")
-      ->check(rng_seed_value)
+      ->transform(rng_seed_value)
       ->capture_default_str();
   const CLI::Option* device = add_device_option(cmd, options->device, "the reference itself");
   const std::map<std::string, RelaxationVariant> variants = {
@@ -281,7 +282,7 @@ void add_bench_command(CLI::App& app) {
   cmd->add_option("--insert", options->inserted_seeds,
                   "Then insert N more seeds one at a time into the solved canvas; the table's "
                   "`insert` column is the mean insert time as a percentage of the solve")
-      ->check(seed_count(0))
+      ->transform(seed_count(0))
       ->capture_default_str();
   cmd->add_flag("--no-reference", options->no_reference, "Skip the CPU reference (slow at 256^3)");
   cmd->add_flag("--no-fastsweeping", options->no_fastsweeping,

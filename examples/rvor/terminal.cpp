@@ -81,6 +81,8 @@ CLI::Validator whole_number_in(double least, double most, const std::string& mos
       "COUNT");
 }
 
+const CLI::Validator decimal_integer = whole_number_in(-2147483648.0, 2147483647.0, "2^31 - 1");
+
 const CLI::Validator finite_number(
     [](const std::string& text) -> std::string {
       const std::optional<double> value = parse_decimal(text);

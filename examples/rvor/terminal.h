@@ -42,6 +42,8 @@ std::string parse_error_text(const CLI::App& app, const CLI::ParseError& error, 
 // a finite number (its ranges let NaN through).
 CLI::Validator whole_number_in(double least, double most, const std::string& most_text);
 // Seed counts up to the OpenCL engine's most, and any 64-bit random seed.
+// Any int, handed on in plain decimal (the range is checked elsewhere).
+extern const CLI::Validator decimal_integer;
 inline CLI::Validator seed_count(double least) {
   return whole_number_in(least, static_cast<double>(kMostOpenCLSeeds),
                          std::to_string(kMostOpenCLSeeds));

@@ -319,6 +319,7 @@ void add_voronoi_command(CLI::App& app) {
       ->required();
   cmd->add_option("--resolution", options->resolution,
                   "Voxels along the longest side of the domain")
+      ->transform(decimal_integer)
       ->capture_default_str();
   CLI::Option* metric_option =
       cmd->add_option("--metric", options->metric,
@@ -347,9 +348,9 @@ void add_voronoi_command(CLI::App& app) {
   cmd->add_option("--random-seeds", options->random_seed_count,
                   "Draw N seeds uniformly in distinct voxels of the canvas (the domain to half a "
                   "voxel)")
-      ->check(seed_count(0));
+      ->transform(seed_count(0));
   cmd->add_option("--rng-seed", options->rng_seed, "Random generator seed for --random-seeds")
-      ->check(rng_seed_value)
+      ->transform(rng_seed_value)
       ->capture_default_str();
   const CLI::Option* device =
       add_device_option(cmd, options->device, "sequential reference, double precision");
