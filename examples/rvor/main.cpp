@@ -1,5 +1,6 @@
 // The rvor command-line tool: sub-commands in *_command.cpp; every error becomes one line on
 // stderr and a non-zero exit code.
+#include <csignal>
 #include <exception>
 #include <iostream>
 
@@ -7,6 +8,9 @@
 #include "terminal.h"
 
 int main(int argc, char** argv) {
+  // Past a file size limit the kernel sends SIGXFSZ, whose default kills the process: ignored, the
+  // write fails with EFBIG and the writer reports it, naming the file.
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"rvor: Riemannian Voronoi diagrams and Delaunay duals on sparse canvases"};
   app.require_subcommand(1);
   app.footer(

@@ -16,14 +16,24 @@ namespace rvor::cli {
 
 namespace {
 
-// Staging directories (".outputs.tmp-PID-N") of runs that were killed before they could remove
-// theirs: those whose process is gone. A live process's, or one whose name does not parse, stays.
+// The staging directory's name before temporary_path_for's ".tmp-PID-N": it holds the host's name,
+// so that a run only judges the processes of its own host (an --out on a shared file system).
+std::string staging_stem() {
+  char host[256] = {};
+  gethostname(host, sizeof host - 1);
+  return "outputs-" + std::string(host);
+}
+
+// Staging directories of this host's runs that were killed before they could remove theirs: those
+// whose process is gone. A live process's, or one whose name does not parse, stays.
 void remove_abandoned_staging(const std::string& dir) {
-  const std::string prefix = ".outputs.tmp-";
+  const std::string prefix = "." + staging_stem() + ".tmp-";
   std::error_code error;
-  for (const fs::directory_entry& entry : fs::directory_iterator(dir, error)) {
-    const std::string name = entry.path().filename().string();
-    if (name.rfind(prefix, 0) != 0 || !entry.is_directory(error)) continue;
+  for (fs::directory_iterator entry(dir, error), end; !error && entry != end;
+       entry.increment(error)) {
+    const std::string name = entry->path().filename().string();
+    std::error_code status;
+    if (name.rfind(prefix, 0) != 0 || !entry->is_directory(status)) continue;
     const std::string rest = name.substr(prefix.size());
     const std::size_t dash = rest.find('-');
     if (dash == 0 || dash == std::string::npos || dash > 9 ||
@@ -31,7 +41,8 @@ void remove_abandoned_staging(const std::string& dir) {
       continue;
     const long pid = std::stol(rest.substr(0, dash));
     if (pid == getpid() || kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;
-    fs::remove_all(entry.path(), error);
+    std::error_code ignored;
+    fs::remove_all(entry->path(), ignored);
   }
 }
 
@@ -51,7 +62,7 @@ OutputSet::OutputSet(std::string dir, std::vector<std::string> names, bool repla
                   "another --out");
     if (!replace_) throw Error(target.string() + " already exists; pass --overwrite to replace it");
   }
-  staging_ = temporary_path_for((fs::path(dir_) / "outputs").string());
+  staging_ = temporary_path_for((fs::path(dir_) / staging_stem()).string());
   std::error_code error;
   if (!fs::create_directory(staging_, error))
     throw Error("cannot write to output directory " + dir_ + ": " +
@@ -67,15 +78,39 @@ std::string OutputSet::path(const std::string& name) const {
   return (fs::path(staging_) / name).string();
 }
 
+// Without replace_, a file another run published meanwhile must stay (the constructor's check was
+// long ago), and then none of this run's files is published: the set goes in whole or not at all.
+void OutputSet::publish_all_new() {
+  std::vector<std::string> published;
+  try {
+    for (const std::string& name : names_) {
+      const std::string target = (fs::path(dir_) / name).string();
+      link_new(path(name), target);
+      published.push_back(target);
+    }
+  } catch (const Error&) {
+    std::error_code ignored;
+    for (const std::string& target : published) fs::remove(target, ignored);
+    throw;
+  }
+}
+
+std::string OutputSet::shown(std::string message) const {
+  for (std::size_t at = message.find(staging_); at != std::string::npos;
+       at = message.find(staging_, at + dir_.size()))
+    message.replace(at, staging_.size(), dir_);
+  return message;
+}
+
 void OutputSet::commit(const std::vector<std::string>& earlier_names) {
   for (const std::string& name : names_)
     if (!fs::is_regular_file(path(name)))
       throw Error("internal error: output " + name + " was not written");
-  for (const std::string& name : names_) {
-    const std::string target = (fs::path(dir_) / name).string();
-    // Without replace_, a file another run published meanwhile must stay (the constructor's check
-    // was long ago).
-    replace_ ? publish_temporary(path(name), target) : publish_new(path(name), target);
+  if (replace_) {
+    for (const std::string& name : names_)
+      publish_temporary(path(name), (fs::path(dir_) / name).string());
+  } else {
+    publish_all_new();
   }
   if (replace_)
     for (const std::string& name : earlier_names) {

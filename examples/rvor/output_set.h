@@ -20,12 +20,17 @@ class OutputSet {
 
   // Where the writer of `name` (one of the names) writes it until commit().
   std::string path(const std::string& name) const;
+  // `message` with the staging directory written as the output directory: errors of the writers
+  // name the file the user will look for, not a directory that is gone when they read it.
+  std::string shown(std::string message) const;
   // Moves every staged file into `dir`; then, when replacing, removes the files of
   // `earlier_names` that this run did not write (the rest of an earlier run's set). Throws
   // rvor::Error when a name was not written.
   void commit(const std::vector<std::string>& earlier_names = {});
 
  private:
+  void publish_all_new();
+
   std::string dir_, staging_;
   std::vector<std::string> names_;
   bool replace_;

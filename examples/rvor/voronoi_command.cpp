@@ -191,105 +191,111 @@ void run_voronoi(const VoronoiOptions& o) {
   refuse_replacing_inputs(o, earlier);
   OutputSet outputs(out, output_names(o), o.overwrite);  // in place once everything succeeded
   auto path = [&](const std::string& name) { return outputs.path(name); };
+  try {
+    progress.begin("building canvas");
+    const DomainSpec domain = parse_domain(o.domain);
+    if (o.png && domain.dimension() != 2)
+      throw Error(
+          "--png draws 2D results only: use a 2D domain (rect: or implicit:disk) "
+          "(3D results: --vtu for ParaView)");
+    const std::vector<Vec3> probes =
+        o.probe_file.empty() ? std::vector<Vec3>{} : read_xyz(o.probe_file, domain.dimension());
+    const std::vector<Vec3> given_seeds = seeds_from_file(o, domain.dimension());
+    const std::unique_ptr<MetricField> metric = load_metric(o, domain.dimension());
+    CanvasOptions canvas_options;
+    canvas_options.resolution = o.resolution;
+    if (o.memory_budget) canvas_options.memory_budget = parse_byte_size(*o.memory_budget);
+    const Canvas canvas = build_canvas(domain, *metric, canvas_options);
+    const double canvas_seconds =
+        progress.end(std::to_string(canvas.active_voxel_count) + " active voxels");
 
-  progress.begin("building canvas");
-  const DomainSpec domain = parse_domain(o.domain);
-  if (o.png && domain.dimension() != 2)
-    throw Error(
-        "--png draws 2D results only: use a 2D domain (rect: or implicit:disk) "
-        "(3D results: --vtu for ParaView)");
-  const std::vector<Vec3> probes =
-      o.probe_file.empty() ? std::vector<Vec3>{} : read_xyz(o.probe_file, domain.dimension());
-  const std::vector<Vec3> given_seeds = seeds_from_file(o, domain.dimension());
-  const std::unique_ptr<MetricField> metric = load_metric(o, domain.dimension());
-  CanvasOptions canvas_options;
-  canvas_options.resolution = o.resolution;
-  if (o.memory_budget) canvas_options.memory_budget = parse_byte_size(*o.memory_budget);
-  const Canvas canvas = build_canvas(domain, *metric, canvas_options);
-  const double canvas_seconds =
-      progress.end(std::to_string(canvas.active_voxel_count) + " active voxels");
+    const std::vector<Vec3> seeds = o.random_seed_count > 0
+                                        ? random_seeds(canvas, o.random_seed_count, o.rng_seed)
+                                        : given_seeds;
+    validate_seeds(canvas, seeds);
+    progress.begin("propagating from " + std::to_string(seeds.size()) + " seeds");
+    std::unique_ptr<Propagator> propagator = make_propagator(o.device);
+    VoronoiField field;
+    const PropagationStats stats = propagator->solve(canvas, seeds, field);
+    const double propagation_seconds = progress.end(propagator->device_description());
 
-  const std::vector<Vec3> seeds =
-      o.random_seed_count > 0 ? random_seeds(canvas, o.random_seed_count, o.rng_seed) : given_seeds;
-  validate_seeds(canvas, seeds);
-  progress.begin("propagating from " + std::to_string(seeds.size()) + " seeds");
-  std::unique_ptr<Propagator> propagator = make_propagator(o.device);
-  VoronoiField field;
-  const PropagationStats stats = propagator->solve(canvas, seeds, field);
-  const double propagation_seconds = progress.end(propagator->device_description());
+    progress.begin("writing outputs");
+    write_voronoi_vdb(path("voronoi.vdb"), canvas, field);
+    write_xyz(path("seeds.xyz"), seeds, canvas.dimension);
+    if (o.vtu) write_canvas_vtu(path("canvas.vtu"), canvas, field);
+    if (!o.probe_file.empty())
+      write_probe_csv(path("probe.csv"), probe_field(canvas, field, probes));
+    const FieldSummary summary = summarize_field(canvas, field, seeds.size());
+    const double output_seconds = progress.end("");
 
-  progress.begin("writing outputs");
-  write_voronoi_vdb(path("voronoi.vdb"), canvas, field);
-  write_xyz(path("seeds.xyz"), seeds, canvas.dimension);
-  if (o.vtu) write_canvas_vtu(path("canvas.vtu"), canvas, field);
-  if (!o.probe_file.empty()) write_probe_csv(path("probe.csv"), probe_field(canvas, field, probes));
-  const FieldSummary summary = summarize_field(canvas, field, seeds.size());
-  const double output_seconds = progress.end("");
-
-  nlohmann::json dual_report, curved_report;
-  double dual_seconds = 0;
-  std::optional<StraightDual> dual;
-  std::optional<CurvedDual> curved;
-  if (!o.dual.empty()) {
-    progress.begin("building the " + o.dual + " dual");
-    const Nerve nerve =
-        extract_nerve(canvas, field, seeds.size(), propagator->multi_label_bricks(canvas, field));
-    std::string detail;
-    if (o.dual != "curved") {
-      dual = build_straight_dual(canvas, nerve, seeds);
-      write_dual_vtu(path("dual.vtu"), *dual);
-      write_dual_medit(path("dual.mesh"), *dual);
-      write_dual_vtu(path("dual_flagged.vtu"), *dual, /*only_flagged=*/true);
-      dual_report = nlohmann::json::parse(dual_report_json(*dual));
-      detail =
-          std::string(dual->checks.is_triangulation ? "a triangulation" : "NOT a triangulation") +
-          ", " + std::to_string(dual->top_count()) + " elements";
+    nlohmann::json dual_report, curved_report;
+    double dual_seconds = 0;
+    std::optional<StraightDual> dual;
+    std::optional<CurvedDual> curved;
+    if (!o.dual.empty()) {
+      progress.begin("building the " + o.dual + " dual");
+      const Nerve nerve =
+          extract_nerve(canvas, field, seeds.size(), propagator->multi_label_bricks(canvas, field));
+      std::string detail;
+      if (o.dual != "curved") {
+        dual = build_straight_dual(canvas, nerve, seeds);
+        write_dual_vtu(path("dual.vtu"), *dual);
+        write_dual_medit(path("dual.mesh"), *dual);
+        write_dual_vtu(path("dual_flagged.vtu"), *dual, /*only_flagged=*/true);
+        dual_report = nlohmann::json::parse(dual_report_json(*dual));
+        detail =
+            std::string(dual->checks.is_triangulation ? "a triangulation" : "NOT a triangulation") +
+            ", " + std::to_string(dual->top_count()) + " elements";
+      }
+      if (o.dual != "straight") {
+        curved = build_curved(canvas, field, nerve, seeds, path, curved_report);
+        detail += (detail.empty() ? "" : "; ") + std::to_string(curved->edges.size()) +
+                  " geodesic edges, " + std::to_string(curved->faces.size()) + " faces, " +
+                  std::to_string(curved->unreached_edges + curved->unreached_faces) + " unreached";
+      }
+      dual_seconds = progress.end(detail);
     }
-    if (o.dual != "straight") {
-      curved = build_curved(canvas, field, nerve, seeds, path, curved_report);
-      detail += (detail.empty() ? "" : "; ") + std::to_string(curved->edges.size()) +
-                " geodesic edges, " + std::to_string(curved->faces.size()) + " faces, " +
-                std::to_string(curved->unreached_edges + curved->unreached_faces) + " unreached";
-    }
-    dual_seconds = progress.end(detail);
+    if (o.png)
+      write_canvas_png(path("voronoi.png"), canvas, field, seeds, dual ? &*dual : nullptr,
+                       curved ? &*curved : nullptr);
+
+    const double total =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    nlohmann::json report = {
+        {"generator", "rvor voronoi"},
+        {"domain", domain.description()},
+        {"metric", metric->description()},
+        {"dimension", canvas.dimension},
+        {"resolution", o.resolution},
+        {"voxel_size", canvas.voxel_size},
+        {"index_box", canvas.dims},
+        {"active_voxels", canvas.active_voxel_count},
+        {"seeds", seeds.size()},
+        {"device", propagator->device_description()},
+        {"iterations", stats.iterations},
+        {"voxel_updates", stats.voxel_updates},
+        {"brick_relaxations", stats.brick_relaxations},
+        {"updates_per_voxel",
+         canvas.active_voxel_count ? double(stats.voxel_updates) / canvas.active_voxel_count : 0.0},
+        {"timings",
+         {{"canvas", canvas_seconds},
+          {"propagation", propagation_seconds},
+          {"outputs", output_seconds},
+          {"dual", dual_seconds},
+          {"total", total}}},
+        {"field", summary_json(summary)},
+        {"outputs", output_names(o)}};
+    if (!dual_report.is_null()) report["dual"] = dual_report;
+    if (!curved_report.is_null()) report["curved_dual"] = curved_report;
+    write_file_atomically(path("report.json"),
+                          [&](std::ostream& s) { s << report.dump(2) << "\n"; });
+    outputs.commit(earlier);
+    if (!o.quiet)
+      print_voronoi_summary(std::cout, out, output_names(o), canvas.active_voxel_count,
+                            seeds.size(), summary, propagation_seconds, total);
+  } catch (const Error& error) {
+    throw Error(outputs.shown(error.what()));  // the output's name, not its staging path
   }
-  if (o.png)
-    write_canvas_png(path("voronoi.png"), canvas, field, seeds, dual ? &*dual : nullptr,
-                     curved ? &*curved : nullptr);
-
-  const double total =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  nlohmann::json report = {
-      {"generator", "rvor voronoi"},
-      {"domain", domain.description()},
-      {"metric", metric->description()},
-      {"dimension", canvas.dimension},
-      {"resolution", o.resolution},
-      {"voxel_size", canvas.voxel_size},
-      {"index_box", canvas.dims},
-      {"active_voxels", canvas.active_voxel_count},
-      {"seeds", seeds.size()},
-      {"device", propagator->device_description()},
-      {"iterations", stats.iterations},
-      {"voxel_updates", stats.voxel_updates},
-      {"brick_relaxations", stats.brick_relaxations},
-      {"updates_per_voxel",
-       canvas.active_voxel_count ? double(stats.voxel_updates) / canvas.active_voxel_count : 0.0},
-      {"timings",
-       {{"canvas", canvas_seconds},
-        {"propagation", propagation_seconds},
-        {"outputs", output_seconds},
-        {"dual", dual_seconds},
-        {"total", total}}},
-      {"field", summary_json(summary)},
-      {"outputs", output_names(o)}};
-  if (!dual_report.is_null()) report["dual"] = dual_report;
-  if (!curved_report.is_null()) report["curved_dual"] = curved_report;
-  write_file_atomically(path("report.json"), [&](std::ostream& s) { s << report.dump(2) << "\n"; });
-  outputs.commit(earlier);
-  if (!o.quiet)
-    print_voronoi_summary(std::cout, out, output_names(o), canvas.active_voxel_count, seeds.size(),
-                          summary, propagation_seconds, total);
 }
 
 }  // namespace

@@ -31,29 +31,18 @@ void publish_temporary(const std::string& temporary, const std::string& path) {
   }
 }
 
-void publish_new(const std::string& temporary, const std::string& path) {
-  // link() never replaces its target: a file that appeared at `path` since it was checked (another
-  // run writing to the same directory) stays.
-  if (link(temporary.c_str(), path.c_str()) == 0) {
-    std::error_code ignored;
-    fs::remove(temporary, ignored);
-    return;
-  }
-  const int link_error = errno;
+bool link_new(const std::string& source, const std::string& target) {
+  // link() never replaces its target: a file that appeared at `target` since the caller checked
+  // (another run writing to the same directory) stays.
+  if (link(source.c_str(), target.c_str()) == 0) return true;
   std::error_code ignored;
-  if (link_error == EEXIST) {
-    fs::remove(temporary, ignored);
-    throw Error("cannot write " + path +
+  if (errno == EEXIST || fs::exists(fs::symlink_status(target, ignored)))
+    throw Error("cannot write " + target +
                 ": it appeared while rvor was writing (another run with the same output "
                 "directory?); it was left as it is");
-  }
-  // A file system without hard links: check, then rename (the check and the rename are apart).
-  if (fs::exists(fs::symlink_status(path, ignored))) {
-    fs::remove(temporary, ignored);
-    throw Error("cannot write " + path +
-                ": it appeared while rvor was writing; it was left as it is");
-  }
-  publish_temporary(temporary, path);
+  // A file system without hard links: the check above, then a rename (apart, not atomic).
+  publish_temporary(source, target);
+  return false;
 }
 
 void write_file_atomically(const std::string& path,

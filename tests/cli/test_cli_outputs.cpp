@@ -198,18 +198,25 @@ TEST_F(CliOutputs, OverwriteLeavesFilesNoEarlierRunWrote) {
 }
 
 // A run killed before it could clean up leaves its staging directory; the next run into the same
-// --out removes it once its process is gone (a live process's stays).
+// --out on the same host removes it once its process is gone (a live process's stays, and so does
+// another host's).
 TEST_F(CliOutputs, AbandonedStagingDirectoriesAreRemoved) {
   const CommandResult shell = run_command("sh -c 'echo $$'");  // a process id that has ended
   const std::string dead = shell.out.substr(0, shell.out.find('\n'));
-  const std::string abandoned = out() + "/.outputs.tmp-" + dead + "-12345";
-  const std::string live = out() + "/.outputs.tmp-" + std::to_string(getpid()) + "-12345";
+  char host[256] = {};
+  gethostname(host, sizeof host - 1);
+  const std::string prefix = out() + "/.outputs-" + host + ".tmp-";
+  const std::string abandoned = prefix + dead + "-12345";
+  const std::string live = prefix + std::to_string(getpid()) + "-12345";
+  const std::string other_host = out() + "/.outputs-elsewhere.tmp-" + dead + "-12345";
   std::filesystem::create_directories(abandoned);
   std::filesystem::create_directories(live);
+  std::filesystem::create_directories(other_host);  // its process may live on another host
   write_text(abandoned + "/canvas.vtu", "partial\n");
   ASSERT_EQ(run_uniform_2d("").exit_code, 0);
   EXPECT_FALSE(std::filesystem::exists(abandoned));
   EXPECT_TRUE(std::filesystem::exists(live));
+  EXPECT_TRUE(std::filesystem::exists(other_host));
 }
 
 // An input that is also one of the run's outputs (a seed file named seeds.xyz in --out) would be

@@ -5,8 +5,8 @@
 # Debian 12's PoCL 3.1 has no `cbs` method: it prints "Unknown work group generation method" and
 # uses its default, so a test that only sets POCL_WORK_GROUP_METHOD=cbs tests the default twice.
 # Here a method PoCL does not know is caught (cbs is then skipped, exit 77; any other method
-# fails), and each method compiles into its own kernel cache: PoCL's cache key does not hold the
-# method, so a shared cache would hand it the default method's compiled work-groups.
+# fails), and each method compiles into its own kernel cache, so that its tests never run on
+# work-groups another method compiled, whatever PoCL's cache keys hold (3.1's hold the method).
 #
 # Usage: work_group_methods.sh BIN_DIR METHOD   (BIN_DIR holds rvor and test_opencl)
 set -euo pipefail
@@ -18,7 +18,8 @@ trap 'rm -rf "$scratch"' EXIT
 default_cache=${POCL_CACHE_DIR:-$build_dir/pocl-cache}
 method_cache=$build_dir/pocl-cache-method-$method
 
-if ! "$bin/rvor" devices | grep -q 'Portable Computing Language'; then
+devices=$("$bin/rvor" devices)  # a failing `rvor devices` fails the test, not skips it
+if ! grep -q 'Portable Computing Language' <<<"$devices"; then
   echo "work_group_methods.sh: no PoCL device, skipped"
   exit 77
 fi
