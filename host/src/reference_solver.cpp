@@ -345,9 +345,12 @@ bool ReferenceSolver::recompute(int32_t voxel) {
   int label_count = 0;
   const VoxelStencil& stencil = stencil_of(voxel);
   const VoxelIndex x = index_of(voxel);
+  // The neighbours' slots, found once for every label's solve (entry 2 t + side, -1: none).
+  int32_t neighbours[12];
   for (int t = 0; t < stencil.size; ++t)
     for (int side = 0; side < 2; ++side) {
       const int32_t y = neighbour_slot(x, stencil.offset[t], side == 0 ? 1 : -1);
+      neighbours[2 * t + side] = y;
       if (y < 0 || state_[y].label < 0) continue;
       const int32_t label = state_[y].label;
       if (std::find(labels, labels + label_count, label) == labels + label_count)
@@ -356,7 +359,7 @@ bool ReferenceSolver::recompute(int32_t voxel) {
   double best = kInfinity;
   int32_t best_label = -1;
   for (int n = 0; n < label_count; ++n) {
-    const double t = local_solve(voxel, labels[n]);
+    const double t = local_solve(voxel, labels[n], neighbours);
     if (t < best || (t == best && labels[n] < best_label)) best = t, best_label = labels[n];
   }
   VoxelState& state = state_[voxel];
@@ -372,10 +375,9 @@ bool ReferenceSolver::recompute(int32_t voxel) {
 
 // The candidate value of `voxel` for `label` (docs/scheme.md, "Local update"), +inf if no
 // stencil neighbour carries that label.
-double ReferenceSolver::local_solve(int32_t voxel, int32_t label) const {
+double ReferenceSolver::local_solve(int32_t voxel, int32_t label, const int32_t* neighbours) const {
   const SourceFrame frame = source_frame(voxel, label);
   const VoxelStencil& stencil = stencil_of(voxel);
-  const VoxelIndex x = index_of(voxel);
   double w[6], rho[6];  // corrected neighbour value and weight, sorted by w
   int n = 0;
   for (int t = 0; t < stencil.size; ++t) {
@@ -383,7 +385,7 @@ double ReferenceSolver::local_solve(int32_t voxel, int32_t label) const {
     const double weight = term_factorization_weight(frame, step);
     double best = kInfinity;
     for (int side = 0; side < 2; ++side) {
-      const int32_t y = neighbour_slot(x, stencil.offset[t], side == 0 ? 1 : -1);
+      const int32_t y = neighbours[2 * t + side];
       if (y < 0 || state_[y].label != label) continue;
       const double corrected =
           corrected_value(frame, step, side == 0 ? 1.0 : -1.0, state_[y].value, weight);

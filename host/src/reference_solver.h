@@ -89,7 +89,8 @@ class ReferenceSolver {
   bool recompute(int32_t x);
   void mark_seed_block(const Canvas& canvas, std::size_t seed, bool assign_values);
   void offer_exact_value(int32_t voxel, int32_t seed, bool was_frozen);
-  double local_solve(int32_t voxel, int32_t label) const;
+  // `neighbours`: the slots of the voxel's stencil neighbours, entry 2 t + side (recompute).
+  double local_solve(int32_t voxel, int32_t label, const int32_t* neighbours) const;
   // Voxel index and world position of a slot, and the slot of a stencil neighbour, by arithmetic
   // on the brick layout: no per-voxel memory access (the run time is dominated by cache misses).
   VoxelIndex index_of(int32_t slot) const {
