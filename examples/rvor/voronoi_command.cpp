@@ -181,7 +181,7 @@ CurvedDual build_curved(const Canvas& canvas, const VoronoiField& field, const N
   return curved;
 }
 
-void run_voronoi(const VoronoiOptions& o) {
+void write_voronoi(const VoronoiOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   Progress progress(o.quiet);
   const std::string out = o.out_dir;
@@ -295,6 +295,19 @@ void run_voronoi(const VoronoiOptions& o) {
                             seeds.size(), summary, propagation_seconds, total);
   } catch (const Error& error) {
     throw Error(outputs.shown(error.what()));  // the output's name, not its staging path
+  }
+}
+
+// write_voronoi; an --out directory it had to create is removed again when the run fails and
+// leaves it empty (a refused option would otherwise leave an empty directory behind).
+void run_voronoi(const VoronoiOptions& o) {
+  std::error_code error;
+  const bool out_existed = std::filesystem::exists(o.out_dir, error);
+  try {
+    write_voronoi(o);
+  } catch (...) {
+    if (!out_existed) std::filesystem::remove(o.out_dir, error);  // fails unless it is empty
+    throw;
   }
 }
 

@@ -180,6 +180,8 @@ TEST_F(CliErrors, ExistingOutputsAreNotReplacedWithoutOverwrite) {
 
 TEST_F(CliErrors, PngOf3DRun) {
   expect_error("--domain box:-1,-1,-1,1,1,1 --resolution 16 --random-seeds 3 --png", "--png");
+  // The run created --out and left nothing in it: the directory goes too.
+  EXPECT_FALSE(std::filesystem::exists(out()));
 }
 
 TEST_F(CliErrors, UnknownDevice) {
