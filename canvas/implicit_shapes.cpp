@@ -68,10 +68,15 @@ double take_radius(const std::string& spec, Parameters& parameters, const std::s
 }  // namespace
 
 std::string format_spec_number(double value) {
-  std::ostringstream out;
-  out.precision(10);
-  out << value;
-  return out.str();
+  // 10 significant digits where they give the value back, else 17 (which always do): a domain
+  // 1e14 wide by 1e3 must not be written as one of zero width.
+  for (const int digits : {10, 17}) {
+    std::ostringstream out;
+    out.precision(digits);
+    out << value;
+    if (digits == 17 || std::stod(out.str()) == value) return out.str();
+  }
+  return {};
 }
 
 ImplicitShape ImplicitShape::parse(const std::string& spec) {

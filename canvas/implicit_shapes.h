@@ -32,7 +32,8 @@ class ImplicitShape {
   Vec3 radii_ = Vec3::Ones();  // sphere/disk: x; ellipsoid: a,b,c; torus: x = R, y = r
 };
 
-// A number as written back into a domain spec (10 significant digits).
+// A number as written back into a domain spec: 10 significant digits, or 17 where 10 would not
+// give the value back.
 std::string format_spec_number(double value);
 
 }  // namespace rvor

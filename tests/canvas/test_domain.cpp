@@ -34,6 +34,14 @@ TEST(ParseDomain, Rectangle) {
   EXPECT_EQ(d.description(), "rect:0,0,2,1");
 }
 
+// Numbers are written back with the digits they need: with 10, a domain 1e14 from the origin and
+// 1e3 wide read as one of zero width.
+TEST(ParseDomain, DescriptionsKeepTheDigitsTheyNeed) {
+  EXPECT_EQ(parse_domain("rect:1e14,1e14,1.00000000001e14,1.00000000001e14").description(),
+            "rect:1e+14,1e+14,100000000001000,100000000001000");
+  EXPECT_EQ(parse_domain("box:-0.1,0.2,0.3,1.5,2,3").description(), "box:-0.1,0.2,0.3,1.5,2,3");
+}
+
 TEST(ParseDomain, Mesh) {
   const DomainSpec d = parse_domain("mesh:some/dir/part.STL");
   EXPECT_EQ(d.kind, DomainSpec::Kind::Mesh);
