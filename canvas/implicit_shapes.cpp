@@ -1,6 +1,7 @@
 #include "implicit_shapes.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -69,14 +70,16 @@ double take_radius(const std::string& spec, Parameters& parameters, const std::s
 
 std::string format_spec_number(double value) {
   // 10 significant digits where they give the value back, else 17 (which always do): a domain
-  // 1e14 wide by 1e3 must not be written as one of zero width.
-  for (const int digits : {10, 17}) {
-    std::ostringstream out;
-    out.precision(digits);
-    out << value;
-    if (digits == 17 || std::stod(out.str()) == value) return out.str();
-  }
-  return {};
+  // 1e14 wide by 1e3 must not be written as one of zero width. strtod, not stod: a subnormal
+  // would make stod throw out of an error message.
+  std::ostringstream out;
+  out.precision(10);
+  out << value;
+  if (std::strtod(out.str().c_str(), nullptr) == value) return out.str();
+  std::ostringstream full;
+  full.precision(17);
+  full << value;
+  return full.str();
 }
 
 ImplicitShape ImplicitShape::parse(const std::string& spec) {

@@ -4,7 +4,8 @@
 # consecutive voxels change stencil shape. Measurement only: it applies lane_counters.patch to a
 # clean working tree, builds, runs `rvor bench` once per counted class (the upd/voxel column then
 # holds that class per voxel) and reverts the patch.
-# Usage: docs/measurements/lane_counters.sh [RESOLUTION [SEEDS]]   (defaults 128 and 1000)
+# Usage: docs/measurements/lane_counters.sh [RESOLUTION [SEEDS [BENCH_OPTION...]]]
+#        (defaults 128 and 1000; e.g. `128 1000 --front-step 3` for session 19's counts)
 #        docs/measurements/lane_counters.sh --check   (only whether the patch still applies; ctest
 #        runs this, so a kernel change that breaks the patch is caught: regenerate the patch then)
 set -euo pipefail
@@ -25,6 +26,7 @@ if [ "${1:-}" = "--check" ]; then
 fi
 resolution=${1:-128}
 seeds=${2:-1000}
+extra=("${@:3}")  # more rvor bench options, passed to every run
 git diff --quiet -- kernels host || { echo "lane_counters.sh: kernels/ or host/ has changes; commit them first" >&2; exit 1; }
 git apply "$patch"
 trap 'git apply -R "$patch"; scripts/build.sh >/dev/null' EXIT
@@ -39,13 +41,14 @@ for metric in "euclidean --domain box:-1,-1,-1,1,1,1" "radial_shock_3d --domain 
   for n in $(seq 1 18); do
     # shellcheck disable=SC2086  # $metric holds the metric and its --domain option
     value=$(RVOR_LANE_COUNT=$n build/bin/rvor bench --metric $metric --resolution "$resolution" \
-      --seeds "$seeds" --no-reference --no-fastsweeping --quiet | sed -n 2p | awk '{print $6}')
+      --seeds "$seeds" --no-reference --no-fastsweeping --quiet "${extra[@]}" | sed -n 2p |
+      awk '{print $6}')
     unit="per voxel"
     [ "$n" = 16 ] && unit="per brick"  # counted 512 per relaxation
     printf '%-20s %-32s %s %s\n' "${metric%% *}" "${classes[$n]}" "$value" "$unit"
   done
   # shellcheck disable=SC2086
   RVOR_SHAPE_CHANGES=1 build/bin/rvor bench --metric $metric --resolution "$resolution" \
-    --seeds "$seeds" --no-reference --no-fastsweeping --quiet 2>&1 >/dev/null |
+    --seeds "$seeds" --no-reference --no-fastsweeping --quiet "${extra[@]}" 2>&1 >/dev/null |
     sed -n "s/^shape changes/${metric%% *} shape changes/p"
 done

@@ -106,19 +106,18 @@ void OutputSet::commit(const std::vector<std::string>& earlier_names) {
   for (const std::string& name : names_)
     if (!fs::is_regular_file(path(name)))
       throw Error("internal error: output " + name + " was not written");
-  if (replace_) {
-    for (const std::string& name : names_)
-      publish_temporary(path(name), (fs::path(dir_) / name).string());
-  } else {
+  if (!replace_) {
     publish_all_new();
+    return;
   }
-  if (replace_)
-    for (const std::string& name : earlier_names) {
-      if (std::find(names_.begin(), names_.end(), name) != names_.end()) continue;
-      const fs::path stale = fs::path(dir_) / name;
-      std::error_code error;
-      if (fs::is_regular_file(fs::symlink_status(stale, error))) fs::remove(stale, error);
-    }
+  for (const std::string& name : names_)
+    publish_temporary(path(name), (fs::path(dir_) / name).string());
+  for (const std::string& name : earlier_names) {
+    if (std::find(names_.begin(), names_.end(), name) != names_.end()) continue;
+    const fs::path stale = fs::path(dir_) / name;
+    std::error_code error;
+    if (fs::is_regular_file(fs::symlink_status(stale, error))) fs::remove(stale, error);
+  }
 }
 
 }  // namespace rvor::cli

@@ -31,10 +31,10 @@ void publish_temporary(const std::string& temporary, const std::string& path) {
   }
 }
 
-bool link_new(const std::string& source, const std::string& target) {
+void link_new(const std::string& source, const std::string& target) {
   // link() never replaces its target: a file that appeared at `target` since the caller checked
   // (another run writing to the same directory) stays.
-  if (link(source.c_str(), target.c_str()) == 0) return true;
+  if (link(source.c_str(), target.c_str()) == 0) return;
   std::error_code ignored;
   if (errno == EEXIST || fs::exists(fs::symlink_status(target, ignored)))
     throw Error("cannot write " + target +
@@ -42,7 +42,6 @@ bool link_new(const std::string& source, const std::string& target) {
                 "directory?); it was left as it is");
   // A file system without hard links: the check above, then a rename (apart, not atomic).
   publish_temporary(source, target);
-  return false;
 }
 
 void write_file_atomically(const std::string& path,

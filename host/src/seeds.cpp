@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <iomanip>
 #include <random>
@@ -67,8 +68,9 @@ std::string quoted_line(const std::string& line) {
       text += c;
       continue;
     }
-    const char* digits = "0123456789ABCDEF";
-    text += std::string("\\x") + digits[byte >> 4] + digits[byte & 15];
+    char escaped[5];
+    std::snprintf(escaped, sizeof escaped, "\\x%02X", byte);
+    text += escaped;
   }
   return "'" + text + (line.size() > 80 ? "..." : "") + "'";
 }

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include "implicit_shapes.h"
 #include "rvor/domain.h"
 #include "rvor/error.h"
 #include "rvor/spec_text.h"
@@ -40,6 +41,7 @@ TEST(ParseDomain, DescriptionsKeepTheDigitsTheyNeed) {
   EXPECT_EQ(parse_domain("rect:1e14,1e14,1.00000000001e14,1.00000000001e14").description(),
             "rect:1e+14,1e+14,100000000001000,100000000001000");
   EXPECT_EQ(parse_domain("box:-0.1,0.2,0.3,1.5,2,3").description(), "box:-0.1,0.2,0.3,1.5,2,3");
+  EXPECT_EQ(format_spec_number(1e-310), "1e-310");  // a subnormal: std::stod would throw
 }
 
 TEST(ParseDomain, Mesh) {

@@ -18,9 +18,8 @@ std::string temporary_path_for(const std::string& path);
 void publish_temporary(const std::string& temporary, const std::string& path);
 // Gives `source` the name `target` too (a hard link; `source` stays), never replacing a file at
 // `target`: one there (that appeared since the caller checked) is an error and stays as it is.
-// On a file system without hard links, `source` is renamed to `target` instead; returns false
-// then.
-bool link_new(const std::string& source, const std::string& target);
+// On a file system without hard links, `source` is renamed to `target` instead.
+void link_new(const std::string& source, const std::string& target);
 
 // Throws rvor::Error "cannot write to output directory DIR: reason" unless DIR exists (it is
 // created with its parents if missing) and a file can be created in it.
