@@ -99,7 +99,6 @@ class SimplexSet {
   bool degenerate(std::size_t e) const { return !frames_[e].valid; }
   const std::array<int, 4>& cell(std::size_t e) const { return cells_[e]; }
   const Vec3& vertex(std::size_t e, int k) const { return vertices_[cells_[e][k]]; }
-  const std::vector<Vec3>& vertices() const { return vertices_; }
   // The bounding box of element e.
   Box box(std::size_t e) const {
     Box b{vertex(e, 0), vertex(e, 0)};
@@ -368,11 +367,11 @@ class MeshMetricField final : public MetricField {
   MeshMetricField(SimplexSet simplices, const std::vector<Mat3>& tensors, std::string description)
       : simplices_(std::move(simplices)),
         locator_(simplices_),
-        description_(std::move(description)) {
+        description_(std::move(description)),
+        box_(simplices_.bounds()) {
     // Logarithms once per vertex: a query is then a weighted sum and one exponential.
     vertex_logs_.reserve(tensors.size());
     for (const Mat3& G : tensors) vertex_logs_.push_back(metric_log(G));
-    box_ = simplices_.bounds();
   }
 
   MeshMetricField(const MeshMetricField&) = delete;  // locator_ refers to simplices_
@@ -405,8 +404,7 @@ class MeshMetricField final : public MetricField {
   PointLocator locator_;
   std::vector<Mat3> vertex_logs_;
   std::string description_;
-  Box box_{Vec3::Constant(std::numeric_limits<double>::infinity()),
-           Vec3::Constant(-std::numeric_limits<double>::infinity())};
+  Box box_;  // the elements' bounds (vertices no element uses do not count)
 };
 
 // Triangles of a 2D mesh, tetrahedra of a 3D one, as 4-vertex cells.

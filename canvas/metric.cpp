@@ -50,11 +50,7 @@ Mat3 normalised_weighted_sum(const std::vector<Mat3>& terms, const std::vector<d
 // block, so those of the xy block alone (a large xy block next to S(2,2) = 1 is no singular
 // matrix), else those of S.
 Eigen::VectorXd judged_eigenvalues(const Mat3& S) {
-  if (S(0, 2) == 0 && S(1, 2) == 0)
-    return Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(S.topLeftCorner<2, 2>(),
-                                                          Eigen::EigenvaluesOnly)
-        .eigenvalues();
-  return Eigen::SelfAdjointEigenSolver<Mat3>(S, Eigen::EigenvaluesOnly).eigenvalues();
+  return metric_eigenvalues(S, S(0, 2) == 0 && S(1, 2) == 0 ? 2 : 3);
 }
 
 // A rotated singular matrix often comes out of rounding with a tiny positive eigenvalue
@@ -140,9 +136,11 @@ Mat3 stored_metric(const Mat3& G, int dimension) {
 }
 
 Eigen::VectorXd metric_eigenvalues(const Mat3& G, int dimension) {
-  const int n = dimension == 3 ? 3 : 2;
-  const Eigen::MatrixXd block = G.topLeftCorner(n, n);
-  return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(block, Eigen::EigenvaluesOnly)
+  // Fixed-size solvers: is_spd calls this for every distinct tensor a canvas stores.
+  if (dimension == 3)
+    return Eigen::SelfAdjointEigenSolver<Mat3>(G, Eigen::EigenvaluesOnly).eigenvalues();
+  return Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(G.topLeftCorner<2, 2>(),
+                                                        Eigen::EigenvaluesOnly)
       .eigenvalues();
 }
 

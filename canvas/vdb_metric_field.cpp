@@ -110,7 +110,6 @@ void require_same_voxels(const std::string& path, const std::array<FloatGrid::Pt
       openvdb::MaskTree difference(extra ? grids[n]->tree() : grids[0]->tree(), false,
                                    openvdb::TopologyCopy());
       difference.topologyDifference(extra ? grids[0]->tree() : grids[n]->tree());
-      difference.voxelizeActiveTiles();
       const auto voxel = difference.cbeginValueOn();
       if (!voxel) continue;
       throw Error("VDB metric file " + path + ": grid '" + kMetricGridNames[n] +

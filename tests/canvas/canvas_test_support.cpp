@@ -127,9 +127,8 @@ void write_bottle_off(const std::string& path, double neck) {
   QuadSoup soup;
   cube_without_low_x(soup, 0, 4);
   square_ring(soup, square_at(0, 0, 4), square_at(0, lo, hi));
-  const auto mouth = square_at(0, lo, hi), inner = square_at(1, lo, hi);
-  for (int k = 0; k < 4; ++k)
-    soup.quad({mouth[k], mouth[(k + 1) % 4], inner[(k + 1) % 4], inner[k]});
+  const auto inner = square_at(1, lo, hi);
+  square_ring(soup, square_at(0, lo, hi), inner);  // the neck, from its mouth inwards
   cube_without_low_x(soup, 1, 3);
   square_ring(soup, square_at(1, 1, 3), inner);
   write_text(path, soup.off());

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <string>
 
+#include "dual_internal.h"
 #include "parallel_for.h"
 #include "reference_solver.h"
 #include "rvor/error.h"
@@ -75,8 +76,7 @@ std::vector<double> distance_limits(const Canvas& canvas, const Nerve& nerve,
     }
   std::vector<double> limits(seeds.size());
   for (std::size_t s = 0; s < seeds.size(); ++s) {
-    const int64_t slot = canvas.slot_of(canvas.voxel_containing(seeds[s]));
-    const Mat3 G = slot >= 0 ? canvas.metric_at(static_cast<std::size_t>(slot)) : Mat3::Identity();
+    const Mat3 G = dual::seed_metric(canvas, seeds, s);
     const double scale = std::sqrt(Eigen::SelfAdjointEigenSolver<Mat3>(G).eigenvalues().maxCoeff());
     limits[s] = 1.1 * reach[s] + options.margin * canvas.voxel_size * scale;
   }

@@ -185,8 +185,7 @@ namespace dual {
 
 Mat3 seed_metric(const Canvas& canvas, const std::vector<Vec3>& seeds, std::size_t seed) {
   const int64_t slot = canvas.slot_of(canvas.voxel_containing(seeds[seed]));
-  if (slot < 0)
-    throw Error("straight dual: seed " + std::to_string(seed) + " is not in an active voxel");
+  if (slot < 0) throw Error("dual: seed " + std::to_string(seed) + " is not in an active voxel");
   return canvas.metric_at(static_cast<std::size_t>(slot));
 }
 
