@@ -31,12 +31,14 @@ class ClosestElementTree {
     if (nodes_.empty()) return best;
     // A stack on the call's own frame: queries run per voxel, a heap allocation each would cost
     // more than the search. The tree is balanced, so its depth stays below 64.
-    int stack[2 * kMaxDepth];
+    // Each node with its box's distance to p, computed once when its parent is expanded.
+    std::pair<int, double> stack[2 * kMaxDepth];
     int size = 0;
-    stack[size++] = 0;
+    stack[size++] = {0, box_distance(p, nodes_[0].box)};
     while (size > 0) {
-      const Node& node = nodes_[static_cast<std::size_t>(stack[--size])];
-      if (best >= 0 && box_distance(p, node.box) >= best_distance) continue;
+      const auto [index, node_distance] = stack[--size];
+      const Node& node = nodes_[static_cast<std::size_t>(index)];
+      if (best >= 0 && node_distance >= best_distance) continue;
       if (node.count > 0) {
         for (int n = node.first; n < node.first + node.count; ++n) {
           const int e = elements_[static_cast<std::size_t>(n)];
@@ -49,8 +51,9 @@ class ClosestElementTree {
       }
       const double left = box_distance(p, nodes_[node.left].box);
       const double right = box_distance(p, nodes_[node.right].box);
-      stack[size++] = left < right ? node.right : node.left;  // the nearer one on top
-      stack[size++] = left < right ? node.left : node.right;
+      // The nearer one on top.
+      stack[size++] = left < right ? std::pair{node.right, right} : std::pair{node.left, left};
+      stack[size++] = left < right ? std::pair{node.left, left} : std::pair{node.right, right};
     }
     return best;
   }
