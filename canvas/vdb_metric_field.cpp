@@ -83,20 +83,22 @@ void validate_stored_tensors(const std::string& path, const std::array<FloatGrid
 
 // Tiles stand for many voxels: voxelized, six grids of a small file could fill the memory.
 // Sampling needs the voxels (the shell of extend_by_one_voxel, per-voxel validation), so a field
-// whose voxels would not fit in the default memory budget is refused up front.
-void require_voxels_fit(const std::string& path, const std::array<FloatGrid::Ptr, 6>& grids) {
+// whose voxels would not fit in the memory budget (--memory-budget) is refused up front.
+void require_voxels_fit(const std::string& path, const std::array<FloatGrid::Ptr, 6>& grids,
+                        std::uint64_t memory_budget) {
   constexpr double kBytesPerVoxel = 4.5;  // a float and the leaf's share of mask and header
   double voxels = 0;
   for (const auto& grid : grids) voxels += static_cast<double>(grid->activeVoxelCount());
   const double bytes = kBytesPerVoxel * voxels;
-  const double budget = static_cast<double>(default_memory_budget());
+  const double budget =
+      static_cast<double>(memory_budget != 0 ? memory_budget : default_memory_budget());
   if (bytes > budget) {
     std::ostringstream count;
     count << voxels;
     throw Error("VDB metric file " + path + ": its six grids hold " + count.str() +
                 " active voxels in all (many as tiles), which need ~" + format_bytes(bytes) +
-                " once voxelized, over 75% of this machine's memory (" + format_bytes(budget) +
-                "): store the metric over the domain only, or coarser");
+                " once voxelized, over the memory budget of " + format_bytes(budget) +
+                " (--memory-budget): store the metric over the domain only, or coarser");
   }
 }
 
@@ -141,7 +143,8 @@ int stored_dimension(const std::string& path, const FloatGrid& grid) {
 
 class VdbMetricField : public MetricField {
  public:
-  VdbMetricField(const std::string& path, std::array<FloatGrid::Ptr, 6> grids)
+  VdbMetricField(const std::string& path, std::array<FloatGrid::Ptr, 6> grids,
+                 std::uint64_t memory_budget)
       : path_(path), grids_(std::move(grids)) {
     dimension_ = stored_dimension(path, *grids_[0]);
     guessed_2d_ =
@@ -152,7 +155,7 @@ class VdbMetricField : public MetricField {
     for (const auto& grid : grids_)
       if (grid->transform() != grids_[0]->transform())
         throw Error("VDB metric file " + path + ": grids m11 ... m33 have different transforms");
-    require_voxels_fit(path, grids_);
+    require_voxels_fit(path, grids_, memory_budget);
     for (const auto& grid : grids_) grid->tree().voxelizeActiveTiles();
     require_same_voxels(path, grids_, dimension_);
     validate_stored_tensors(path, grids_, dimension_);
@@ -219,14 +222,15 @@ class VdbMetricField : public MetricField {
 
 }  // namespace
 
-std::unique_ptr<MetricField> load_vdb_metric(const std::string& vdb_path) {
+std::unique_ptr<MetricField> load_vdb_metric(const std::string& vdb_path,
+                                             std::uint64_t memory_budget) {
   const openvdb::GridPtrVec grids = read_grids(vdb_path);
   std::array<FloatGrid::Ptr, 6> components;
   for (int n = 0; n < 6; ++n)
     components[n] = find_grid<FloatGrid>(grids, vdb_path, kMetricGridNames[n], "float");
   if (components[0]->activeVoxelCount() == 0)
     throw Error("VDB metric file " + vdb_path + ": grid 'm11' has no active voxel");
-  return std::make_unique<VdbMetricField>(vdb_path, std::move(components));
+  return std::make_unique<VdbMetricField>(vdb_path, std::move(components), memory_budget);
 }
 
 }  // namespace rvor

@@ -55,8 +55,9 @@ struct VoronoiOptions {
   bool quiet = false;
 };
 
-std::unique_ptr<MetricField> load_metric(const VoronoiOptions& o, int dimension) {
-  if (!o.metric_vdb.empty()) return load_vdb_metric(o.metric_vdb);
+std::unique_ptr<MetricField> load_metric(const VoronoiOptions& o, int dimension,
+                                         std::uint64_t memory_budget) {
+  if (!o.metric_vdb.empty()) return load_vdb_metric(o.metric_vdb, memory_budget);
   if (!o.metric_sol.empty() || !o.metric_mesh.empty()) {
     if (o.metric_sol.empty() || o.metric_mesh.empty())
       throw Error("--metric-file and --metric-mesh must be given together");
@@ -201,10 +202,11 @@ void write_voronoi(const VoronoiOptions& o) {
     const std::vector<Vec3> probes =
         o.probe_file.empty() ? std::vector<Vec3>{} : read_xyz(o.probe_file, domain.dimension());
     const std::vector<Vec3> given_seeds = seeds_from_file(o, domain.dimension());
-    const std::unique_ptr<MetricField> metric = load_metric(o, domain.dimension());
     CanvasOptions canvas_options;
     canvas_options.resolution = o.resolution;
     if (o.memory_budget) canvas_options.memory_budget = parse_byte_size(*o.memory_budget);
+    const std::unique_ptr<MetricField> metric =
+        load_metric(o, domain.dimension(), canvas_options.memory_budget);
     const Canvas canvas = build_canvas(domain, *metric, canvas_options);
     const double canvas_seconds =
         progress.end(std::to_string(canvas.active_voxel_count) + " active voxels");

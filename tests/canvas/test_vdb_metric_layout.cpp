@@ -70,6 +70,24 @@ std::string write_layers(const test::TempDir& dir, int z0, int z1, int dimension
   return write_grids(dir, identity_grids(z0, z1, dimension));
 }
 
+// Tiles stand for many voxels: grids whose voxels would not fit in the memory budget are refused
+// before they are voxelized, against --memory-budget when one is given (the default budget was
+// used whatever the user gave).
+TEST(VdbMetricLayout, GridsBeyondTheMemoryBudgetAreRefused) {
+  test::TempDir dir;
+  const std::string small = write_grids(dir, identity_grids(-4, 4, 3));  // 6 x 729 voxels
+  EXPECT_NO_THROW(load_vdb_metric(small));
+  const std::string refused = test::error_of([&] { load_vdb_metric(small, 10000); });
+  EXPECT_NE(refused.find("over the memory budget of"), std::string::npos) << refused;
+  EXPECT_NE(refused.find("(--memory-budget)"), std::string::npos) << refused;
+  openvdb::GridPtrVec huge = identity_grids(0, 0, 3);
+  for (const openvdb::GridBase::Ptr& grid : huge)  // 2^36 voxels a grid, as tiles
+    static_cast<openvdb::FloatGrid&>(*grid).fill(
+        openvdb::CoordBBox(openvdb::Coord(0), openvdb::Coord(4095)), 1.0f, true);
+  const std::string tiles = test::error_of([&] { load_vdb_metric(write_grids(dir, huge)); });
+  EXPECT_NE(tiles.find("active voxels in all (many as tiles)"), std::string::npos) << tiles;
+}
+
 // A file marked 2D with several z layers used to be read on its lowest layer, silently.
 TEST(VdbMetricLayout, FilesMarkedTwoDimensionalHoldOneLayer) {
   test::TempDir dir;

@@ -1,6 +1,7 @@
 #pragma once
 // A metric field: an SPD tensor at every point of space. Implementations are immutable after
 // construction, so at() may be called from many threads at once.
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -48,7 +49,10 @@ std::unique_ptr<MetricField> load_mesh_metric(const std::string& mesh_path,
                                               const std::string& sol_path);
 
 // Metric stored in an OpenVDB file as six float grids named m11 m12 m22 m13 m23 m33
-// (world-space transform), sampled trilinearly. Implemented in the canvas library.
-std::unique_ptr<MetricField> load_vdb_metric(const std::string& vdb_path);
+// (world-space transform), sampled trilinearly. Implemented in the canvas library. Grids whose
+// voxels (tiles counted voxel by voxel) would not fit in `memory_budget` bytes are refused (0:
+// default_memory_budget(), as CanvasOptions::memory_budget).
+std::unique_ptr<MetricField> load_vdb_metric(const std::string& vdb_path,
+                                             std::uint64_t memory_budget = 0);
 
 }  // namespace rvor
