@@ -897,14 +897,18 @@ __attribute__((always_inline)) inline uint load_lane_row(
     return 0u;
   }
   const size_t slot = (size_t)brick * BRICK_VOLUME + within;
-  const ulong8 s = vload8(0, state + slot);
+  // Two halves of ulong4: a ulong8 is passed to PoCL's builtins in a 512-bit register, and a CPU
+  // without AVX-512 warns that this changes the ABI.
+  const ulong4 first_half = vload4(0, state + slot), second_half = vload4(1, state + slot);
+  const uint8 low = (uint8)(convert_uint4(first_half), convert_uint4(second_half));
   const uint8 c = vload8(0, changed + slot);
-  const float8 distance = as_float8(convert_uint8(s >> 32));
-  const uint8 label = convert_uint8(s) & LABEL_NONE;
+  const float8 distance =
+      as_float8((uint8)(convert_uint4(first_half >> 32), convert_uint4(second_half >> 32)));
+  const uint8 label = low & LABEL_NONE;
   const int8 released =
       FRONT_STEPPING && inside ? TENTATIVE(label) & (distance <= threshold) : (int8)0;
   const uint8 stamp = select(inside ? c : OUTSIDE_STAMP(c, stride), (uint8)round_base, released);
-  const uint8 word = select(convert_uint8(s), convert_uint8(s) & ~TENTATIVE_LABEL, released);
+  const uint8 word = select(low, low & ~TENTATIVE_LABEL, released);
   float d[EDGE];
   uint w[EDGE], t[EDGE];
   vstore8(distance, 0, d);
@@ -1055,9 +1059,11 @@ inline float store_lane(int k, int brick, int position, int corner, uint brick_f
           stamp[x] = LANE_UINT(tile->stamp, p_row + fxx, k);
           evaluation[x] = LANE_UINT(tile->evaluated, l_row + fxx, k);
         }
-        if (brick_flags != 0)
-          vstore8((convert_ulong8(vload8(0, distance)) << 32) | convert_ulong8(vload8(0, word)), 0,
-                  relaxed + row);
+        if (brick_flags != 0) {  // as ulong4 halves, as in load_lane_row
+          const uint8 d = vload8(0, distance), w = vload8(0, word);
+          vstore4((convert_ulong4(d.lo) << 32) | convert_ulong4(w.lo), 0, relaxed + row);
+          vstore4((convert_ulong4(d.hi) << 32) | convert_ulong4(w.hi), 1, relaxed + row);
+        }
         vstore8(vload8(0, evaluation), 0, evaluated + brick_slot + row);
         if (brick_flags & FLAG_CHANGED) vstore8(vload8(0, stamp), 0, changed + brick_slot + row);
         continue;
