@@ -104,7 +104,7 @@ void Canvas::allocate(int dim, double h, const Vec3& world_origin,
 
 void Canvas::set_active(std::size_t slot, const Mat3& G) {
   active[slot] = 1;
-  const SolTensor c = tensor_to_sol(G);
+  const SolTensor c = tensor_to_sol(stored_metric(G, dimension));
   for (int n = 0; n < 6; ++n) metric[6 * slot + n] = static_cast<float>(c[n]);
 }
 

@@ -16,6 +16,24 @@
 namespace rvor {
 namespace {
 
+// A 2D canvas keeps only the xy block of a tensor given to set_active, with 1 along z, as the
+// builder stores it: with another zz entry the reference and the kernels weighed the source
+// factorization differently (docs/scheme.md, "Local update", step 2) and disagreed by 10%.
+TEST(CanvasStorage, SetActiveStoresTheCanvasDimensionsBlock) {
+  Canvas canvas;
+  canvas.allocate(2, 0.5, Vec3::Zero(), {8, 8, 1}, {VoxelIndex{0, 0, 0}});
+  Mat3 G;
+  G << 2, 0.5, 0.3, 0.5, 3, 0.2, 0.3, 0.2, 4;
+  canvas.set_active(5, G);
+  const Mat3 stored = canvas.metric_at(5);
+  EXPECT_EQ(stored(0, 0), 2.0);
+  EXPECT_EQ(stored(0, 1), 0.5);
+  EXPECT_EQ(stored(1, 1), 3.0);
+  EXPECT_EQ(stored(0, 2), 0.0);
+  EXPECT_EQ(stored(1, 2), 0.0);
+  EXPECT_EQ(stored(2, 2), 1.0);
+}
+
 using test::FunctionMetric;
 
 std::string build_error(const DomainSpec& domain, const MetricField& metric,

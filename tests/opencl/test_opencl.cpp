@@ -179,6 +179,20 @@ TEST(OpenCLUniformMetric, CurvedDomainsMatchTheReference) {
   }
 }
 
+// The engine keeps the canvas it uploaded while the caller passes the same one (its address and a
+// fingerprint of its contents). The fingerprint sampled one float in 96 at 256^2, always m11, so a
+// canvas built at the same address with another m22 was taken for the held one, whose stencils
+// then solved it (a solve that never settled, or 18% off the reference).
+TEST(OpenCLCanvasReuse, ACanvasWithAnotherTensorAtTheSameAddressIsUploaded) {
+  REQUIRE_ENGINE(RelaxationVariant::automatic);
+  Canvas canvas = test::make_uniform_box_canvas(2, kLo, kHi, 256, Mat3::Identity());
+  const std::vector<Vec3> seeds = test::random_points(kLo, kHi, 2, 30, 5);
+  VoronoiField field;
+  engine->solve(canvas, seeds, field);
+  canvas = test::make_uniform_box_canvas(2, kLo, kHi, 256, Vec3(1, 9, 4).asDiagonal());
+  test::expect_matches_reference(*engine, canvas, seeds);
+}
+
 // The device solves in units of a power of two near one voxel step (device_length_unit): a metric
 // scaled by 4^k, or a domain and seeds scaled by 2^k, give distances scaled by 2^k bit for bit.
 // In world units float overflowed: a metric scale of 1e12 was 12% off the reference, 1e-9 and a

@@ -58,7 +58,10 @@ class Canvas {
   // Used by builders; brick origins must be multiples of the brick edge inside the box.
   void allocate(int dimension, double voxel_size, const Vec3& origin,
                 const std::array<int, 3>& dims, const std::vector<VoxelIndex>& brick_origins);
-  // Marks a voxel active with the given metric (the slot must exist).
+  // Marks a voxel active with the given metric (the slot must exist), stored as stored_metric
+  // (rvor/metric.h) makes it: in 2D only the xy block is kept, with 1 along z. (A 2D tensor stored
+  // with another zz entry made the engines weigh the source factorization differently: the
+  // reference judged the fit with it and the kernels without, and their fields differed by 10%.)
   void set_active(std::size_t slot, const Mat3& G);
   // Recounts active voxels (after set_active calls).
   void finalize();

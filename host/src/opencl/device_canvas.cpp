@@ -195,11 +195,16 @@ std::uint64_t canvas_fingerprint(const Canvas& canvas) {
   std::memcpy(&bits, &canvas.voxel_size, sizeof bits);
   mix(bits);
   for (int a = 0; a < 3; ++a) mix(static_cast<std::uint64_t>(canvas.dims[a]));
-  const std::size_t step = std::max<std::size_t>(1, canvas.metric.size() / 4096);
-  for (std::size_t n = 0; n < canvas.metric.size(); n += step) {
-    std::uint32_t word;
-    std::memcpy(&word, &canvas.metric[n], sizeof word);
-    mix(word);
+  // Whole tensors of sampled slots: a stride over the floats that is a multiple of 6 (96 at 256^2)
+  // read one component only, so canvases differing in m22 or m33 alone looked the same.
+  const std::size_t step = std::max<std::size_t>(1, canvas.slot_count() / 4096);
+  for (std::size_t slot = 0; slot < canvas.slot_count(); slot += step) {
+    mix(canvas.active[slot]);
+    for (int n = 0; n < 6; ++n) {
+      std::uint32_t word;
+      std::memcpy(&word, &canvas.metric[6 * slot + n], sizeof word);
+      mix(word);
+    }
   }
   return hash;
 }

@@ -87,7 +87,9 @@ int brick_colours(const Canvas& canvas, bool colouring);
 // colours: the brick colours relaxed in turn (1, 4 or 8); the scratch holds the largest class.
 DeviceCanvas upload_canvas(const cl::Context& context, const Canvas& canvas, int colours);
 
-// A cheap identity of a canvas's contents, to reuse an uploaded canvas across calls.
+// A cheap identity of a canvas's contents, to reuse an uploaded canvas across calls: its geometry
+// and the activity and whole tensor of about 4096 evenly spread slots (a canvas at the held one's
+// address that differs only elsewhere is taken for it).
 std::uint64_t canvas_fingerprint(const Canvas& canvas);
 
 }  // namespace rvor::opencl
