@@ -32,6 +32,7 @@ struct BenchOptions {
   std::optional<double> front_step;
   int repetitions = 2;  // the first solve may include compiling the kernels
   std::size_t inserted_seeds = 0;
+  bool no_exact_start = false;
   bool no_reference = false;
   bool no_fastsweeping = false;
   bool json = false;
@@ -105,6 +106,7 @@ std::vector<BenchCase> chosen_cases(const BenchOptions& o) {
     if (o.front_step) c.front_step = *o.front_step;
     c.repetitions = o.repetitions;
     c.inserted_seeds = o.inserted_seeds;
+    c.exact_start = !o.no_exact_start;
     c.reference = !o.no_reference;
     c.fastsweeping = !o.no_fastsweeping;
   }
@@ -284,6 +286,9 @@ void add_bench_command(CLI::App& app) {
                   "`insert` column is the mean insert time as a percentage of the solve")
       ->transform(seed_count(0))
       ->capture_default_str();
+  cmd->add_flag("--no-exact-start", options->no_exact_start,
+                "Solve a uniform metric on a box from +inf, as any other metric, instead of from "
+                "each voxel's nearest seed's exact distance (both engines)");
   cmd->add_flag("--no-reference", options->no_reference, "Skip the CPU reference (slow at 256^3)");
   cmd->add_flag("--no-fastsweeping", options->no_fastsweeping,
                 "Skip OpenVDB FastSweeping (it runs on 3D canvases only)");

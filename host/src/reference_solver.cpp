@@ -14,6 +14,7 @@
 #include <Eigen/LU>
 
 #include "rvor/error.h"
+#include "rvor/nearest_seeds.h"
 #include "rvor/seeds.h"
 #include "rvor/selling.h"
 
@@ -127,6 +128,7 @@ ReferenceSolver::ReferenceSolver(const Canvas& canvas)
     throw Error("reference solver: unexpected canvas brick size");
   compute_stencils(canvas);
   compute_reverse_graph();
+  exact_start_applies_ = exact_start_applies(canvas);
 }
 
 void ReferenceSolver::compute_stencils(const Canvas& canvas) {
@@ -174,11 +176,19 @@ PropagationStats ReferenceSolver::solve(const Canvas& canvas, const std::vector<
   empty.distance.assign(slot_count_, kInfinity);
   empty.label.assign(slot_count_, -1);
   field = std::move(empty);
-  return insert(canvas, seeds, 0, field);
+  const bool exact_start =
+      exact_start_ && exact_start_applies_ && !seeds.empty() && distance_limit_ == kInfinity;
+  return propagate(canvas, seeds, 0, field, exact_start);
 }
 
 PropagationStats ReferenceSolver::insert(const Canvas& canvas, const std::vector<Vec3>& seeds,
                                          std::size_t first_new, ExactField& field) {
+  return propagate(canvas, seeds, first_new, field, false);
+}
+
+PropagationStats ReferenceSolver::propagate(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                                            std::size_t first_new, ExactField& field,
+                                            bool exact_start) {
   const auto start = std::chrono::steady_clock::now();
   if (canvas.slot_count() != slot_count_ || field.distance.size() != slot_count_ ||
       field.label.size() != slot_count_)
@@ -188,8 +198,10 @@ PropagationStats ReferenceSolver::insert(const Canvas& canvas, const std::vector
   validate_seeds(canvas, seeds);
   load_seeds(canvas, seeds);
   load_field(field);
+  if (exact_start) start_at_nearest_seeds(canvas, seeds);
   PropagationStats stats;
   initialise_seed_blocks(canvas, first_new, foreign_seed_claims(canvas, seeds, first_new));
+  if (exact_start) evaluate_all_once(stats);
   run_queue(stats);
   store_field(field);
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -267,6 +279,47 @@ void ReferenceSolver::offer_exact_value(int32_t voxel, int32_t s, bool was_froze
   state.label = s;
   queue_.push_back({u0, voxel});
   std::push_heap(queue_.begin(), queue_.end(), std::greater<QueueEntry>());
+}
+
+// The exact start (docs/scheme.md, "Initialisation"): every active voxel at the least u0 over the
+// seeds (ties: the smaller label), from its brick's candidates. Not boundary data: the seed blocks
+// overwrite their voxels next, and evaluate_all_once checks every other one.
+void ReferenceSolver::start_at_nearest_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds) {
+  const BrickSeedLists nearest = nearest_seed_candidates(canvas, seeds);
+  const std::size_t brick_volume = std::size_t{1} << brick_shift_;
+  for (std::size_t slot = 0; slot < slot_count_; ++slot) {
+    VoxelState& state = state_[slot];
+    if (state.stencil < 0) continue;
+    const std::size_t brick = slot / brick_volume;
+    const Vec3 x = position_of(static_cast<int32_t>(slot));
+    for (std::uint32_t c = nearest.begin[brick]; c < nearest.begin[brick + 1]; ++c) {
+      const int32_t s = nearest.seeds[c];
+      const Vec3 p = x - seeds_[s].position;
+      const double u0 = std::sqrt(std::max(0.0, p.dot(seeds_[s].G * p)));
+      if (u0 < state.value || (u0 == state.value && s < state.label))
+        state.value = u0, state.label = s;
+    }
+  }
+}
+
+// After the exact start: each voxel that is not boundary data is evaluated once, in increasing
+// order of its starting value, and those that change are queued like any change. Most are fixed
+// points already; the voxels next to bisectors, where a neighbour upwind carries another label,
+// are not.
+void ReferenceSolver::evaluate_all_once(PropagationStats& stats) {
+  std::vector<QueueEntry> order;
+  for (std::size_t slot = 0; slot < slot_count_; ++slot)
+    if (state_[slot].stencil >= 0 && !frozen_[slot])
+      order.push_back({state_[slot].value, static_cast<int32_t>(slot)});
+  std::sort(order.begin(), order.end(),
+            [](const QueueEntry& a, const QueueEntry& b) { return b > a; });
+  for (const QueueEntry& entry : order) {
+    ++stats.voxel_updates;
+    if (recompute(entry.voxel)) {
+      queue_.push_back({state_[entry.voxel].value, entry.voxel});
+      std::push_heap(queue_.begin(), queue_.end(), std::greater<QueueEntry>());
+    }
+  }
 }
 
 // Small helpers of the inner loop, defined first so that they are inlined.
@@ -442,6 +495,7 @@ uint64_t fingerprint(const Canvas& canvas) {
 // its last call, so that a chain of insert() calls keeps full precision.
 class ReferencePropagator final : public Propagator {
  public:
+  explicit ReferencePropagator(bool exact_start) : exact_start_(exact_start) {}
   std::string device_description() const override { return "cpu reference"; }
 
   PropagationStats solve(const Canvas& canvas, const std::vector<Vec3>& seeds,
@@ -470,6 +524,7 @@ class ReferencePropagator final : public Propagator {
     if (!solver_ || id != canvas_id_) {
       solver_.reset();  // free the old stencils before building new ones
       solver_ = std::make_unique<ReferenceSolver>(canvas);
+      solver_->set_exact_start(exact_start_);
       canvas_id_ = id;
       last_ = {};
     }
@@ -495,6 +550,7 @@ class ReferencePropagator final : public Propagator {
     last_.label = field.label;
   }
 
+  bool exact_start_;
   std::unique_ptr<ReferenceSolver> solver_;
   uint64_t canvas_id_ = 0;
   ExactField last_;
@@ -506,8 +562,8 @@ class ReferencePropagator final : public Propagator {
 
 namespace rvor {
 
-std::unique_ptr<Propagator> make_reference_propagator() {
-  return std::make_unique<detail::ReferencePropagator>();
+std::unique_ptr<Propagator> make_reference_propagator(bool exact_start) {
+  return std::make_unique<detail::ReferencePropagator>(exact_start);
 }
 
 }  // namespace rvor

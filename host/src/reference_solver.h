@@ -43,6 +43,11 @@ class ReferenceSolver {
   // only upper bounds. For fields needed in a bounded ball only (rvor/local_fields.h). Default
   // +inf: solve everything.
   void set_distance_limit(double limit) { distance_limit_ = limit; }
+  // Solves on a canvas where exact_start_applies (rvor/nearest_seeds.h) start every voxel at its
+  // nearest seed's u0 and evaluate each once, in increasing order, before the queue runs
+  // (docs/scheme.md, "Initialisation"). Off by default; ignored under a distance limit, whose
+  // unsolved values must stay upper bounds.
+  void set_exact_start(bool on) { exact_start_ = on; }
 
  private:
   struct Seed {
@@ -65,6 +70,10 @@ class ReferenceSolver {
   void store_field(ExactField& field) const;
   void initialise_seed_blocks(const Canvas& canvas, std::size_t first_seed,
                               const std::vector<SeedClaim>& claims);
+  PropagationStats propagate(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                             std::size_t first_new, ExactField& field, bool exact_start);
+  void start_at_nearest_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds);
+  void evaluate_all_once(PropagationStats& stats);
   void run_queue(PropagationStats& stats);
 
   // The factored source of one label seen from one voxel x: p = x - s, G_s p and u0(x).
@@ -146,6 +155,8 @@ class ReferenceSolver {
   std::vector<uint8_t> frozen_;
   std::vector<QueueEntry> queue_;  // binary min-heap (std::push_heap with greater)
   double distance_limit_ = std::numeric_limits<double>::infinity();
+  bool exact_start_ = false;
+  bool exact_start_applies_ = false;  // to the canvas (rvor/nearest_seeds.h)
 };
 
 }  // namespace rvor::detail

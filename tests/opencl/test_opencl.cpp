@@ -37,13 +37,16 @@ Mat3 rotated_metric(int dimension, double anisotropy) {
 const Vec3 kLo(-1, -1, -1), kHi(1, 1, 1);
 
 // Both relaxation variants, and scheduling choices of the brick sweep, which change the order of
-// updates, never the fixed point (docs/scheme.md).
+// updates, never the fixed point (docs/scheme.md). The reference starts diagonal metrics at the
+// nearest seed's exact distance (docs/scheme.md, "Initialisation"): the engine from +inf must
+// reach its fixed point as well.
 struct EngineConfig {
   const char* name;
   RelaxationVariant variant;
   int max_sweeps;
   bool brick_colouring;
   bool x86_gathers = true;
+  bool exact_start = true;
 };
 
 class EngineConfigs : public ::testing::TestWithParam<EngineConfig> {
@@ -53,6 +56,7 @@ class EngineConfigs : public ::testing::TestWithParam<EngineConfig> {
     o.max_sweeps = GetParam().max_sweeps;
     o.brick_colouring = GetParam().brick_colouring;
     o.x86_gathers = GetParam().x86_gathers;
+    o.exact_start = GetParam().exact_start;
     return o;
   }
 };
@@ -159,7 +163,11 @@ INSTANTIATE_TEST_SUITE_P(
         EngineConfig{"BrickLanesOneSweep", RelaxationVariant::brick_lanes, 1, true},
         EngineConfig{"BrickLanesAutomaticSweeps", RelaxationVariant::brick_lanes, 0, true},
         EngineConfig{"BrickLanesFourSweeps", RelaxationVariant::brick_lanes, 4, true},
-        EngineConfig{"BrickLanesNoColouring", RelaxationVariant::brick_lanes, 2, false}),
+        EngineConfig{"BrickLanesNoColouring", RelaxationVariant::brick_lanes, 2, false},
+        EngineConfig{"BrickLanesFromInfinity", RelaxationVariant::brick_lanes, 0, true, true,
+                     false},
+        EngineConfig{"VoxelPhasesFromInfinity", RelaxationVariant::voxel_phases, 2, true, true,
+                     false}),
     [](const auto& info) { return std::string(info.param.name); });
 
 // Uniform metrics get one stencil for the whole canvas and the activity bits for the domain:
@@ -176,6 +184,64 @@ TEST(OpenCLUniformMetric, CurvedDomainsMatchTheReference) {
     const Canvas canvas = test::domain_canvas(c.domain, c.metric, c.resolution);
     ASSERT_FALSE(canvas.active[0]);  // the uniform stencil is not slot 0's
     test::expect_matches_reference(*engine, canvas, test::seeds_in(canvas, c.seeds, 7));
+  }
+}
+
+// The exact start (docs/scheme.md, "Initialisation"): on a box with a uniform diagonal metric both
+// engines start every voxel at its nearest seed's exact distance, evaluate each voxel about once,
+// and reach the fixed point that a start from +inf reaches.
+TEST(OpenCLExactStart, ReachesTheFixedPointOfAStartFromInfinity) {
+  OpenCLOptions from_infinity;
+  from_infinity.exact_start = false;
+  REQUIRE_ENGINE_WITH(OpenCLOptions{});
+  const std::unique_ptr<Propagator> cold =
+      make_opencl_propagator(test::engine_device(), from_infinity);
+  for (const int dimension : {2, 3})
+    for (const Vec3& diagonal : {Vec3(1, 1, 1), Vec3(1, 9, 4)}) {
+      SCOPED_TRACE(std::to_string(dimension) + "D, diagonal " + std::to_string(diagonal.y()));
+      const Canvas canvas = test::make_uniform_box_canvas(
+          dimension, kLo, kHi, dimension == 3 ? 48 : 256, diagonal.asDiagonal());
+      const std::vector<Vec3> seeds = test::random_points(kLo, kHi, dimension, 300, 23);
+      VoronoiField reference_cold, reference_exact, exact, from_inf;
+      const PropagationStats reference_cold_stats =
+          make_reference_propagator(false)->solve(canvas, seeds, reference_cold);
+      const PropagationStats reference_stats =
+          make_reference_propagator(true)->solve(canvas, seeds, reference_exact);
+      const PropagationStats exact_stats = engine->solve(canvas, seeds, exact);
+      const PropagationStats cold_stats = cold->solve(canvas, seeds, from_inf);
+      test::expect_same_field(canvas, reference_cold, reference_exact);
+      test::expect_same_field(canvas, reference_cold, exact);
+      test::expect_same_field(canvas, reference_exact, exact);
+      test::expect_same_field(canvas, reference_exact, from_inf);
+      const double voxels = static_cast<double>(canvas.active_voxel_count);
+      std::printf(
+          "[ measured ] %dD: updates per voxel from u0 and from +inf, engine %.2f and "
+          "%.2f, reference %.2f and %.2f\n",
+          dimension, exact_stats.voxel_updates / voxels, cold_stats.voxel_updates / voxels,
+          reference_stats.voxel_updates / voxels, reference_cold_stats.voxel_updates / voxels);
+      EXPECT_LT(exact_stats.voxel_updates, cold_stats.voxel_updates / 2);
+      EXPECT_LT(reference_stats.voxel_updates, reference_cold_stats.voxel_updates / 2);
+    }
+}
+
+// Where u0 may lie far below the geodesic distance (a hole, a rotated stencil that loses terms at
+// the box's faces) the engines start from +inf whatever the option says.
+TEST(OpenCLExactStart, OtherCanvasesStartFromInfinity) {
+  OpenCLOptions from_infinity;
+  from_infinity.exact_start = false;
+  REQUIRE_ENGINE_WITH(OpenCLOptions{});
+  const std::unique_ptr<Propagator> cold =
+      make_opencl_propagator(test::engine_device(), from_infinity);
+  const Canvas disk = test::domain_canvas("implicit:disk:r=1", "uniform:1,0,4", 96);
+  const Canvas rotated = test::make_uniform_box_canvas(3, kLo, kHi, 24, rotated_metric(3, 3.0));
+  for (const Canvas* canvas : {&disk, &rotated}) {
+    const std::vector<Vec3> seeds = test::seeds_in(*canvas, 20, 3);
+    VoronoiField a, b;
+    const PropagationStats with_option = engine->solve(*canvas, seeds, a);
+    const PropagationStats without = cold->solve(*canvas, seeds, b);
+    EXPECT_EQ(with_option.voxel_updates, without.voxel_updates);
+    EXPECT_EQ(a.distance, b.distance);
+    EXPECT_EQ(a.label, b.label);
   }
 }
 

@@ -23,6 +23,8 @@ struct BenchCase {
   RelaxationVariant variant = RelaxationVariant::automatic;  // OpenCL devices only
   // OpenCL brick_lanes solves: OpenCLOptions::front_step (automatic by default).
   double front_step = OpenCLOptions{}.front_step;
+  // Uniform metrics: OpenCLOptions::exact_start, and the same for the CPU reference.
+  bool exact_start = true;
   bool reference = true;     // also time the CPU reference (slow at 256^3)
   bool fastsweeping = true;  // also time OpenVDB FastSweeping (3D canvases)
   int repetitions = 1;       // solves with the same propagator; the fastest counts

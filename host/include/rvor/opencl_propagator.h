@@ -48,6 +48,10 @@ struct OpenCLOptions {
   // 128^3, 10 seeds: 4.7 -> 3.5 s; off for the standard bench cases). make_opencl_propagator
   // throws for NaN, infinities and steps in (0, 0.25), whose rounds would multiply.
   double front_step = -1.0;
+  // Solves (not insertions) on a canvas whose metric is uniform start every voxel at its nearest
+  // seed's exact distance, which the relaxations then verify and repair next to bisectors
+  // (docs/scheme.md, "Initialisation"); false: from +inf, as for any other metric.
+  bool exact_start = true;
 };
 
 // device: "auto", "opencl", "opencl:N" or "pocl" (see devices.h). Throws rvor::Error when the

@@ -79,7 +79,10 @@ class Propagator {
 std::vector<std::uint8_t> find_multi_label_bricks(const Canvas& canvas, const VoronoiField& field);
 
 // The sequential CPU reference solver: clear on purpose, the ground truth for every kernel.
-std::unique_ptr<Propagator> make_reference_propagator();
+// exact_start: solves on a canvas whose metric is uniform start every voxel at its nearest seed's
+// exact distance (docs/scheme.md, "Initialisation"), as the OpenCL engine does by default; false:
+// from +inf.
+std::unique_ptr<Propagator> make_reference_propagator(bool exact_start = true);
 
 // "cpu" -> the reference; "auto", "opencl", "opencl:N", "pocl" -> the OpenCL engine (added by
 // the OpenCL runtime). Throws rvor::Error for unknown names or missing devices.

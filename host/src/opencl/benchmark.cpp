@@ -53,10 +53,11 @@ double sampled_anisotropy(const Canvas& canvas) {
 }
 
 std::unique_ptr<Propagator> make_engine(const BenchCase& c) {
-  if (c.device == "cpu") return make_reference_propagator();
+  if (c.device == "cpu") return make_reference_propagator(c.exact_start);
   OpenCLOptions options;
   options.variant = c.variant;
   options.front_step = c.front_step;
+  options.exact_start = c.exact_start;
   return make_opencl_propagator(c.device, options);
 }
 
@@ -132,10 +133,11 @@ void compare_with_reference(const Canvas& canvas, const VoronoiField& engine,
   r.reference_label_mismatches = mismatches;
 }
 
-void time_reference(const Canvas& canvas, const std::vector<Vec3>& seeds,
+void time_reference(const BenchCase& c, const Canvas& canvas, const std::vector<Vec3>& seeds,
                     const VoronoiField& engine_field, BenchResult& r) {
   VoronoiField reference;
-  const PropagationStats stats = make_reference_propagator()->solve(canvas, seeds, reference);
+  const PropagationStats stats =
+      make_reference_propagator(c.exact_start)->solve(canvas, seeds, reference);
   r.reference_seconds = stats.seconds;
   r.cpu_reference_voxels_per_second = per_second(r.active_voxels, stats.seconds);
   r.reference_ratio = r.voxels_per_second / *r.cpu_reference_voxels_per_second;
@@ -195,7 +197,7 @@ BenchResult run_benchmark_case(const BenchCase& c,
     r.cpu_reference_voxels_per_second = r.voxels_per_second;
     r.reference_ratio = 1.0;
   } else if (c.reference) {
-    time_reference(canvas, seeds, field, r);
+    time_reference(c, canvas, seeds, field, r);
     report(progress, "CPU reference: " + seconds_text(*r.reference_seconds));
   }
   return r;

@@ -10,6 +10,7 @@
 #include "host_pages.h"
 #include "reader_reach.h"
 #include "rvor/error.h"
+#include "rvor/nearest_seeds.h"
 #include "rvor/selling.h"
 #include "slot_ranges.h"
 
@@ -105,20 +106,6 @@ bool is_diagonal_metric(const Canvas& canvas) {
       return m[1] == 0.0f && m[3] == 0.0f && m[4] == 0.0f;
     }
   return false;
-}
-
-// Whether every active voxel carries the same metric (bit for bit).
-bool has_uniform_metric(const Canvas& canvas) {
-  const float* first = nullptr;
-  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
-    if (!canvas.active[slot]) continue;
-    const float* m = &canvas.metric[6 * slot];
-    if (!first)
-      first = m;
-    else if (!std::equal(m, m + 6, first))
-      return false;
-  }
-  return true;
 }
 
 // Appends each packer's shapes to the canvas's table (once each) and returns, per packer, the

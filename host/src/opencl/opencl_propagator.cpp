@@ -17,6 +17,7 @@
 #include "opencl_runtime.h"
 #include "rvor/embedded_kernels.h"
 #include "rvor/error.h"
+#include "rvor/nearest_seeds.h"
 #include "rvor/seed_blocks.h"
 #include "rvor/seeds.h"
 
@@ -97,12 +98,18 @@ class OpenCLPropagator final : public Propagator {
       const auto start = std::chrono::steady_clock::now();
       const std::vector<cl_int4> claims = prepare(canvas, seeds, 0);
       device_field_hash_.reset();
-      queue_.enqueueFillBuffer(canvas_->state, opencl::kInfiniteState, 0,
-                               canvas_->slots * sizeof(cl_ulong));
+      // The exact start writes every slot; its values are no front to step.
+      const bool exact_start = options_.exact_start && exact_start_applies_ && !seeds.empty();
+      if (!exact_start)
+        queue_.enqueueFillBuffer(canvas_->state, opencl::kInfiniteState, 0,
+                                 canvas_->slots * sizeof(cl_ulong));
       reset_stamps();
-      step_ = front_step(canvas, seeds);
+      step_ = exact_start ? 0.0f : front_step(canvas, seeds);
       if (step_ > 0.0f) build_stepping_kernel();
-      return finish(canvas, 0, seeds.size(), claims, field, start, std::nullopt);
+      const std::optional<BrickSeedLists> nearest =
+          exact_start ? std::optional(nearest_seed_candidates(canvas, seeds)) : std::nullopt;
+      return finish(canvas, 0, seeds.size(), claims, field, start, std::nullopt,
+                    nearest ? &*nearest : nullptr);
     });
   }
 
@@ -193,6 +200,7 @@ class OpenCLPropagator final : public Propagator {
           opencl::upload_canvas(context_, canvas, colours(canvas)));
       canvas_identity_ = &canvas;
       fingerprint_ = fingerprint;
+      exact_start_applies_ = exact_start_applies(canvas);
       device_field_hash_.reset();
       build_kernels(canvas);
     }
@@ -296,6 +304,7 @@ class OpenCLPropagator final : public Propagator {
       variant_ = RelaxationVariant::brick_sweep;  // the device cannot hold a phase per work-group
     freeze_ = cl::Kernel(program, "freeze_seed_blocks");
     init_ = cl::Kernel(program, "initialise_seeds");
+    start_ = cl::Kernel(program, "start_at_nearest_seeds");
     claim_ = cl::Kernel(program, "claim_seed_voxels");
     relax_ =
         cl::Kernel(program, variant_ == RelaxationVariant::brick_lanes   ? "relax_brick_lanes"
@@ -315,7 +324,8 @@ class OpenCLPropagator final : public Propagator {
   PropagationStats finish(const Canvas& canvas, std::size_t first_seed, std::size_t seed_count,
                           const std::vector<cl_int4>& claims, VoronoiField& field,
                           std::chrono::steady_clock::time_point start,
-                          std::optional<std::uint64_t> held_field_hash) {
+                          std::optional<std::uint64_t> held_field_hash,
+                          const BrickSeedLists* exact_start = nullptr) {
     queue_.enqueueFillBuffer(canvas_->update_counter, cl_ulong{0}, 0, sizeof(cl_ulong));
     queue_.enqueueFillBuffer(canvas_->touched, cl_uchar{0}, 0, canvas_->bricks);
     queue_.enqueueFillBuffer(canvas_->flags, cl_uchar{0}, 0, canvas_->bricks);
@@ -327,6 +337,7 @@ class OpenCLPropagator final : public Propagator {
                                0, canvas_->bricks * sizeof(cl_float));
     }
     const cl_uint seed_stamp = next_round_base();
+    if (exact_start) start_at_nearest_seeds(*exact_start, seed_stamp);
     if (first_seed > 0) prepare_seed_blocks(0, first_seed, true, seed_stamp);
     prepare_seed_blocks(first_seed, seed_count, false, seed_stamp);
     initialise_seeds(first_seed, seed_count, seed_stamp);
@@ -392,6 +403,27 @@ class OpenCLPropagator final : public Propagator {
              d.touched);
     queue_.enqueueNDRangeKernel(init_, cl::NullRange,
                                 cl::NDRange(round_up(items, kBookkeepingGroup)),
+                                cl::NDRange(kBookkeepingGroup));
+  }
+
+  // Every slot at its least u0 over its brick's candidate seeds, every brick pending
+  // (docs/scheme.md, "Initialisation": the exact start of a uniform metric).
+  void start_at_nearest_seeds(const BrickSeedLists& nearest, cl_uint stamp) {
+    const DeviceCanvasRef d = *canvas_;
+    if (d.bricks == 0) return;
+    const cl::Buffer begin(context_, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                           nearest.begin.size() * sizeof(cl_uint),
+                           const_cast<std::uint32_t*>(nearest.begin.data()));
+    // A buffer may not be empty; an unused entry stands in for no candidates.
+    std::vector<std::int32_t> candidates = nearest.seeds;
+    if (candidates.empty()) candidates.push_back(0);
+    const cl::Buffer listed(context_, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                            candidates.size() * sizeof(cl_int), candidates.data());
+    set_args(start_, static_cast<cl_int>(d.bricks), begin, listed, d.seeds, d.origins, d.activity,
+             d.state, d.flags, d.changed, stamp);
+    const std::size_t rows = d.slots / Canvas::kBrickEdge;  // a work-item per brick row
+    queue_.enqueueNDRangeKernel(start_, cl::NullRange,
+                                cl::NDRange(round_up(rows, kBookkeepingGroup)),
                                 cl::NDRange(kBookkeepingGroup));
   }
 
@@ -557,12 +589,13 @@ class OpenCLPropagator final : public Propagator {
   std::unique_ptr<opencl::DeviceCanvas> canvas_;
   const Canvas* canvas_identity_ = nullptr;
   std::uint64_t fingerprint_ = 0;
+  bool exact_start_applies_ = false;  // to the canvas held (rvor/nearest_seeds.h)
   std::size_t brick_volume_ = 512;
   static constexpr std::uint64_t kMaxStamp = 0xFFFFFFFFu;  // stamps are cl_uint on the device
   cl_uint stamp_stride_ = 1, round_base_ = 0;              // brick_sweep evaluation stamps
   // field_hash of the field finish() returned last, while the device state is still that field.
   std::optional<std::uint64_t> device_field_hash_;
-  cl::Kernel freeze_, init_, claim_, relax_, commit_, activate_, compact_, spread_,
+  cl::Kernel freeze_, init_, start_, claim_, relax_, commit_, activate_, compact_, spread_,
       flag_multi_label_;
   cl::Kernel least_of_, pend_below_, relax_stepping_;
   std::string build_options_;  // of the program the kernels above come from

@@ -1,0 +1,195 @@
+#include "rvor/nearest_seeds.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <string>
+
+#include <utility>
+
+#include "rvor/error.h"
+
+namespace rvor {
+
+namespace {
+
+// Points of R^d (z = 0 in 2D), split at medians along the axes in turn: nearest distance and
+// radius queries in O(log n + k).
+class PointTree {
+ public:
+  PointTree(std::vector<Vec3> points, int dimension)
+      : points_(std::move(points)), order_(points_.size()), dimension_(dimension) {
+    std::iota(order_.begin(), order_.end(), 0);
+    build(0, order_.size(), 0);
+  }
+
+  double nearest_distance(const Vec3& q) const {
+    double best = std::numeric_limits<double>::infinity();
+    nearest(q, 0, order_.size(), 0, best);
+    return std::sqrt(best);
+  }
+
+  // Appends the indices of the points within `radius` of q (unordered).
+  void within(const Vec3& q, double radius, std::vector<std::int32_t>& found) const {
+    collect(q, radius, 0, order_.size(), 0, found);
+  }
+
+ private:
+  static constexpr std::size_t kLeafSize = 8;
+
+  int next_axis(int axis) const { return (axis + 1) % dimension_; }
+  const Vec3& point(std::size_t position) const { return points_[order_[position]]; }
+
+  void build(std::size_t lo, std::size_t hi, int axis) {
+    if (hi - lo <= kLeafSize) return;
+    const std::size_t mid = lo + (hi - lo) / 2;
+    std::nth_element(
+        order_.begin() + lo, order_.begin() + mid, order_.begin() + hi,
+        [&](std::int32_t a, std::int32_t b) { return points_[a][axis] < points_[b][axis]; });
+    build(lo, mid, next_axis(axis));
+    build(mid + 1, hi, next_axis(axis));
+  }
+
+  void nearest(const Vec3& q, std::size_t lo, std::size_t hi, int axis, double& best2) const {
+    if (hi - lo <= kLeafSize) {
+      for (std::size_t i = lo; i < hi; ++i) best2 = std::min(best2, (point(i) - q).squaredNorm());
+      return;
+    }
+    const std::size_t mid = lo + (hi - lo) / 2;
+    best2 = std::min(best2, (point(mid) - q).squaredNorm());
+    const double d = q[axis] - point(mid)[axis];
+    if (d < 0) {
+      nearest(q, lo, mid, next_axis(axis), best2);
+      if (d * d < best2) nearest(q, mid + 1, hi, next_axis(axis), best2);
+    } else {
+      nearest(q, mid + 1, hi, next_axis(axis), best2);
+      if (d * d < best2) nearest(q, lo, mid, next_axis(axis), best2);
+    }
+  }
+
+  void collect(const Vec3& q, double radius, std::size_t lo, std::size_t hi, int axis,
+               std::vector<std::int32_t>& found) const {
+    const double radius2 = radius * radius;
+    if (hi - lo <= kLeafSize) {
+      for (std::size_t i = lo; i < hi; ++i)
+        if ((point(i) - q).squaredNorm() <= radius2) found.push_back(order_[i]);
+      return;
+    }
+    const std::size_t mid = lo + (hi - lo) / 2;
+    if ((point(mid) - q).squaredNorm() <= radius2) found.push_back(order_[mid]);
+    const double split = point(mid)[axis];
+    if (q[axis] - radius <= split) collect(q, radius, lo, mid, next_axis(axis), found);
+    if (q[axis] + radius >= split) collect(q, radius, mid + 1, hi, next_axis(axis), found);
+  }
+
+  std::vector<Vec3> points_;
+  std::vector<std::int32_t> order_;
+  int dimension_;
+};
+
+std::size_t first_active_slot(const Canvas& canvas) {
+  std::size_t slot = 0;
+  while (!canvas.active[slot]) ++slot;
+  return slot;
+}
+
+// sqrt of the metric's diagonal, per axis (1 along z in 2D): with a diagonal metric |q|_G is the
+// Euclidean length of the scaled q, and a brick's voxel centres scale to an axis-aligned box.
+Vec3 axis_scales(const Canvas& canvas) {
+  const Mat3 G = canvas.metric_at(first_active_slot(canvas));
+  return Vec3(std::sqrt(G(0, 0)), std::sqrt(G(1, 1)),
+              canvas.dimension == 3 ? std::sqrt(G(2, 2)) : 1.0);
+}
+
+// The least and the greatest distance from y to the points of the box [lo, hi].
+std::pair<double, double> box_distances(const Vec3& y, const Vec3& lo, const Vec3& hi) {
+  double least = 0.0, greatest = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    const double outside = std::max({0.0, lo[a] - y[a], y[a] - hi[a]});
+    const double farthest = std::max(std::abs(y[a] - lo[a]), std::abs(y[a] - hi[a]));
+    least += outside * outside;
+    greatest += farthest * farthest;
+  }
+  return {std::sqrt(least), std::sqrt(greatest)};
+}
+
+}  // namespace
+
+bool has_uniform_metric(const Canvas& canvas) {
+  const float* first = nullptr;
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
+    if (!canvas.active[slot]) continue;
+    const float* m = &canvas.metric[6 * slot];
+    if (!first)
+      first = m;
+    else if (!std::equal(m, m + 6, first))
+      return false;
+  }
+  return true;
+}
+
+bool fills_index_box(const Canvas& canvas) {
+  const std::size_t box =
+      static_cast<std::size_t>(canvas.dims[0]) * canvas.dims[1] * canvas.dims[2];
+  return canvas.active_voxel_count == box;
+}
+
+bool exact_start_applies(const Canvas& canvas) {
+  if (canvas.active_voxel_count == 0 || !fills_index_box(canvas) || !has_uniform_metric(canvas))
+    return false;
+  const float* m = &canvas.metric[6 * first_active_slot(canvas)];  // .sol: m11 m12 m22 m13 m23 m33
+  return m[1] == 0.0f && (canvas.dimension == 2 || (m[3] == 0.0f && m[4] == 0.0f));
+}
+
+BrickSeedLists nearest_seed_candidates(const Canvas& canvas, const std::vector<Vec3>& seeds) {
+  if (canvas.active_voxel_count == 0) throw Error("nearest seeds: the canvas has no active voxel");
+  BrickSeedLists lists;
+  lists.begin.assign(canvas.brick_count() + 1, 0);
+  if (seeds.empty()) return lists;
+  const Vec3 scales = axis_scales(canvas);
+  std::vector<Vec3> points;
+  points.reserve(seeds.size());
+  for (const Vec3& seed : seeds) {
+    Vec3 c = canvas.index_coordinates(seed);
+    if (canvas.dimension == 2) c.z() = 0.0;
+    points.push_back(scales.cwiseProduct(c));
+  }
+  const PointTree tree(points, canvas.dimension);
+  const double edge = Canvas::kBrickEdge - 1;
+  const Vec3 extent = scales.cwiseProduct(Vec3(edge, edge, canvas.dimension == 3 ? edge : 0.0));
+  std::vector<std::int32_t> found;
+  std::vector<std::pair<double, double>> reach;  // least and greatest distance to the brick
+  for (std::size_t brick = 0; brick < canvas.brick_count(); ++brick) {
+    const VoxelIndex& o = canvas.brick_origins[brick];
+    const Vec3 lo = scales.cwiseProduct(Vec3(o.i, o.j, o.k)), hi = lo + extent;
+    const Vec3 centre = 0.5 * (lo + hi);
+    // Every voxel of the brick is within half its diameter of the centre, so no voxel's nearest
+    // seed lies farther from the centre than the centre's nearest plus the diameter.
+    const double radius = tree.nearest_distance(centre) + extent.norm();
+    found.clear();
+    tree.within(centre, radius * (1.0 + 1e-9) + 1e-9, found);  // rounding never drops a seed
+    // Of those, a seed whose least distance to the brick exceeds another's greatest is nearest
+    // to none of its voxels.
+    reach.clear();
+    double least_greatest = std::numeric_limits<double>::infinity();
+    for (const std::int32_t s : found) {
+      reach.push_back(box_distances(points[s], lo, hi));
+      least_greatest = std::min(least_greatest, reach.back().second);
+    }
+    std::size_t kept = 0;
+    for (std::size_t n = 0; n < found.size(); ++n)
+      if (reach[n].first <= least_greatest * (1.0 + 1e-9) + 1e-9) found[kept++] = found[n];
+    found.resize(kept);
+    std::sort(found.begin(), found.end());
+    lists.seeds.insert(lists.seeds.end(), found.begin(), found.end());
+    if (lists.seeds.size() > std::numeric_limits<std::uint32_t>::max())
+      throw Error("nearest seeds: over 2^32 candidate entries (" + std::to_string(seeds.size()) +
+                  " seeds on " + std::to_string(canvas.brick_count()) + " bricks)");
+    lists.begin[brick + 1] = static_cast<std::uint32_t>(lists.seeds.size());
+  }
+  return lists;
+}
+
+}  // namespace rvor

@@ -1,0 +1,107 @@
+// The exact start's per-brick seed lists (rvor/nearest_seeds.h) against brute force: every seed of
+// least u0 at every voxel is listed for the voxel's brick; and where the exact start applies.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "rvor/nearest_seeds.h"
+#include "solver_fixtures.h"
+
+namespace rvor::test {
+namespace {
+
+const Vec3 kLo(-1, -1, -1), kHi(1, 1, 1);
+
+// `count` points uniform in the box scaled by `spread` around `centre` (z = 0 in 2D).
+std::vector<Vec3> points_around(const Vec3& centre, double spread, int dimension, int count,
+                                unsigned rng_seed) {
+  std::mt19937 rng(rng_seed);
+  std::uniform_real_distribution<double> unit(-0.95, 0.95);
+  std::vector<Vec3> points;
+  for (int n = 0; n < count; ++n) {
+    Vec3 p = centre + spread * Vec3(unit(rng), unit(rng), unit(rng));
+    if (dimension == 2) p.z() = 0;
+    points.push_back(p);
+  }
+  return points;
+}
+
+// For every active voxel, each seed whose u0 is the least (to a relative 1e-12) is in the list of
+// the voxel's brick. Returns the mean list length.
+double expect_lists_hold_nearest_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds) {
+  const BrickSeedLists lists = nearest_seed_candidates(canvas, seeds);
+  EXPECT_EQ(lists.begin.size(), canvas.brick_count() + 1);
+  const Mat3 G = canvas.metric_at(0);
+  std::vector<double> u0(seeds.size());
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
+    if (!canvas.active[slot]) continue;
+    const Vec3 x = canvas.world_of(slot);
+    for (std::size_t s = 0; s < seeds.size(); ++s)
+      u0[s] = std::sqrt((x - seeds[s]).dot(G * (x - seeds[s])));
+    const double least = *std::min_element(u0.begin(), u0.end());
+    const std::size_t brick = slot / canvas.brick_volume();
+    const auto first = lists.seeds.begin() + lists.begin[brick];
+    const auto last = lists.seeds.begin() + lists.begin[brick + 1];
+    for (std::size_t s = 0; s < seeds.size(); ++s)
+      if (u0[s] <= least * (1 + 1e-12) &&
+          !std::binary_search(first, last, static_cast<std::int32_t>(s))) {
+        ADD_FAILURE() << "seed " << s << " is nearest to slot " << slot
+                      << " but not listed for its brick";
+        return 0.0;
+      }
+  }
+  return static_cast<double>(lists.seeds.size()) / static_cast<double>(canvas.brick_count());
+}
+
+TEST(NearestSeeds, ListsHoldEveryVoxelsNearestSeeds) {
+  const Mat3 diagonal = Vec3(1.0, 9.0, 4.0).asDiagonal();
+  for (const int dimension : {2, 3})
+    for (const Mat3& G : {Mat3(Mat3::Identity()), diagonal, Mat3(Vec3(100, 1, 1).asDiagonal())}) {
+      const Canvas canvas =
+          make_uniform_box_canvas(dimension, kLo, kHi, dimension == 3 ? 40 : 160, G);
+      const Vec3 corner(-0.8, 0.7, dimension == 3 ? -0.6 : 0.0);
+      for (const std::vector<Vec3>& seeds :
+           {points_around(Vec3::Zero(), 1.0, dimension, 1, 3),
+            points_around(Vec3::Zero(), 1.0, dimension, 300, 5),
+            points_around(corner, 0.1, dimension, 40, 7)}) {  // far bricks need far seeds
+        SCOPED_TRACE(std::to_string(dimension) + "D, " + std::to_string(seeds.size()) + " seeds");
+        const double mean = expect_lists_hold_nearest_seeds(canvas, seeds);
+        std::printf("[ measured ] %dD, %zu seeds: %.1f seeds listed per brick\n", dimension,
+                    seeds.size(), mean);
+      }
+    }
+}
+
+TEST(NearestSeeds, TiesAreAllListed) {
+  // Two seeds mirrored about the plane x = 0: voxels at x = 0 have two nearest seeds.
+  const Canvas canvas = make_uniform_box_canvas(3, kLo, kHi, 33, Mat3::Identity());
+  expect_lists_hold_nearest_seeds(canvas, {Vec3(-0.5, 0.1, 0.2), Vec3(0.5, 0.1, 0.2)});
+}
+
+TEST(NearestSeeds, TheExactStartNeedsAUniformDiagonalMetricOnAFullBox) {
+  for (const int dimension : {2, 3}) {
+    EXPECT_TRUE(
+        exact_start_applies(make_uniform_box_canvas(dimension, kLo, kHi, 16, Mat3::Identity())));
+    EXPECT_TRUE(exact_start_applies(
+        make_uniform_box_canvas(dimension, kLo, kHi, 16, Vec3(1.0, 100.0, 4.0).asDiagonal())));
+    EXPECT_FALSE(exact_start_applies(make_uniform_box_canvas(
+        dimension, kLo, kHi, 16, uniform_anisotropic_metric(Vec3(1, 1, 0), 3))));
+    const Canvas varying = make_box_canvas(dimension, kLo, kHi, 16, [](const Vec3& p) {
+      return Mat3(Vec3(1.0 + p.x() * p.x(), 1.0, 1.0).asDiagonal());
+    });
+    EXPECT_FALSE(exact_start_applies(varying));
+    Canvas holed = make_uniform_box_canvas(dimension, kLo, kHi, 16, Mat3::Identity());
+    holed.active[holed.slot_of(8, 8, dimension == 3 ? 8 : 0)] = 0;
+    --holed.active_voxel_count;
+    EXPECT_FALSE(fills_index_box(holed));
+    EXPECT_FALSE(exact_start_applies(holed));
+  }
+}
+
+}  // namespace
+}  // namespace rvor::test
