@@ -187,15 +187,19 @@ TEST(OpenCLUniformMetric, CurvedDomainsMatchTheReference) {
   }
 }
 
+// The test device's engine started from +inf (OpenCLOptions::exact_start off).
+std::unique_ptr<Propagator> engine_from_infinity() {
+  OpenCLOptions options;
+  options.exact_start = false;
+  return make_opencl_propagator(test::engine_device(), options);
+}
+
 // The exact start (docs/scheme.md, "Initialisation"): on a box with a uniform diagonal metric both
 // engines start every voxel at its nearest seed's exact distance, evaluate each voxel about once,
 // and reach the fixed point that a start from +inf reaches.
 TEST(OpenCLExactStart, ReachesTheFixedPointOfAStartFromInfinity) {
-  OpenCLOptions from_infinity;
-  from_infinity.exact_start = false;
   REQUIRE_ENGINE_WITH(OpenCLOptions{});
-  const std::unique_ptr<Propagator> cold =
-      make_opencl_propagator(test::engine_device(), from_infinity);
+  const std::unique_ptr<Propagator> cold = engine_from_infinity();
   for (const int dimension : {2, 3})
     for (const Vec3& diagonal : {Vec3(1, 1, 1), Vec3(1, 9, 4)}) {
       SCOPED_TRACE(std::to_string(dimension) + "D, diagonal " + std::to_string(diagonal.y()));
@@ -227,11 +231,8 @@ TEST(OpenCLExactStart, ReachesTheFixedPointOfAStartFromInfinity) {
 // Where u0 may lie far below the geodesic distance (a hole, a rotated stencil that loses terms at
 // the box's faces) the engines start from +inf whatever the option says.
 TEST(OpenCLExactStart, OtherCanvasesStartFromInfinity) {
-  OpenCLOptions from_infinity;
-  from_infinity.exact_start = false;
   REQUIRE_ENGINE_WITH(OpenCLOptions{});
-  const std::unique_ptr<Propagator> cold =
-      make_opencl_propagator(test::engine_device(), from_infinity);
+  const std::unique_ptr<Propagator> cold = engine_from_infinity();
   const Canvas disk = test::domain_canvas("implicit:disk:r=1", "uniform:1,0,4", 96);
   const Canvas rotated = test::make_uniform_box_canvas(3, kLo, kHi, 24, rotated_metric(3, 3.0));
   for (const Canvas* canvas : {&disk, &rotated}) {
