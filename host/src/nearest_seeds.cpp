@@ -136,11 +136,15 @@ bool fills_index_box(const Canvas& canvas) {
   return canvas.active_voxel_count == box;
 }
 
-bool exact_start_applies(const Canvas& canvas) {
-  if (canvas.active_voxel_count == 0 || !fills_index_box(canvas) || !has_uniform_metric(canvas))
-    return false;
+bool first_metric_is_diagonal(const Canvas& canvas) {
+  if (canvas.active_voxel_count == 0) return false;
   const float* m = &canvas.metric[6 * first_active_slot(canvas)];  // .sol: m11 m12 m22 m13 m23 m33
-  return m[1] == 0.0f && (canvas.dimension == 2 || (m[3] == 0.0f && m[4] == 0.0f));
+  return m[1] == 0.0f && m[3] == 0.0f && m[4] == 0.0f;  // a 2D canvas stores m13 = m23 = 0
+}
+
+bool exact_start_applies(const Canvas& canvas) {
+  return canvas.active_voxel_count > 0 && fills_index_box(canvas) &&
+         first_metric_is_diagonal(canvas) && has_uniform_metric(canvas);
 }
 
 BrickSeedLists nearest_seed_candidates(const Canvas& canvas, const std::vector<Vec3>& seeds) {

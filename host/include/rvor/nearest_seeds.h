@@ -14,6 +14,10 @@ namespace rvor {
 // Whether every active voxel carries the same metric, bit for bit (true for no active voxel).
 bool has_uniform_metric(const Canvas& canvas);
 
+// Whether the first active voxel's metric (for a uniform metric: every voxel's) has zero
+// off-diagonal entries; false without active voxels.
+bool first_metric_is_diagonal(const Canvas& canvas);
+
 // Whether the active voxels fill the whole index box (a box or rectangle domain), so that the
 // straight segment between two voxels stays in the domain. Elsewhere u0 can be far below the
 // geodesic distance (behind a hole, in a component without seeds), and values that low hold each

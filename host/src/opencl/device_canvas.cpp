@@ -97,17 +97,6 @@ struct StencilPacker {
   }
 };
 
-// Whether the first active voxel's metric (for a uniform metric: every voxel's) has zero
-// off-diagonal entries (.sol order m11 m12 m22 m13 m23 m33).
-bool is_diagonal_metric(const Canvas& canvas) {
-  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot)
-    if (canvas.active[slot]) {
-      const float* m = &canvas.metric[6 * slot];
-      return m[1] == 0.0f && m[3] == 0.0f && m[4] == 0.0f;
-    }
-  return false;
-}
-
 // Appends each packer's shapes to the canvas's table (once each) and returns, per packer, the
 // canvas index of each of its local indices.
 std::vector<std::vector<std::uint32_t>> merge_shapes(const std::vector<StencilPacker>& packers,
@@ -289,7 +278,7 @@ DeviceCanvas upload_canvas(const cl::Context& context, const Canvas& canvas, int
     for (std::size_t i = 0; i < kStencilTerms; ++i)
       if (stencils.records[i] > 0.0f)
         d.uniform_offsets.assign(stencils.shapes.begin(), stencils.shapes.begin() + 3 * (i + 1));
-    d.uniform_diagonal = is_diagonal_metric(canvas);
+    d.uniform_diagonal = first_metric_is_diagonal(canvas);
   }
   d.activity = make_buffer(context, activity_bits(canvas), d.bytes);
   d.stencils = make_buffer(context, stencils.records, d.bytes);

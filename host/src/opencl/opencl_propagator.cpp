@@ -414,11 +414,10 @@ class OpenCLPropagator final : public Propagator {
     const cl::Buffer begin(context_, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
                            nearest.begin.size() * sizeof(cl_uint),
                            const_cast<std::uint32_t*>(nearest.begin.data()));
-    // A buffer may not be empty; an unused entry stands in for no candidates.
-    std::vector<std::int32_t> candidates = nearest.seeds;
-    if (candidates.empty()) candidates.push_back(0);
+    // Not empty: every brick lists at least its nearest seed.
     const cl::Buffer listed(context_, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                            candidates.size() * sizeof(cl_int), candidates.data());
+                            nearest.seeds.size() * sizeof(cl_int),
+                            const_cast<std::int32_t*>(nearest.seeds.data()));
     set_args(start_, static_cast<cl_int>(d.bricks), begin, listed, d.seeds, d.origins, d.activity,
              d.state, d.flags, d.changed, stamp);
     const std::size_t rows = d.slots / Canvas::kBrickEdge;  // a work-item per brick row
