@@ -23,8 +23,6 @@ std::string format_point(const Vec3& p) {
   return out.str();
 }
 
-// Parses 2 or 3 numbers separated by whitespace and/or commas; nothing else may follow. Returns
-// how many, 0 on a malformed line.
 // Whether a separator (',' or ';') has no number before or after it: "1,,2", ",1,2", "1,2,".
 bool has_empty_field(const std::string& line) {
   bool after_separator = true;  // the line's start counts as one
@@ -39,6 +37,8 @@ bool has_empty_field(const std::string& line) {
   return any_separator && after_separator;
 }
 
+// Parses 2 or 3 numbers separated by whitespace and/or commas; nothing else may follow. Returns
+// how many, 0 on a malformed line.
 int parse_point(std::string line, Vec3& point) {
   if (has_empty_field(line)) return 0;
   for (char& c : line)

@@ -3,7 +3,6 @@
 
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 
 #include "rvor/atomic_file.h"
@@ -12,13 +11,6 @@
 
 namespace rvor {
 namespace {
-
-std::string text_of(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 // Two runs writing into one output directory: the one that publishes second must not replace
 // the first one's file (its "already exists" check was made long before).
@@ -36,12 +28,12 @@ TEST(AtomicFile, LinkNewLeavesAFileThatAppearedMeanwhile) {
               std::string::npos)
         << error.what();
   }
-  EXPECT_EQ(text_of(target), "first run\n");
-  EXPECT_EQ(text_of(staged), "second run\n");  // the caller's, to remove or retry
+  EXPECT_EQ(test::read_text(target), "first run\n");
+  EXPECT_EQ(test::read_text(staged), "second run\n");  // the caller's, to remove or retry
 
   const std::string fresh = dir.file("seeds.xyz");
   link_new(staged, fresh);
-  EXPECT_EQ(text_of(fresh), "second run\n");
+  EXPECT_EQ(test::read_text(fresh), "second run\n");
   EXPECT_TRUE(std::filesystem::exists(staged));  // a hard link here: the staged name stays
 }
 

@@ -1,8 +1,6 @@
 // Bad input through the real tool: each case must end with exit code 1 (not a crash), exactly one
 // line on stderr that names the problem and where, and no output file left behind.
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -268,10 +266,7 @@ TEST_F(CliErrors, WholeNumbersWithLeadingZerosAreDecimal) {
         run_command(rvor_binary() + " voronoi --quiet --device cpu --out " + out_dir +
                     " --domain rect:-1,-1,1,1 " + args);
     EXPECT_EQ(result.exit_code, 0) << args << ": " << result.err;
-    std::ifstream in(out_dir + "/seeds.xyz");
-    std::stringstream text;
-    text << in.rdbuf();
-    return text.str();
+    return read_text(out_dir + "/seeds.xyz");
   };
   EXPECT_EQ(seeds_of("--resolution 16 --random-seeds 010 --rng-seed 010"),
             seeds_of("--resolution 16 --random-seeds 10 --rng-seed 10"));

@@ -235,10 +235,7 @@ TEST_F(CliOutputs, InputsAreNeverReplacedByOutputs) {
                             "/seeds.xyz, which this run would replace"),
             std::string::npos)
       << result.err;
-  std::ifstream in(out() + "/seeds.xyz");
-  std::stringstream text;
-  text << in.rdbuf();
-  EXPECT_EQ(text.str(), "# my seeds\n0 0\n");
+  EXPECT_EQ(read_text(out() + "/seeds.xyz"), "# my seeds\n0 0\n");
 }
 
 // Seeds that share a voxel can leave some with an empty cell: said on the terminal and counted
