@@ -39,12 +39,15 @@ struct BenchOptions {
   bool quiet = false;
 };
 
-// --front-step: 0 (off) or a step the engine takes (OpenCLOptions::front_step, at least 0.25).
+// --front-step: 0 (off) or a step the engine takes (OpenCLOptions::front_step, at least
+// kSmallestFrontStep). NaN and infinities fail the comparisons too.
 const CLI::Validator front_step_range(
     [](const std::string& text) -> std::string {
       const std::optional<double> value = parse_decimal(text);
-      if (value && (*value == 0.0 || (*value >= 0.25 && *value <= 1000.0))) return "";
-      return "'" + text.substr(0, 40) + "' is not 0 (off) or a step from 0.25 to 1000";
+      if (value && (*value == 0.0 || (*value >= kSmallestFrontStep && *value <= 1000.0))) return "";
+      char smallest[32];
+      std::snprintf(smallest, sizeof smallest, "%g", kSmallestFrontStep);
+      return "'" + text.substr(0, 40) + "' is not 0 (off) or a step from " + smallest + " to 1000";
     },
     "K");
 
@@ -274,7 +277,7 @@ void add_bench_command(CLI::App& app) {
                   "threshold stay tentative; once per colour cycle it moves K past the least "
                   "tentative value), at least 0.25; 0: off; default automatic: 3 for non-axis "
                   "stencils and Voronoi cells at least 50 voxels across, else off")
-      ->check(finite_number & front_step_range);
+      ->check(front_step_range);
   cmd->add_option("--repeat", options->repetitions,
                   "Solves per case with the same engine; the fastest counts (the first also "
                   "uploads the canvas, and compiles the kernels where PoCL's cache lacks them: "

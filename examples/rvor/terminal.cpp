@@ -83,14 +83,6 @@ CLI::Validator whole_number_in(double least, double most, const std::string& mos
 
 const CLI::Validator decimal_integer = whole_number_in(-2147483648.0, 2147483647.0, "2^31 - 1");
 
-const CLI::Validator finite_number(
-    [](const std::string& text) -> std::string {
-      const std::optional<double> value = parse_decimal(text);
-      if (!value) return "'" + text.substr(0, 40) + "' is not a finite number";
-      return "";
-    },
-    "FINITE");
-
 const CLI::Validator rng_seed_value(
     [](std::string& text) -> std::string {
       std::uint64_t value = 0;

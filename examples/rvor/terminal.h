@@ -52,7 +52,6 @@ inline CLI::Validator seed_count(double least) {
 // --rng-seed: a whole number that fits in 64 bits, checked on its digits (2^64 - 1 is no double:
 // a comparison in double let 2^64 and above through, saturated to 2^64 - 1).
 extern const CLI::Validator rng_seed_value;
-extern const CLI::Validator finite_number;
 // A file or directory name that is not empty ("--seeds $UNSET" would otherwise mean "none").
 extern const CLI::Validator non_empty_path;
 

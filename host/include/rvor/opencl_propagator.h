@@ -20,6 +20,10 @@ enum class RelaxationVariant {
                  // of the phase, in local memory (GPU)
 };
 
+// The shortest front step (OpenCLOptions::front_step, voxel lengths) the engine takes: shorter
+// steps multiply the rounds (1e-30 took 360 times the rounds).
+constexpr double kSmallestFrontStep = 0.25;
+
 struct OpenCLOptions {
   RelaxationVariant variant = RelaxationVariant::automatic;
   // brick_sweep and brick_lanes: most sweeps per brick and round, in [1, 64], or 0: automatic, 4

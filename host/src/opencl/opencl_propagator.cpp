@@ -27,8 +27,6 @@ namespace {
 
 // Bounds the evaluation stamps one relaxation uses (kernels/propagation.cl, work avoidance).
 constexpr int kMaxSweeps = 64;
-// Front steps below this many voxel lengths multiply the rounds (1e-30 took 360 times the rounds).
-constexpr double kSmallestFrontStep = 0.25;
 constexpr std::size_t kSeedRecord = 16;  // floats, see kernels/eikonal_scheme.clh
 constexpr std::size_t kBookkeepingGroup = 64;
 constexpr int kLanes = 8;  // bricks per work-item of relax_brick_lanes (kernels/brick_lanes.cl)
