@@ -238,22 +238,21 @@ double coarse_mesh_voxels(const ResolvedDomain& domain, const Placement& fine) {
   return double(tree->activeVoxelCount()) * std::pow(coarse.h / fine.h, 3);
 }
 
-// Checks the budget against an exact count (box), the index box, or a coarse estimate.
+// Checks the budget, less what the metric field holds, against an exact count (box), the index
+// box, or a coarse estimate.
 void check_budget(const ResolvedDomain& domain, const Placement& p, int resolution,
-                  std::uint64_t budget) {
+                  std::uint64_t budget, std::uint64_t held_bytes) {
   const double cells = p.brick_table_cells();
   const double box_voxels = p.index_box_voxels();
-  const bool cheap_bound_fits = estimated_canvas_bytes(box_voxels, cells) <=
-                                double(budget ? budget : default_memory_budget());
-  if (domain.spec->kind == DomainSpec::Kind::Box ||
-      domain.spec->kind == DomainSpec::Kind::Rectangle || cheap_bound_fits ||
-      resolution <= kCoarseEstimateResolution) {
-    check_memory_budget(box_voxels, cells, budget);
-  } else if (domain.shape) {
-    check_memory_budget(coarse_implicit_voxels(*domain.shape, p), cells, budget);
-  } else {
-    check_memory_budget(coarse_mesh_voxels(domain, p), cells, budget);
-  }
+  const bool cheap_bound_fits = estimated_canvas_bytes(box_voxels, cells) + double(held_bytes) <=
+                                double(resolved_memory_budget(budget));
+  double voxels = box_voxels;
+  if (domain.spec->kind != DomainSpec::Kind::Box &&
+      domain.spec->kind != DomainSpec::Kind::Rectangle && !cheap_bound_fits &&
+      resolution > kCoarseEstimateResolution)
+    voxels =
+        domain.shape ? coarse_implicit_voxels(*domain.shape, p) : coarse_mesh_voxels(domain, p);
+  check_memory_budget(voxels, cells, budget, held_bytes);
 }
 
 BoolTree::Ptr topology(const ResolvedDomain& domain, const Placement& p) {
@@ -350,7 +349,8 @@ Canvas build_canvas(const DomainSpec& domain, const MetricField& metric,
     throw Error("metric '" + metric.description() + "' is 2D but domain " + domain.description() +
                 " is 3D");
   const Placement placement = place_voxels(resolved, options.resolution);
-  check_budget(resolved, placement, options.resolution, options.memory_budget);
+  check_budget(resolved, placement, options.resolution, options.memory_budget,
+               metric.resident_bytes());
 
   openvdb::initialize();
   const BoolTree::Ptr tree = topology(resolved, placement);

@@ -42,14 +42,22 @@ std::string format_bytes(double bytes) {
   return text;
 }
 
-void check_memory_budget(double active_voxels, double brick_table_cells, std::uint64_t budget) {
-  if (budget == 0) budget = default_memory_budget();
+std::uint64_t resolved_memory_budget(std::uint64_t budget) {
+  return budget != 0 ? budget : default_memory_budget();
+}
+
+void check_memory_budget(double active_voxels, double brick_table_cells, std::uint64_t budget,
+                         std::uint64_t held_bytes) {
+  budget = resolved_memory_budget(budget);
   const double needed = estimated_canvas_bytes(active_voxels, brick_table_cells);
-  if (needed <= static_cast<double>(budget)) return;
+  const double held = static_cast<double>(held_bytes);
+  if (needed + held <= static_cast<double>(budget)) return;
   char voxels[32];
   std::snprintf(voxels, sizeof voxels, "%.2g", active_voxels);
+  const std::string held_text =
+      held_bytes != 0 ? ", with the metric field's " + format_bytes(held) + " already held" : "";
   throw Error("canvas of ~" + std::string(voxels) + " active voxels needs ~" +
-              format_bytes(needed) + ", over the memory budget of " +
+              format_bytes(needed) + held_text + ", over the memory budget of " +
               format_bytes(static_cast<double>(budget)) + " (--memory-budget)");
 }
 

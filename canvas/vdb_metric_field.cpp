@@ -90,8 +90,7 @@ void require_voxels_fit(const std::string& path, const std::array<FloatGrid::Ptr
   double voxels = 0;
   for (const auto& grid : grids) voxels += static_cast<double>(grid->activeVoxelCount());
   const double bytes = kBytesPerVoxel * voxels;
-  const double budget =
-      static_cast<double>(memory_budget != 0 ? memory_budget : default_memory_budget());
+  const double budget = static_cast<double>(resolved_memory_budget(memory_budget));
   if (bytes > budget) {
     std::ostringstream count;
     count << voxels;
@@ -168,6 +167,11 @@ class VdbMetricField : public MetricField {
     return "vdb:" + path_ + (guessed_2d_ ? " (2D: its values lie on one z layer)" : "");
   }
   std::optional<Box> natural_domain() const override { return bounds_; }
+  std::uint64_t resident_bytes() const override {
+    std::uint64_t bytes = 0;
+    for (const auto& grid : grids_) bytes += grid->memUsage();
+    return bytes;
+  }
 
   Mat3 at(const Vec3& p) const override {
     openvdb::Vec3d index = grids_[0]->transform().worldToIndex(openvdb::Vec3d(p.x(), p.y(), p.z()));

@@ -400,8 +400,8 @@ void add_voronoi_command(CLI::App& app) {
                 "not write (as its report.json lists them) are removed, so that the directory "
                 "holds one run's outputs. An input file of this run is never replaced");
   cmd->add_option("--memory-budget", options->memory_budget,
-                  "Refuse canvases (and --metric-vdb grids) needing more memory than this "
-                  "(bytes, or with K/M/G/T); "
+                  "Refuse canvases (and --metric-vdb grids) needing more memory than this, "
+                  "a canvas counting the grids it is built from (bytes, or with K/M/G/T); "
                   "default 75% of physical memory");
   cmd->add_flag("--quiet", options->quiet, "Print nothing but errors");
   cmd->callback([options, device] {

@@ -412,6 +412,33 @@ TEST(BuildCanvas, HugeCanvasesAreRejectedInstantlyByTheMemoryEstimate) {
             std::string::npos);
 }
 
+// A field that holds memory (a VDB file's grids) shares the budget with the canvas: the grids
+// were checked against the whole budget, and the canvas against the same budget again.
+class HeldMemoryMetric : public MetricField {
+ public:
+  explicit HeldMemoryMetric(std::uint64_t held) : held_(held) {}
+  int dimension() const override { return 3; }
+  Mat3 at(const Vec3&) const override { return Mat3::Identity(); }
+  std::string description() const override { return "identity holding memory"; }
+  std::uint64_t resident_bytes() const override { return held_; }
+
+ private:
+  std::uint64_t held_;
+};
+
+TEST(BuildCanvas, TheMetricFieldsMemoryCountsAgainstTheBudget) {
+  const DomainSpec box = parse_domain("box:0,0,0,1,1,1");
+  CanvasOptions options;
+  options.resolution = 32;
+  options.memory_budget = std::uint64_t{10} << 20;  // 10.5 MB; the canvas needs ~4.2 MB
+  EXPECT_NO_THROW(build_canvas(box, HeldMemoryMetric(std::uint64_t{5} << 20), options));
+  const std::string message = build_error(box, HeldMemoryMetric(std::uint64_t{7} << 20), options);
+  EXPECT_NE(message.find("with the metric field's 7.34 MB already held, over the memory budget "
+                         "of 10.5 MB (--memory-budget)"),
+            std::string::npos)
+      << message;
+}
+
 TEST(BuildCanvas, MemoryBudgetOverride) {
   const DomainSpec box = parse_domain("box:0,0,0,1,1,1");
   CanvasOptions options;

@@ -22,7 +22,8 @@ std::uint64_t estimated_bytes_per_active_voxel();
 std::uint64_t default_memory_budget();  // 75% of physical memory
 
 // Throws rvor::Error when the resolution is not in [2, 65536], the domain is empty, the estimate
-// exceeds the budget (the message gives the estimate and the budget), or the metric is not SPD
+// and the metric's resident_bytes() together exceed the budget (the message gives the estimate,
+// what the metric holds, and the budget), or the metric is not SPD
 // somewhere (the message gives the position), or when a 2D metric meets a 3D domain. A 3D metric
 // on a 2D domain is sampled on the plane z = 0 and restricted to it (its upper 2x2 block).
 Canvas build_canvas(const DomainSpec& domain, const MetricField& metric,
