@@ -7,12 +7,12 @@
 
 #include <Eigen/LU>
 
+#include "../slot_ranges.h"
 #include "host_pages.h"
 #include "reader_reach.h"
 #include "rvor/error.h"
 #include "rvor/nearest_seeds.h"
 #include "rvor/selling.h"
-#include "slot_ranges.h"
 
 namespace rvor::opencl {
 

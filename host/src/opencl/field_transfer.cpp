@@ -3,7 +3,7 @@
 #include <cstring>
 #include <vector>
 
-#include "slot_ranges.h"
+#include "../slot_ranges.h"
 
 namespace rvor::opencl {
 namespace {

@@ -4,7 +4,7 @@
 #include <array>
 #include <cstdlib>
 
-#include "slot_ranges.h"
+#include "../slot_ranges.h"
 
 namespace rvor::opencl {
 

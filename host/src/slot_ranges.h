@@ -1,6 +1,6 @@
 #pragma once
-// Work over a canvas's slots split into contiguous ranges, one thread each (internal): packing
-// stencils and converting fields, which are per-slot and independent.
+// Work over a canvas's slots (or seeds) split into contiguous ranges, one thread each (internal):
+// packing stencils, converting fields and the seed blocks' claims, which are independent per item.
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
@@ -8,7 +8,7 @@
 #include <thread>
 #include <vector>
 
-namespace rvor::opencl {
+namespace rvor {
 
 // Threads for per-slot host work: the machine's, at most 8.
 inline unsigned slot_threads() {
@@ -48,4 +48,4 @@ std::uint64_t sum_over_slots(std::size_t slots, Term&& term) {
   return total;
 }
 
-}  // namespace rvor::opencl
+}  // namespace rvor

@@ -1,0 +1,104 @@
+// The seed blocks' claims (rvor/seed_blocks.h) against brute force: at every voxel of every seed's
+// block, the seed of least u0 over all seeds (ties: the smaller index), listed exactly where it
+// does not own the voxel. Dense seeds, so that blocks overlap, bounds prune most pairs, and the
+// blocks are split over threads.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include "rvor/metric.h"
+#include "rvor/seed_blocks.h"
+#include "rvor/seeds.h"
+#include "solver_fixtures.h"
+
+namespace rvor::test {
+namespace {
+
+using VoxelKey = std::tuple<int, int, int>;
+
+struct BruteForceSeed {
+  Vec3 centre;
+  VoxelIndex voxel;
+  Mat3 G;
+};
+
+std::vector<BruteForceSeed> brute_force_seeds(const Canvas& canvas,
+                                              const std::vector<Vec3>& seeds) {
+  std::vector<BruteForceSeed> result;
+  for (const Vec3& p : seeds) {
+    BruteForceSeed s{canvas.index_coordinates(p), canvas.voxel_containing(p), Mat3::Identity()};
+    if (canvas.dimension == 2) s.centre.z() = 0, s.voxel.k = 0;
+    s.G = canvas.metric_at(static_cast<std::size_t>(canvas.slot_of(s.voxel)));
+    result.push_back(s);
+  }
+  return result;
+}
+
+bool in_block(const VoxelIndex& centre, const VoxelIndex& x) {
+  return std::abs(x.i - centre.i) <= kSeedBlockRadius &&
+         std::abs(x.j - centre.j) <= kSeedBlockRadius &&
+         std::abs(x.k - centre.k) <= kSeedBlockRadius;
+}
+
+std::map<VoxelKey, int> brute_force_claims(const Canvas& canvas, const std::vector<Vec3>& points) {
+  const std::vector<BruteForceSeed> seeds = brute_force_seeds(canvas, points);
+  std::map<VoxelKey, int> claims;
+  for (const BruteForceSeed& owner : seeds)
+    for_each_seed_block_voxel(owner.voxel, canvas.dimension, [&](const VoxelIndex& x) {
+      if (canvas.slot_of(x) < 0) return;
+      std::pair<double, int> best{INFINITY, -1};
+      for (int t = 0; t < static_cast<int>(seeds.size()); ++t)
+        best =
+            std::min(best, {metric_length(seeds[t].G, Vec3(x.i, x.j, x.k) - seeds[t].centre), t});
+      if (!in_block(seeds[best.second].voxel, x)) claims[{x.i, x.j, x.k}] = best.second;
+    });
+  return claims;
+}
+
+std::map<VoxelKey, int> listed_claims(const Canvas& canvas, const std::vector<Vec3>& seeds) {
+  std::map<VoxelKey, int> claims;
+  for (const SeedClaim& c : foreign_seed_claims(canvas, seeds))
+    EXPECT_TRUE(claims.emplace(VoxelKey{c.voxel.i, c.voxel.j, c.voxel.k}, c.label).second)
+        << "voxel listed twice";
+  return claims;
+}
+
+void expect_brute_force_claims(const Canvas& canvas, std::size_t seed_count) {
+  const std::vector<Vec3> seeds = random_seeds(canvas, seed_count, 7);
+  const std::map<VoxelKey, int> expected = brute_force_claims(canvas, seeds);
+  EXPECT_GT(expected.size(), seed_count / 20) << "too few claims to test the bounds";
+  EXPECT_EQ(listed_claims(canvas, seeds), expected);
+}
+
+// A varying anisotropic metric: anisotropy 3 along a direction that turns across the box.
+Mat3 turning_metric(const Vec3& p, int dimension) {
+  const double angle = 1.5 * p.x() + p.y();
+  const Vec3 axis(std::cos(angle), std::sin(angle), dimension == 3 ? 0.5 * p.z() : 0.0);
+  return uniform_anisotropic_metric(axis, 3.0);
+}
+
+TEST(SeedClaims, DenseSeedsMatchBruteForce3D) {
+  const Canvas canvas = make_box_canvas(3, Vec3(-1, -1, -1), Vec3(1, 1, 1), 24,
+                                        [](const Vec3& p) { return turning_metric(p, 3); });
+  expect_brute_force_claims(canvas, 700);  // ~20 voxels per seed: blocks of 125 overlap
+}
+
+TEST(SeedClaims, DenseSeedsMatchBruteForce2D) {
+  const Canvas canvas = make_box_canvas(2, Vec3(-1, -1, 0), Vec3(1, 1, 0), 64,
+                                        [](const Vec3& p) { return turning_metric(p, 2); });
+  expect_brute_force_claims(canvas, 600);
+}
+
+TEST(SeedClaims, UniformIsotropicSeedsMatchBruteForce) {
+  // Isotropic: the lower bounds are exact, so near-ties meet the rounding margin.
+  const Canvas canvas =
+      make_uniform_box_canvas(3, Vec3(-1, -1, -1), Vec3(1, 1, 1), 20, Mat3::Identity());
+  expect_brute_force_claims(canvas, 500);
+}
+
+}  // namespace
+}  // namespace rvor::test
