@@ -33,19 +33,28 @@ void for_slot_ranges(std::size_t slots, unsigned threads, Work&& work) {
     if (e) std::rethrow_exception(e);
 }
 
-// The sum, wrapping, of term(slot) over [0, slots), on slot_threads() threads.
-template <typename Term>
-std::uint64_t sum_over_slots(std::size_t slots, Term&& term) {
+// The sum, wrapping, of range_sum(begin, end) over contiguous ranges covering [0, slots), on
+// slot_threads() threads.
+template <typename RangeSum>
+std::uint64_t sum_over_slot_ranges(std::size_t slots, RangeSum&& range_sum) {
   const unsigned threads = slot_threads();
   std::vector<std::uint64_t> partial(threads, 0);
   for_slot_ranges(slots, threads, [&](unsigned t, std::size_t begin, std::size_t end) {
-    std::uint64_t sum = 0;
-    for (std::size_t slot = begin; slot < end; ++slot) sum += term(slot);
-    partial[t] = sum;
+    partial[t] = range_sum(begin, end);
   });
   std::uint64_t total = 0;
   for (std::uint64_t p : partial) total += p;
   return total;
+}
+
+// The sum, wrapping, of term(slot) over [0, slots), on slot_threads() threads.
+template <typename Term>
+std::uint64_t sum_over_slots(std::size_t slots, Term&& term) {
+  return sum_over_slot_ranges(slots, [&](std::size_t begin, std::size_t end) {
+    std::uint64_t sum = 0;
+    for (std::size_t slot = begin; slot < end; ++slot) sum += term(slot);
+    return sum;
+  });
 }
 
 }  // namespace rvor

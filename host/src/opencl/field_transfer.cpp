@@ -63,11 +63,23 @@ class MappedStates {
   cl_ulong* words_;
 };
 
+// The sum of the slot hashes of [begin, end). An insertion hashes the caller's whole field (16.8M
+// slots at 256^3), so this loop is cloned for AVX2, where it vectorises the 64-bit multiplies:
+// 48 ms -> 22 ms for 16.8M slots on one core here (a stand-alone copy of the loop, g++ -O3).
+__attribute__((target_clones("avx2", "default"))) std::uint64_t hash_slots(
+    const float* distance, const std::int32_t* label, std::size_t begin, std::size_t end) {
+  std::uint64_t sum = 0;
+  for (std::size_t slot = begin; slot < end; ++slot)
+    sum += slot_hash(slot, state_word(distance[slot], label[slot]));
+  return sum;
+}
+
 }  // namespace
 
 std::uint64_t field_hash(const VoronoiField& field) {
-  return sum_over_slots(field.distance.size(),
-                        [&](std::size_t slot) { return field_slot_hash(field, slot); });
+  return sum_over_slot_ranges(field.distance.size(), [&](std::size_t begin, std::size_t end) {
+    return hash_slots(field.distance.data(), field.label.data(), begin, end);
+  });
 }
 
 void upload_field(const cl::CommandQueue& queue, const cl::Buffer& state, const VoronoiField& field,
