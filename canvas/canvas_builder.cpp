@@ -366,6 +366,9 @@ Canvas build_canvas(const DomainSpec& domain, const MetricField& metric,
                   brick_origins);
   sample_metric(canvas, leaves, placement, metric);
   canvas.finalize();
+  canvas.convex_domain = resolved.shape  ? resolved.shape->is_convex()
+                         : resolved.mesh ? is_convex(*resolved.mesh)
+                                         : true;  // a box or a rectangle
   canvas.description = describe(domain, metric, options.resolution, canvas);
   return canvas;
 }

@@ -31,6 +31,12 @@ void require_closed(const SurfaceMesh& mesh, const std::string& path);
 // not bound a volume and inside and outside are not defined (mesh_self_intersection.cpp).
 void require_no_self_intersection(const SurfaceMesh& mesh, const std::string& path);
 
+// Whether a closed surface without self-intersections (require_closed,
+// require_no_self_intersection) bounds a convex solid: it is one connected, orientable sheet,
+// convex at every edge and around every vertex, to a rounding tolerance (mesh_convexity.cpp).
+// Triangulated flat faces pass.
+bool is_convex(const SurfaceMesh& mesh);
+
 // Voxels [i_begin, i_end) of the row (j, k) of an index box.
 struct VoxelRun {
   int j, k, i_begin, i_end;

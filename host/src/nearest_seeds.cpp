@@ -143,7 +143,7 @@ bool first_metric_is_diagonal(const Canvas& canvas) {
 }
 
 bool exact_start_applies(const Canvas& canvas) {
-  return canvas.active_voxel_count > 0 && fills_index_box(canvas) &&
+  return canvas.active_voxel_count > 0 && (canvas.convex_domain || fills_index_box(canvas)) &&
          first_metric_is_diagonal(canvas) && has_uniform_metric(canvas);
 }
 

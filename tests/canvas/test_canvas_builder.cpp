@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <sstream>
 
 #include "canvas_test_support.h"
@@ -169,6 +170,49 @@ TEST(BuildCanvas, ClosedMeshesInEveryFormatHaveTheirVolume) {
     const Canvas canvas = build("mesh:" + dir.file(name), 40, test::euclidean_metric(3));
     EXPECT_EQ(canvas.dimension, 3);
     EXPECT_NEAR(active_volume(canvas), 1.6, 0.03 * 1.6) << name;
+  }
+}
+
+// The box [0,2]^3 whose top face is four triangles meeting at (1, 1, apex): a roof above 2, a
+// dent below it, and one flat face (triangulated) at 2.
+void write_roofed_box_off(const std::string& path, double apex) {
+  std::ofstream out(path);
+  out << "OFF\n9 9 0\n";
+  for (int n = 0; n < 8; ++n) out << 2 * (n & 1) << " " << (n & 2) << " " << (n & 4) / 2 << "\n";
+  out << "1 1 " << apex << "\n";
+  out << "4 0 2 3 1\n4 0 1 5 4\n4 2 6 7 3\n4 0 4 6 2\n4 1 3 7 5\n";  // bottom and sides
+  out << "3 4 5 8\n3 5 7 8\n3 7 6 8\n3 6 4 8\n";                     // top, around the apex
+}
+
+// Canvas::convex_domain, which lets a uniform diagonal metric start at u0 (rvor/nearest_seeds.h):
+// boxes, spheres, ellipsoids, disks and convex meshes in any orientation are convex; a torus, a
+// dented box, a bottle and two separate boxes are not.
+TEST(BuildCanvas, KnowsWhichDomainsAreConvex) {
+  test::TempDir dir;
+  test::write_box_off(dir.file("box.off"), Vec3(0, 0, 0), Vec3(1, 1, 1));
+  test::write_boxes_off(dir.file("flipped.off"), {{Vec3(0, 0, 0), Vec3(1, 2, 1)}}, true);
+  test::write_boxes_off(dir.file("two.off"),
+                        {{Vec3(0, 0, 0), Vec3(1, 1, 1)}, {Vec3(2, 0, 0), Vec3(3, 1, 1)}});
+  test::write_bottle_off(dir.file("bottle.off"), 1.0);
+  write_roofed_box_off(dir.file("roof.off"), 2.5);
+  write_roofed_box_off(dir.file("flat.off"), 2.0);
+  write_roofed_box_off(dir.file("dent.off"), 1.5);
+  const std::pair<std::string, bool> cases[] = {{"box:0,0,0,1,2,3", true},
+                                                {"rect:0,0,1,2", true},
+                                                {"implicit:sphere:r=1", true},
+                                                {"implicit:ellipsoid", true},
+                                                {"implicit:disk:r=1", true},
+                                                {"implicit:torus", false},
+                                                {"mesh:" + dir.file("box.off"), true},
+                                                {"mesh:" + dir.file("flipped.off"), true},
+                                                {"mesh:" + dir.file("roof.off"), true},
+                                                {"mesh:" + dir.file("flat.off"), true},
+                                                {"mesh:" + dir.file("dent.off"), false},
+                                                {"mesh:" + dir.file("bottle.off"), false},
+                                                {"mesh:" + dir.file("two.off"), false}};
+  for (const auto& [spec, convex] : cases) {
+    const int dimension = parse_domain(spec).dimension();
+    EXPECT_EQ(build(spec, 16, test::euclidean_metric(dimension)).convex_domain, convex) << spec;
   }
 }
 

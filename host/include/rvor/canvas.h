@@ -32,6 +32,10 @@ class Canvas {
   std::vector<uint8_t> active;            // per slot: 1 inside the domain
   std::vector<float> metric;              // per slot, 6 floats in .sol order (zero where inactive)
   std::size_t active_voxel_count = 0;
+  // The builder knew the domain convex (a box or rectangle, a sphere, ellipsoid or disk, a convex
+  // mesh): a straight segment between two of its points stays inside it, so under a uniform metric
+  // the geodesic distance is the straight one (the exact start, rvor/nearest_seeds.h).
+  bool convex_domain = false;
   std::string description;  // domain, metric and resolution, for reports
 
   int brick_edge_z() const { return dimension == 3 ? kBrickEdge : 1; }

@@ -1,9 +1,9 @@
 #pragma once
 // The exact start of docs/scheme.md ("Initialisation"): on a canvas whose metric is one tensor
-// everywhere and whose voxels fill their index box, u0_s(x) = |F (x - s)| is the geodesic
-// distance, and the propagators start each voxel at the least u0 over the seeds instead of +inf.
-// This finds, per brick, the few seeds that can be nearest to one of its voxels, so that a voxel
-// compares a handful of seeds, not all of them.
+// everywhere and whose domain is convex (a box, a sphere, a convex mesh...), u0_s(x) = |F (x - s)|
+// is the geodesic distance, and the propagators start each voxel at the least u0 over the seeds
+// instead of +inf. This finds, per brick, the few seeds that can be nearest to one of its voxels,
+// so that a voxel compares a handful of seeds, not all of them.
 #include <cstdint>
 #include <vector>
 
@@ -25,12 +25,15 @@ bool first_metric_is_diagonal(const Canvas& canvas);
 bool fills_index_box(const Canvas& canvas);
 
 // Whether the exact start applies: a uniform diagonal metric (the isotropic one among them) on a
-// canvas that fills its index box. A diagonal metric's stencil has axis offsets only, so the
-// neighbour of a voxel towards any seed along an axis lies in the box, and the scheme reproduces
-// u0 wherever those neighbours carry the voxel's label. Any other stencil loses terms at the
-// box's faces, and there the scheme's values lie above u0 by more than the relaxations raise in a
-// step (docs/scheme.md, "Initialisation": uniform:10,3,1 took more evaluations from u0 than from
-// +inf).
+// canvas that fills its index box or whose domain the builder knew convex (Canvas::convex_domain).
+// A diagonal metric's stencil has axis offsets only, so in a box the neighbour of a voxel towards
+// any seed along an axis lies in the canvas, and the scheme reproduces u0 wherever those
+// neighbours carry the voxel's label; at a curved convex boundary a missing neighbour leaves the
+// value above u0 by a fraction of a voxel step, which a relaxation or two raises. Any other
+// stencil loses terms at the box's faces, and there the scheme's values lie above u0 by more than
+// the relaxations raise in a step (docs/scheme.md, "Initialisation": uniform:10,3,1 took more
+// evaluations from u0 than from +inf). Outside a convex domain u0 can lie far below the geodesic
+// distance (behind a hole), and then it is no start at all (fills_index_box).
 bool exact_start_applies(const Canvas& canvas);
 
 // Per canvas brick b, the seeds seeds[begin[b]..begin[b+1]) (labels, ascending): for a uniform
