@@ -142,9 +142,41 @@ bool first_metric_is_diagonal(const Canvas& canvas) {
   return m[1] == 0.0f && m[3] == 0.0f && m[4] == 0.0f;  // a 2D canvas stores m13 = m23 = 0
 }
 
+bool is_face_connected(const Canvas& canvas) {
+  if (canvas.active_voxel_count == 0) return true;
+  const int volume = canvas.brick_volume(), edge = Canvas::kBrickEdge;
+  const int strides[3] = {1, edge, edge * edge};
+  std::vector<std::uint8_t> reached(canvas.slot_count(), 0);
+  std::vector<std::size_t> stack{first_active_slot(canvas)};
+  reached[stack.back()] = 1;
+  std::size_t count = 1;
+  while (!stack.empty()) {
+    const std::size_t slot = stack.back();
+    stack.pop_back();
+    const int local = static_cast<int>(slot % volume);
+    const int coordinate[3] = {local % edge, (local / edge) % edge, local / (edge * edge)};
+    for (int axis = 0; axis < canvas.dimension; ++axis)
+      for (const int step : {-1, 1}) {
+        const int moved = coordinate[axis] + step;
+        std::int64_t next = static_cast<std::int64_t>(slot) + step * strides[axis];
+        if (moved < 0 || moved >= edge) {  // across a brick face: through the brick table
+          VoxelIndex v = canvas.voxel_of(slot);
+          (axis == 0 ? v.i : axis == 1 ? v.j : v.k) += step;
+          next = canvas.slot_of(v);
+        }
+        if (next < 0 || !canvas.active[next] || reached[next]) continue;
+        reached[next] = 1;
+        ++count;
+        stack.push_back(static_cast<std::size_t>(next));
+      }
+  }
+  return count == canvas.active_voxel_count;
+}
+
 bool exact_start_applies(const Canvas& canvas) {
-  return canvas.active_voxel_count > 0 && (canvas.convex_domain || fills_index_box(canvas)) &&
-         first_metric_is_diagonal(canvas) && has_uniform_metric(canvas);
+  return canvas.active_voxel_count > 0 && first_metric_is_diagonal(canvas) &&
+         has_uniform_metric(canvas) &&
+         (fills_index_box(canvas) || (canvas.convex_domain && is_face_connected(canvas)));
 }
 
 BrickSeedLists nearest_seed_candidates(const Canvas& canvas, const std::vector<Vec3>& seeds) {

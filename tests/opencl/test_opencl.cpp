@@ -11,6 +11,7 @@
 #include "opencl/opencl_test_support.h"
 #include "rvor/devices.h"
 #include "rvor/error.h"
+#include "rvor/nearest_seeds.h"
 #include "rvor/opencl_propagator.h"
 #include "rvor/propagation.h"
 #include "rvor/seeds.h"
@@ -269,6 +270,28 @@ TEST(OpenCLExactStart, OtherCanvasesStartFromInfinity) {
     EXPECT_EQ(a.distance, b.distance);
     EXPECT_EQ(a.label, b.label);
   }
+}
+
+// A convex domain's voxels can still fall apart (a sliver near a sharp corner, a shape thinner
+// than a voxel): a piece without seeds started at u0 would count to infinity, each voxel raised a
+// step past its neighbour's value, until the round limit. The exact start asks for one piece of
+// face-connected voxels; here two bands of a box, with seeds in one only, claimed convex.
+TEST(OpenCLExactStart, DisconnectedPiecesStartFromInfinity) {
+  REQUIRE_ENGINE_WITH(OpenCLOptions{});
+  Canvas canvas = test::make_uniform_box_canvas(2, kLo, kHi, 64, Mat3::Identity());
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot)
+    if (canvas.voxel_of(slot).i >= 28 && canvas.voxel_of(slot).i < 36) canvas.active[slot] = 0;
+  canvas.finalize();
+  canvas.convex_domain = true;
+  EXPECT_FALSE(exact_start_applies(canvas));
+  const std::vector<Vec3> seeds{Vec3(-0.7, 0.2, 0), Vec3(-0.5, -0.6, 0)};  // left band only
+  VoronoiField field;
+  engine->solve(canvas, seeds, field);
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot)
+    if (canvas.active[slot] && canvas.voxel_of(slot).i >= 36) {
+      ASSERT_EQ(field.label[slot], -1) << "slot " << slot;
+      ASSERT_TRUE(std::isinf(field.distance[slot])) << "slot " << slot;
+    }
 }
 
 // The engine keeps the canvas it uploaded while the caller passes the same one (its address and a

@@ -100,6 +100,34 @@ TEST(NearestSeeds, TheExactStartNeedsAUniformDiagonalMetricOnAFullBox) {
     --holed.active_voxel_count;
     EXPECT_FALSE(fills_index_box(holed));
     EXPECT_FALSE(exact_start_applies(holed));
+    holed.convex_domain = true;  // the builder's word for a convex domain: the hole is its edge
+    EXPECT_TRUE(exact_start_applies(holed));
+  }
+}
+
+// Face-connected pieces, across brick faces (at 8) and within bricks; voxels that share only an
+// edge or a corner are apart, as the axis stencils that the exact start serves read faces only.
+TEST(NearestSeeds, FaceConnectivity) {
+  for (const int dimension : {2, 3}) {
+    const int z = dimension == 3 ? 5 : 0;
+    // slot_of finds active voxels only: slots are looked up in the full canvas.
+    const Canvas full = make_uniform_box_canvas(dimension, kLo, kHi, 16, Mat3::Identity());
+    EXPECT_TRUE(is_face_connected(full));
+    Canvas canvas = full;
+    for (const int cut : {8, 5}) {  // a wall across x: at a brick face, then inside a brick
+      Canvas cut_canvas = canvas;
+      for (std::size_t slot = 0; slot < cut_canvas.slot_count(); ++slot)
+        if (cut_canvas.voxel_of(slot).i == cut) cut_canvas.active[slot] = 0;
+      cut_canvas.finalize();
+      EXPECT_FALSE(is_face_connected(cut_canvas)) << "wall at " << cut;
+      cut_canvas.active[full.slot_of(cut, 3, z)] = 1;  // a door in the wall
+      cut_canvas.finalize();
+      EXPECT_TRUE(is_face_connected(cut_canvas)) << "door at " << cut;
+    }
+    std::fill(canvas.active.begin(), canvas.active.end(), 0);
+    canvas.active[full.slot_of(7, 7, z)] = canvas.active[full.slot_of(8, 8, z)] = 1;
+    canvas.finalize();
+    EXPECT_FALSE(is_face_connected(canvas)) << "an edge is no face";
   }
 }
 

@@ -24,8 +24,15 @@ bool first_metric_is_diagonal(const Canvas& canvas);
 // other up: the scheme would raise them by steps of about a voxel, or never.
 bool fills_index_box(const Canvas& canvas);
 
+// Whether the active voxels are one piece through their faces (the neighbours a diagonal metric's
+// stencil reads); true without active voxels.
+bool is_face_connected(const Canvas& canvas);
+
 // Whether the exact start applies: a uniform diagonal metric (the isotropic one among them) on a
-// canvas that fills its index box or whose domain the builder knew convex (Canvas::convex_domain).
+// canvas that fills its index box, or whose domain the builder knew convex (Canvas::convex_domain)
+// and whose voxels are one face-connected piece: a convex domain's voxels can still fall apart (a
+// sliver at a sharp corner, a shape thinner than a voxel), and a piece without seeds started at u0
+// would count to infinity, each voxel a step above its neighbour, until the round limit.
 // A diagonal metric's stencil has axis offsets only, so in a box the neighbour of a voxel towards
 // any seed along an axis lies in the canvas, and the scheme reproduces u0 wherever those
 // neighbours carry the voxel's label; at a curved convex boundary a missing neighbour leaves the
