@@ -27,20 +27,14 @@ std::string staging_stem() {
 // Staging directories of this host's runs that were killed before they could remove theirs: those
 // whose process is gone. A live process's, or one whose name does not parse, stays.
 void remove_abandoned_staging(const std::string& dir) {
-  const std::string prefix = "." + staging_stem() + ".tmp-";
   std::error_code error;
   for (fs::directory_iterator entry(dir, error), end; !error && entry != end;
        entry.increment(error)) {
-    const std::string name = entry->path().filename().string();
+    const std::optional<long> pid =
+        temporary_owner(entry->path().filename().string(), staging_stem());
     std::error_code status;
-    if (name.rfind(prefix, 0) != 0 || !entry->is_directory(status)) continue;
-    const std::string rest = name.substr(prefix.size());
-    const std::size_t dash = rest.find('-');
-    if (dash == 0 || dash == std::string::npos || dash > 9 ||
-        rest.find_first_not_of("0123456789") != dash)
-      continue;
-    const long pid = std::stol(rest.substr(0, dash));
-    if (pid == getpid() || kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;
+    if (!pid || !entry->is_directory(status)) continue;
+    if (*pid == getpid() || kill(static_cast<pid_t>(*pid), 0) == 0 || errno != ESRCH) continue;
     std::error_code ignored;
     fs::remove_all(entry->path(), ignored);
   }

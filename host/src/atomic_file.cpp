@@ -14,12 +14,34 @@ namespace fs = std::filesystem;
 
 namespace rvor {
 
+namespace {
+
+// ".NAME.tmp-": a temporary name is this, the process id, "-" and a random number below 10^9.
+std::string temporary_prefix(const std::string& file_name) {
+  return "." + file_name + ".tmp-";
+}
+
+}  // namespace
+
 std::string temporary_path_for(const std::string& path) {
   static thread_local std::mt19937_64 random{std::random_device{}()};
   const fs::path target(path);
-  const std::string name = "." + target.filename().string() + ".tmp-" + std::to_string(getpid()) +
+  const std::string name = temporary_prefix(target.filename().string()) + std::to_string(getpid()) +
                            "-" + std::to_string(random() % 1000000000ULL);
   return (target.parent_path() / name).string();
+}
+
+std::optional<long> temporary_owner(const std::string& name, const std::string& file_name) {
+  const std::string prefix = temporary_prefix(file_name);
+  if (name.rfind(prefix, 0) != 0) return std::nullopt;
+  const std::string rest = name.substr(prefix.size());
+  const std::size_t dash = rest.find('-');
+  const bool digits_around_dash =
+      dash != 0 && dash != std::string::npos && dash <= 9 &&
+      rest.find_first_not_of("0123456789") == dash && dash + 1 < rest.size() &&
+      rest.find_first_not_of("0123456789", dash + 1) == std::string::npos;
+  if (!digits_around_dash) return std::nullopt;
+  return std::stol(rest.substr(0, dash));
 }
 
 void publish_temporary(const std::string& temporary, const std::string& path) {

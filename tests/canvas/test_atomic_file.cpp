@@ -1,4 +1,5 @@
-// Publishing output files: link_new never replaces a file that appeared at the target.
+// Publishing output files: link_new never replaces a file that appeared at the target; the
+// temporaries' names give back their process.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -8,6 +9,8 @@
 #include "rvor/atomic_file.h"
 #include "rvor/error.h"
 #include "support/temp_dir.h"
+
+#include <unistd.h>
 
 namespace rvor {
 namespace {
@@ -35,6 +38,21 @@ TEST(AtomicFile, LinkNewLeavesAFileThatAppearedMeanwhile) {
   link_new(staged, fresh);
   EXPECT_EQ(test::read_text(fresh), "second run\n");
   EXPECT_TRUE(std::filesystem::exists(staged));  // a hard link here: the staged name stays
+}
+
+// A killed run's temporaries are told from a live run's by the process id in their names: the
+// cleanup of `rvor voronoi --out` parses what temporary_path_for built.
+TEST(AtomicFile, TemporaryNamesGiveBackTheirProcess) {
+  const std::string name =
+      std::filesystem::path(temporary_path_for("/some/dir/outputs-host")).filename().string();
+  EXPECT_EQ(temporary_owner(name, "outputs-host"), std::optional<long>(getpid())) << name;
+  EXPECT_EQ(temporary_owner(name, "outputs-other"), std::nullopt);
+  for (const std::string other :
+       {".outputs-host.tmp-", ".outputs-host.tmp-12", ".outputs-host.tmp-12-",
+        ".outputs-host.tmp--5", ".outputs-host.tmp-a1-5", ".outputs-host.tmp-12-5x",
+        ".outputs-host.tmp-1234567890-5", "outputs-host.tmp-12-5"})
+    EXPECT_EQ(temporary_owner(other, "outputs-host"), std::nullopt) << other;
+  EXPECT_EQ(temporary_owner(".outputs-host.tmp-42-7", "outputs-host"), std::optional<long>(42));
 }
 
 }  // namespace

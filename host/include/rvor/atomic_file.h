@@ -2,6 +2,7 @@
 // Output files are never half-written: they are written under a temporary name in the same
 // directory and renamed over the target only once complete.
 #include <functional>
+#include <optional>
 #include <ostream>
 #include <string>
 
@@ -15,6 +16,10 @@ void write_file_atomically(const std::string& path,
 // For writers that need a file name (OpenVDB): a unique temporary name next to `path`, and the
 // rename that publishes it (throws rvor::Error naming both paths on failure).
 std::string temporary_path_for(const std::string& path);
+// The process id in `name` (a file name, no directory) when temporary_path_for gave it for a file
+// named `file_name`; nullopt for any other name. Lets a cleanup tell a killed run's temporaries
+// from those of a run still writing.
+std::optional<long> temporary_owner(const std::string& name, const std::string& file_name);
 void publish_temporary(const std::string& temporary, const std::string& path);
 // Gives `source` the name `target` too (a hard link; `source` stays), never replacing a file at
 // `target`: one there (that appeared since the caller checked) is an error and stays as it is.
