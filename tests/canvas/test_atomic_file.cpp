@@ -1,16 +1,16 @@
 // Publishing output files: link_new never replaces a file that appeared at the target; the
 // temporaries' names give back their process.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
 
 #include "rvor/atomic_file.h"
 #include "rvor/error.h"
 #include "support/temp_dir.h"
-
-#include <unistd.h>
 
 namespace rvor {
 namespace {
