@@ -200,6 +200,7 @@ nlohmann::json case_json(const BenchResult& r) {
           {"updates_per_voxel", r.updates_per_voxel},
           {"relaxations_per_brick", r.relaxations_per_brick},
           {"visits_per_relaxation", r.visits_per_relaxation},
+          {"exact_start", r.exact_start},
           {"device_bytes", r.device_bytes},
           {"bytes_per_voxel", r.bytes_per_voxel},
           {"inserted_seeds", r.bench_case.inserted_seeds},

@@ -277,6 +277,7 @@ void write_voronoi(const VoronoiOptions& o) {
         {"iterations", stats.iterations},
         {"voxel_updates", stats.voxel_updates},
         {"brick_relaxations", stats.brick_relaxations},
+        {"exact_start", stats.exact_start},
         {"updates_per_voxel",
          canvas.active_voxel_count ? double(stats.voxel_updates) / canvas.active_voxel_count : 0.0},
         {"timings",

@@ -200,6 +200,7 @@ PropagationStats ReferenceSolver::propagate(const Canvas& canvas, const std::vec
   load_field(field);
   if (exact_start) start_at_nearest_seeds(canvas, seeds);
   PropagationStats stats;
+  stats.exact_start = exact_start;
   initialise_seed_blocks(canvas, first_new, foreign_seed_claims(canvas, seeds, first_new));
   if (exact_start) evaluate_all_once(stats);
   run_queue(stats);

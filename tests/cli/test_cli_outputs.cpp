@@ -48,6 +48,7 @@ TEST_F(CliOutputs, ReportHoldsTheRunFacts) {
   // evaluated once and none changes (no queue pops).
   EXPECT_EQ(report["voxel_updates"].get<double>(), 64 * 64 - 25);
   EXPECT_EQ(report["iterations"].get<double>(), 0);
+  EXPECT_TRUE(report["exact_start"].get<bool>());
   for (const char* stage : {"canvas", "propagation", "outputs", "total"})
     EXPECT_GE(report["timings"][stage].get<double>(), 0) << stage;
   EXPECT_EQ(report["field"]["unreached_voxels"].get<int>(), 0);

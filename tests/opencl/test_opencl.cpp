@@ -222,6 +222,8 @@ void expect_exact_start_reaches_the_fixed_point(Propagator& engine, Propagator& 
       reference_stats.voxel_updates / voxels, reference_cold_stats.voxel_updates / voxels);
   EXPECT_LT(exact_stats.voxel_updates, cold_stats.voxel_updates / 2);
   EXPECT_LT(reference_stats.voxel_updates, reference_cold_stats.voxel_updates / 2);
+  EXPECT_TRUE(exact_stats.exact_start && reference_stats.exact_start);
+  EXPECT_FALSE(cold_stats.exact_start || reference_cold_stats.exact_start);
 }
 
 TEST(OpenCLExactStart, ReachesTheFixedPointOfAStartFromInfinity) {
@@ -267,6 +269,7 @@ TEST(OpenCLExactStart, OtherCanvasesStartFromInfinity) {
     const PropagationStats with_option = engine->solve(*canvas, seeds, a);
     const PropagationStats without = cold->solve(*canvas, seeds, b);
     EXPECT_EQ(with_option.voxel_updates, without.voxel_updates);
+    EXPECT_FALSE(with_option.exact_start);
     EXPECT_EQ(a.distance, b.distance);
     EXPECT_EQ(a.label, b.label);
   }

@@ -52,6 +52,7 @@ struct BenchResult {
   // OpenCL: brick relaxations of the solve per active brick (PropagationStats); cpu: 0.
   double relaxations_per_brick = 0.0;
   std::uint64_t visits_per_relaxation = 0;  // PropagationStats; cpu: 0
+  bool exact_start = false;                 // PropagationStats: the solve started at u0
   std::uint64_t device_bytes = 0;           // OpenCL: the device canvas's buffers; cpu: 0
   double bytes_per_voxel = 0.0;             // device_bytes / active voxels
 

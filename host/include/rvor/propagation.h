@@ -49,6 +49,9 @@ struct PropagationStats {
   // voxel_phases iterations per round), so voxel_updates <= visits_per_relaxation * 512 *
   // brick_relaxations; the reference: 0.
   std::uint64_t visits_per_relaxation = 0;
+  // Whether the solve started every voxel at its nearest seed's exact distance (the exact start of
+  // rvor/nearest_seeds.h: a uniform diagonal metric on a convex domain) rather than +inf.
+  bool exact_start = false;
   double seconds = 0.0;
 };
 

@@ -91,6 +91,7 @@ void time_engine(const BenchCase& c, const Canvas& canvas, const std::vector<Vec
     r.relaxations_per_brick = static_cast<double>(stats.brick_relaxations) /
                               static_cast<double>(std::max<std::size_t>(1, canvas.brick_count()));
     r.visits_per_relaxation = stats.visits_per_relaxation;
+    r.exact_start = stats.exact_start;
     r.device_bytes = stats.device_bytes;
   }
   r.device_description = engine->device_description();  // after a solve: the variant that ran

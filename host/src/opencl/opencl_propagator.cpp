@@ -106,8 +106,10 @@ class OpenCLPropagator final : public Propagator {
       if (step_ > 0.0f) build_stepping_kernel();
       const std::optional<BrickSeedLists> nearest =
           exact_start ? std::optional(nearest_seed_candidates(canvas, seeds)) : std::nullopt;
-      return finish(canvas, 0, seeds.size(), claims, field, start, std::nullopt,
-                    nearest ? &*nearest : nullptr);
+      PropagationStats stats = finish(canvas, 0, seeds.size(), claims, field, start, std::nullopt,
+                                      nearest ? &*nearest : nullptr);
+      stats.exact_start = exact_start;
+      return stats;
     });
   }
 
