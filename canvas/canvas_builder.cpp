@@ -367,7 +367,7 @@ Canvas build_canvas(const DomainSpec& domain, const MetricField& metric,
   sample_metric(canvas, leaves, placement, metric);
   canvas.finalize();
   canvas.convex_domain = resolved.shape  ? resolved.shape->is_convex()
-                         : resolved.mesh ? is_convex(*resolved.mesh)
+                         : resolved.mesh ? is_convex(*resolved.mesh, placement.h)
                                          : true;  // a box or a rectangle
   canvas.description = describe(domain, metric, options.resolution, canvas);
   return canvas;

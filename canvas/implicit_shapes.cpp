@@ -140,6 +140,18 @@ double ImplicitShape::signed_distance_bound(const Vec3& p) const {
   return std::numeric_limits<double>::infinity();
 }
 
+bool ImplicitShape::is_convex() const {
+  switch (kind_) {
+    case Kind::Sphere:
+    case Kind::Ellipsoid:
+    case Kind::Disk:
+      return true;
+    case Kind::Torus:
+      return false;
+  }
+  return false;
+}
+
 Box ImplicitShape::bounds() const {
   Vec3 half = radii_;
   if (kind_ == Kind::Sphere) half = Vec3::Constant(radii_.x());

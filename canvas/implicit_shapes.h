@@ -21,7 +21,7 @@ class ImplicitShape {
   // Conservative signed distance at p (z ignored in 2D).
   double signed_distance_bound(const Vec3& p) const;
   bool contains(const Vec3& p) const { return signed_distance_bound(p) <= 0.0; }
-  bool is_convex() const { return kind_ != Kind::Torus; }
+  bool is_convex() const;
   // Axis-aligned bounds of the shape (z = 0 in 2D); may be degenerate (radius 0).
   Box bounds() const;
   // Canonical form with every parameter, e.g. "sphere:center=0,0,0,r=1".

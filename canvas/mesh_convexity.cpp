@@ -72,8 +72,8 @@ std::vector<Triangle> consistently_oriented(const SurfaceMesh& mesh) {
 }
 
 // Six times the signed volume the triangles enclose (positive: normals point outward).
-double signed_volume_6(const SurfaceMesh& mesh, const std::vector<Triangle>& triangles) {
-  const Vec3 centre = 0.5 * (bounds_of(mesh).lo + bounds_of(mesh).hi);
+double signed_volume_6(const SurfaceMesh& mesh, const std::vector<Triangle>& triangles,
+                       const Vec3& centre) {
   double volume = 0.0;
   for (const Triangle& t : triangles)
     volume += (mesh.vertices[t[0]] - centre)
@@ -83,23 +83,35 @@ double signed_volume_6(const SurfaceMesh& mesh, const std::vector<Triangle>& tri
 
 }  // namespace
 
-bool is_convex(const SurfaceMesh& mesh) {
+// The unit outward normal of a triangle, or zero for a sliver whose plane its rounded corners do
+// not define (its neighbours' planes are tested instead).
+Vec3 face_normal(const SurfaceMesh& mesh, const Triangle& t) {
+  const Vec3 u = mesh.vertices[t[1]] - mesh.vertices[t[0]];
+  const Vec3 v = mesh.vertices[t[2]] - mesh.vertices[t[0]];
+  const Vec3 cross = u.cross(v);
+  const double longest = std::max({u.squaredNorm(), v.squaredNorm(), (v - u).squaredNorm()});
+  return cross.norm() > 1e-10 * longest ? Vec3(cross.normalized()) : Vec3(Vec3::Zero());
+}
+
+bool is_convex(const SurfaceMesh& mesh, double voxel_size) {
   if (mesh.triangles.empty()) return false;
   std::vector<Triangle> triangles = consistently_oriented(mesh);
   if (triangles.empty()) return false;
-  if (signed_volume_6(mesh, triangles) < 0)
+  const Box box = bounds_of(mesh);
+  if (signed_volume_6(mesh, triangles, 0.5 * (box.lo + box.hi)) < 0)
     for (Triangle& t : triangles) std::swap(t[1], t[2]);
   std::vector<std::vector<int>> around(mesh.vertices.size());  // the triangles at each vertex
   for (std::size_t t = 0; t < triangles.size(); ++t)
     for (const int v : triangles[t]) around[v].push_back(static_cast<int>(t));
-  const Box box = bounds_of(mesh);
-  const double tolerance = 1e-9 * (box.hi - box.lo).norm();  // rounding of flat faces
+  // A dent of a hundredth of a voxel changes no voxel much; coordinates written with 6 digits (or
+  // stored as floats, binary STL) put the corners of a flat face that far off its plane.
+  const double largest_coordinate =
+      std::max(box.lo.cwiseAbs().maxCoeff(), box.hi.cwiseAbs().maxCoeff());
+  const double tolerance = std::max(0.01 * voxel_size, 1e-6 * largest_coordinate);
   for (const std::vector<int>& star : around)
     for (const int face : star) {
       const Vec3& a = mesh.vertices[triangles[face][0]];
-      const Vec3 normal = (mesh.vertices[triangles[face][1]] - a)
-                              .cross(mesh.vertices[triangles[face][2]] - a)
-                              .normalized();
+      const Vec3 normal = face_normal(mesh, triangles[face]);
       for (const int other : star)
         for (const int x : triangles[other])
           if (normal.dot(mesh.vertices[x] - a) > tolerance) return false;

@@ -33,9 +33,9 @@ void require_no_self_intersection(const SurfaceMesh& mesh, const std::string& pa
 
 // Whether a closed surface without self-intersections (require_closed,
 // require_no_self_intersection) bounds a convex solid: it is one connected, orientable sheet,
-// convex at every edge and around every vertex, to a rounding tolerance (mesh_convexity.cpp).
-// Triangulated flat faces pass.
-bool is_convex(const SurfaceMesh& mesh);
+// convex at every edge and around every vertex, to a hundredth of `voxel_size` or the rounding
+// of 6-digit coordinates (mesh_convexity.cpp). Triangulated flat faces pass.
+bool is_convex(const SurfaceMesh& mesh, double voxel_size);
 
 // Voxels [i_begin, i_end) of the row (j, k) of an index box.
 struct VoxelRun {

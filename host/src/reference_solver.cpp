@@ -128,7 +128,7 @@ ReferenceSolver::ReferenceSolver(const Canvas& canvas)
     throw Error("reference solver: unexpected canvas brick size");
   compute_stencils(canvas);
   compute_reverse_graph();
-  exact_start_applies_ = exact_start_applies(canvas);
+  exact_start_applies_.reset();
 }
 
 void ReferenceSolver::compute_stencils(const Canvas& canvas) {
@@ -176,8 +176,9 @@ PropagationStats ReferenceSolver::solve(const Canvas& canvas, const std::vector<
   empty.distance.assign(slot_count_, kInfinity);
   empty.label.assign(slot_count_, -1);
   field = std::move(empty);
-  const bool exact_start =
-      exact_start_ && exact_start_applies_ && !seeds.empty() && distance_limit_ == kInfinity;
+  const bool wanted = exact_start_ && !seeds.empty() && distance_limit_ == kInfinity;
+  if (wanted && !exact_start_applies_) exact_start_applies_ = exact_start_applies(canvas);
+  const bool exact_start = wanted && *exact_start_applies_;
   return propagate(canvas, seeds, 0, field, exact_start);
 }
 

@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "rvor/canvas.h"
@@ -156,7 +157,9 @@ class ReferenceSolver {
   std::vector<QueueEntry> queue_;  // binary min-heap (std::push_heap with greater)
   double distance_limit_ = std::numeric_limits<double>::infinity();
   bool exact_start_ = false;
-  bool exact_start_applies_ = false;  // to the canvas (rvor/nearest_seeds.h)
+  // Whether the exact start applies to the canvas (rvor/nearest_seeds.h), decided at the first
+  // solve that wants it: the test can flood-fill the canvas.
+  std::optional<bool> exact_start_applies_;
 };
 
 }  // namespace rvor::detail

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <tuple>
 
 #include <Eigen/LU>
@@ -42,7 +43,10 @@ std::vector<IndexSeed> index_seeds(const Canvas& canvas, const std::vector<Vec3>
     seed.G = canvas.metric_at(static_cast<std::size_t>(canvas.slot_of(seed.voxel)));
     const int n = canvas.dimension == 3 ? 3 : 2;
     const Eigen::VectorXd eigenvalues = metric_eigenvalues(seed.G, canvas.dimension);
-    seed.least_scale = std::sqrt(std::max(0.0, eigenvalues.minCoeff()));
+    // The least eigenvalue carries an error of about eps times the largest: less that, so that
+    // least_scale stays a lower bound at any anisotropy the canvas accepts.
+    const double rounding = 64 * std::numeric_limits<double>::epsilon() * eigenvalues.maxCoeff();
+    seed.least_scale = std::sqrt(std::max(0.0, eigenvalues.minCoeff() - rounding));
     // u0 <= sqrt(largest eigenvalue) |q|, |q| at most the block's farthest corner from the seed.
     Vec3 corner = Vec3::Zero();
     const int v[3] = {seed.voxel.i, seed.voxel.j, seed.voxel.k};
@@ -159,10 +163,9 @@ double largest_block_reach(const std::vector<IndexSeed>& seeds) {
   return largest;
 }
 
-// Rounding allowance of the squared lower bounds below: they skip a seed only when it is farther
-// by more than rounding could explain (least_scale's eigenvalue is the largest part: its relative
-// error grows with the anisotropy, ~1e-10 at a tensor ratio of 1e6), since an exact tie goes to
-// the smaller seed index.
+// Rounding allowance of the squared lower bounds below (least_scale itself is lowered by its
+// eigenvalue's error): they skip a seed only when it is farther by more than rounding could
+// explain, since an exact tie goes to the smaller seed index.
 constexpr double kBoundMargin = 1.0 + 1e-8;
 
 // Whether seed t may claim a voxel of `owner`'s block: not certainly farther than the owner

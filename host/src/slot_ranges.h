@@ -18,6 +18,7 @@ inline unsigned slot_threads() {
 // Runs work(t, begin, end) on `threads` threads over [0, slots); rethrows the first error.
 template <typename Work>
 void for_slot_ranges(std::size_t slots, unsigned threads, Work&& work) {
+  if (threads <= 1) return work(0u, std::size_t{0}, slots);  // no thread to start
   std::vector<std::exception_ptr> errors(threads);
   std::vector<std::thread> workers;
   for (unsigned t = 0; t < threads; ++t)

@@ -184,6 +184,24 @@ void write_roofed_box_off(const std::string& path, double apex) {
   out << "3 4 5 8\n3 5 7 8\n3 7 6 8\n3 6 4 8\n";                     // top, around the apex
 }
 
+// The box [0,1]x[0,2]x[0,3] turned about (1, 2, 3), its corners written with 6 digits as
+// exporters do, its faces split into triangles: their corners lie off the faces' planes by ~1e-6.
+void write_turned_box_off(const std::string& path) {
+  const Eigen::Matrix3d turn =
+      Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  std::ofstream out(path);
+  out << "OFF\n8 12 0\n";
+  char line[96];
+  for (int n = 0; n < 8; ++n) {
+    const Vec3 p = turn * Vec3(n & 1, (n & 2), 1.5 * ((n & 4) / 2));
+    std::snprintf(line, sizeof line, "%.6g %.6g %.6g\n", p.x(), p.y(), p.z());
+    out << line;
+  }
+  for (const char* face : {"0 2 3", "0 3 1", "0 1 5", "0 5 4", "2 6 7", "2 7 3", "0 4 6", "0 6 2",
+                           "1 3 7", "1 7 5", "4 5 7", "4 7 6"})
+    out << "3 " << face << "\n";
+}
+
 // Canvas::convex_domain, which lets a uniform diagonal metric start at u0 (rvor/nearest_seeds.h):
 // boxes, spheres, ellipsoids, disks and convex meshes in any orientation are convex; a torus, a
 // dented box, a bottle and two separate boxes are not.
@@ -197,6 +215,7 @@ TEST(BuildCanvas, KnowsWhichDomainsAreConvex) {
   write_roofed_box_off(dir.file("roof.off"), 2.5);
   write_roofed_box_off(dir.file("flat.off"), 2.0);
   write_roofed_box_off(dir.file("dent.off"), 1.5);
+  write_turned_box_off(dir.file("turned.off"));
   const std::pair<std::string, bool> cases[] = {{"box:0,0,0,1,2,3", true},
                                                 {"rect:0,0,1,2", true},
                                                 {"implicit:sphere:r=1", true},
@@ -209,7 +228,8 @@ TEST(BuildCanvas, KnowsWhichDomainsAreConvex) {
                                                 {"mesh:" + dir.file("flat.off"), true},
                                                 {"mesh:" + dir.file("dent.off"), false},
                                                 {"mesh:" + dir.file("bottle.off"), false},
-                                                {"mesh:" + dir.file("two.off"), false}};
+                                                {"mesh:" + dir.file("two.off"), false},
+                                                {"mesh:" + dir.file("turned.off"), true}};
   for (const auto& [spec, convex] : cases) {
     const int dimension = parse_domain(spec).dimension();
     EXPECT_EQ(build(spec, 16, test::euclidean_metric(dimension)).convex_domain, convex) << spec;

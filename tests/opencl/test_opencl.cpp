@@ -195,9 +195,6 @@ std::unique_ptr<Propagator> engine_from_infinity() {
   return make_opencl_propagator(test::engine_device(), options);
 }
 
-// The exact start (docs/scheme.md, "Initialisation"): on a box with a uniform diagonal metric both
-// engines start every voxel at its nearest seed's exact distance, evaluate each voxel about once,
-// and reach the fixed point that a start from +inf reaches.
 // Compares the four solves of `canvas`: both engines from u0 and from +inf reach one fixed point,
 // and u0 saves at least half of the evaluations.
 void expect_exact_start_reaches_the_fixed_point(Propagator& engine, Propagator& cold,
@@ -226,6 +223,9 @@ void expect_exact_start_reaches_the_fixed_point(Propagator& engine, Propagator& 
   EXPECT_FALSE(cold_stats.exact_start || reference_cold_stats.exact_start);
 }
 
+// The exact start (docs/scheme.md, "Initialisation"): on a box with a uniform diagonal metric both
+// engines start every voxel at its nearest seed's exact distance, evaluate each voxel about once,
+// and reach the fixed point that a start from +inf reaches.
 TEST(OpenCLExactStart, ReachesTheFixedPointOfAStartFromInfinity) {
   REQUIRE_ENGINE_WITH(OpenCLOptions{});
   const std::unique_ptr<Propagator> cold = engine_from_infinity();

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "rvor/nearest_seeds.h"
+#include "rvor/propagation.h"
 #include "solver_fixtures.h"
 
 namespace rvor::test {
@@ -83,7 +84,7 @@ TEST(NearestSeeds, TiesAreAllListed) {
   expect_lists_hold_nearest_seeds(canvas, {Vec3(-0.5, 0.1, 0.2), Vec3(0.5, 0.1, 0.2)});
 }
 
-TEST(NearestSeeds, TheExactStartNeedsAUniformDiagonalMetricOnAFullBox) {
+TEST(NearestSeeds, TheExactStartNeedsAUniformDiagonalMetricOnAFullBoxOrAConvexDomain) {
   for (const int dimension : {2, 3}) {
     EXPECT_TRUE(
         exact_start_applies(make_uniform_box_canvas(dimension, kLo, kHi, 16, Mat3::Identity())));
@@ -100,7 +101,8 @@ TEST(NearestSeeds, TheExactStartNeedsAUniformDiagonalMetricOnAFullBox) {
     --holed.active_voxel_count;
     EXPECT_FALSE(fills_index_box(holed));
     EXPECT_FALSE(exact_start_applies(holed));
-    holed.convex_domain = true;  // the builder's word for a convex domain: the hole is its edge
+    // The builder's word that the domain is convex is trusted (the voxels still make one piece).
+    holed.convex_domain = true;
     EXPECT_TRUE(exact_start_applies(holed));
   }
 }
@@ -129,6 +131,26 @@ TEST(NearestSeeds, FaceConnectivity) {
     canvas.finalize();
     EXPECT_FALSE(is_face_connected(canvas)) << "an edge is no face";
   }
+}
+
+// Two bands of a box claimed convex, with seeds in one only: the reference, started at u0, would
+// raise the other band's voxels a step past each other without end (its pop limit); it starts
+// from +inf and leaves them unreached (the OpenCL engine: OpenCLExactStart.
+// DisconnectedPiecesStartFromInfinity).
+TEST(NearestSeeds, TheReferenceStartsDisconnectedPiecesFromInfinity) {
+  Canvas canvas = make_uniform_box_canvas(2, kLo, kHi, 64, Mat3::Identity());
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot)
+    if (canvas.voxel_of(slot).i >= 28 && canvas.voxel_of(slot).i < 36) canvas.active[slot] = 0;
+  canvas.finalize();
+  canvas.convex_domain = true;
+  VoronoiField field;
+  const PropagationStats stats = make_reference_propagator(true)->solve(
+      canvas, {Vec3(-0.7, 0.2, 0), Vec3(-0.5, -0.6, 0)}, field);
+  EXPECT_FALSE(stats.exact_start);
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot)
+    if (canvas.active[slot] && canvas.voxel_of(slot).i >= 36) {
+      ASSERT_EQ(field.label[slot], -1) << "slot " << slot;
+    }
 }
 
 }  // namespace

@@ -94,10 +94,29 @@ TEST(SeedClaims, DenseSeedsMatchBruteForce2D) {
 }
 
 TEST(SeedClaims, UniformIsotropicSeedsMatchBruteForce) {
-  // Isotropic: the lower bounds are exact, so near-ties meet the rounding margin.
+  // Isotropic: the lower bounds are exact, the tightest case for their rounding margin.
   const Canvas canvas =
       make_uniform_box_canvas(3, Vec3(-1, -1, -1), Vec3(1, 1, 1), 20, Mat3::Identity());
   expect_brute_force_claims(canvas, 500);
+}
+
+// An exact tie (u0 = 3 from both seeds, in binary-exact coordinates): voxel (10, 10, 10) lies in
+// the block of the seed at (12, 12, 11), not in that of the seed at (13, 10, 10). The smaller
+// index takes it: a claim when that is the second seed, none when it is the owner. The bounds
+// must not skip the tied seed.
+TEST(SeedClaims, AnExactTieGoesToTheSmallerIndex) {
+  const Canvas canvas = make_uniform_box_canvas(3, Vec3(-1, -1, -1), Vec3(1, 1, 1), 32,
+                                                Mat3::Identity());  // h = 1/16
+  const auto at = [&](int i, int j, int k) { return canvas.world_of(VoxelIndex{i, j, k}); };
+  const Vec3 owner = at(12, 12, 11), other = at(13, 10, 10);
+  const VoxelKey tied{10, 10, 10};
+  const std::vector<Vec3> other_first{other, owner}, owner_first{owner, other};
+  const std::map<VoxelKey, int> claimed = listed_claims(canvas, other_first);
+  ASSERT_EQ(claimed.count(tied), 1u);
+  EXPECT_EQ(claimed.at(tied), 0);
+  EXPECT_EQ(claimed, brute_force_claims(canvas, other_first));
+  EXPECT_EQ(listed_claims(canvas, owner_first).count(tied), 0u);
+  EXPECT_EQ(listed_claims(canvas, owner_first), brute_force_claims(canvas, owner_first));
 }
 
 }  // namespace

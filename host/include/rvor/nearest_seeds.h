@@ -35,12 +35,13 @@ bool is_face_connected(const Canvas& canvas);
 // would count to infinity, each voxel a step above its neighbour, until the round limit.
 // A diagonal metric's stencil has axis offsets only, so in a box the neighbour of a voxel towards
 // any seed along an axis lies in the canvas, and the scheme reproduces u0 wherever those
-// neighbours carry the voxel's label; at a curved convex boundary a missing neighbour leaves the
-// value above u0 by a fraction of a voxel step, which a relaxation or two raises. Any other
-// stencil loses terms at the box's faces, and there the scheme's values lie above u0 by more than
-// the relaxations raise in a step (docs/scheme.md, "Initialisation": uniform:10,3,1 took more
-// evaluations from u0 than from +inf). Outside a convex domain u0 can lie far below the geodesic
-// distance (behind a hole), and then it is no start at all (fills_index_box).
+// neighbours carry the voxel's label; at the curved boundary of a domain many voxels thick a
+// missing neighbour leaves the value above u0 by a fraction of a voxel step, which a relaxation or
+// two raises (a slanted plate a few voxels thick is a staircase whose values lie well above u0:
+// the start is then still sound, but slow). Any other stencil loses terms at the box's faces, and
+// there the scheme's values lie above u0 by more than the relaxations raise in a step
+// (docs/scheme.md, "Initialisation": uniform:10,3,1 took more evaluations from u0 than from +inf).
+// Outside a convex domain u0 can lie far below the geodesic distance (behind a hole).
 bool exact_start_applies(const Canvas& canvas);
 
 // Per canvas brick b, the seeds seeds[begin[b]..begin[b+1]) (labels, ascending): for a uniform

@@ -167,6 +167,7 @@ std::uint64_t canvas_fingerprint(const Canvas& canvas) {
   auto mix = [&hash](std::uint64_t value) { fnv_mix(hash, value); };
   mix(canvas.slot_count());
   mix(canvas.active_voxel_count);
+  mix(canvas.convex_domain ? 1 : 0);  // the exact start's rule reads it
   std::uint64_t bits;
   std::memcpy(&bits, &canvas.voxel_size, sizeof bits);
   mix(bits);

@@ -24,8 +24,12 @@ std::uint64_t slot_hash(std::size_t slot, std::uint64_t word) {
   return x ^ (x >> 31);
 }
 
+std::uint64_t slot_hash(std::size_t slot, const float* distance, const std::int32_t* label) {
+  return slot_hash(slot, state_word(distance[slot], label[slot]));
+}
+
 std::uint64_t field_slot_hash(const VoronoiField& field, std::size_t slot) {
-  return slot_hash(slot, state_word(field.distance[slot], field.label[slot]));
+  return slot_hash(slot, field.distance.data(), field.label.data());
 }
 
 void store_word(cl_ulong word, std::size_t slot, float length_unit, VoronoiField& field) {
@@ -64,13 +68,21 @@ class MappedStates {
 };
 
 // The sum of the slot hashes of [begin, end). An insertion hashes the caller's whole field (16.8M
-// slots at 256^3), so this loop is cloned for AVX2, where it vectorises the 64-bit multiplies:
-// 48 ms -> 22 ms for 16.8M slots on one core here (a stand-alone copy of the loop, g++ -O3).
-__attribute__((target_clones("avx2", "default"))) std::uint64_t hash_slots(
-    const float* distance, const std::int32_t* label, std::size_t begin, std::size_t end) {
+// slots at 256^3), so on x86-64 this loop is cloned for AVX2, where it vectorises the 64-bit
+// multiplies: 48 ms -> 22 ms for 16.8M slots on one core here (a stand-alone copy of the loop,
+// g++ -O3). Elsewhere, or where the compiler has no target_clones, it is one plain function.
+#if defined(__x86_64__) && defined(__has_attribute)
+#if __has_attribute(target_clones)
+#define RVOR_CLONED_FOR_AVX2 __attribute__((target_clones("avx2", "default")))
+#endif
+#endif
+#ifndef RVOR_CLONED_FOR_AVX2
+#define RVOR_CLONED_FOR_AVX2
+#endif
+RVOR_CLONED_FOR_AVX2 std::uint64_t hash_slots(const float* distance, const std::int32_t* label,
+                                              std::size_t begin, std::size_t end) {
   std::uint64_t sum = 0;
-  for (std::size_t slot = begin; slot < end; ++slot)
-    sum += slot_hash(slot, state_word(distance[slot], label[slot]));
+  for (std::size_t slot = begin; slot < end; ++slot) sum += slot_hash(slot, distance, label);
   return sum;
 }
 

@@ -200,7 +200,7 @@ class OpenCLPropagator final : public Propagator {
           opencl::upload_canvas(context_, canvas, colours(canvas)));
       canvas_identity_ = &canvas;
       fingerprint_ = fingerprint;
-      exact_start_applies_ = exact_start_applies(canvas);
+      exact_start_applies_ = options_.exact_start && exact_start_applies(canvas);
       device_field_hash_.reset();
       build_kernels(canvas);
     }
