@@ -81,8 +81,6 @@ double signed_volume_6(const SurfaceMesh& mesh, const std::vector<Triangle>& tri
   return volume;
 }
 
-}  // namespace
-
 // The unit outward normal of a triangle, or zero for a sliver whose plane its rounded corners do
 // not define (its neighbours' planes are tested instead).
 Vec3 face_normal(const SurfaceMesh& mesh, const Triangle& t) {
@@ -92,6 +90,8 @@ Vec3 face_normal(const SurfaceMesh& mesh, const Triangle& t) {
   const double longest = std::max({u.squaredNorm(), v.squaredNorm(), (v - u).squaredNorm()});
   return cross.norm() > 1e-10 * longest ? Vec3(cross.normalized()) : Vec3(Vec3::Zero());
 }
+
+}  // namespace
 
 bool is_convex(const SurfaceMesh& mesh, double voxel_size) {
   if (mesh.triangles.empty()) return false;

@@ -173,10 +173,13 @@ bool is_face_connected(const Canvas& canvas) {
   return count == canvas.active_voxel_count;
 }
 
+bool exact_start_domain(const Canvas& canvas) {
+  return fills_index_box(canvas) || (canvas.convex_domain && is_face_connected(canvas));
+}
+
 bool exact_start_applies(const Canvas& canvas) {
   return canvas.active_voxel_count > 0 && first_metric_is_diagonal(canvas) &&
-         has_uniform_metric(canvas) &&
-         (fills_index_box(canvas) || (canvas.convex_domain && is_face_connected(canvas)));
+         has_uniform_metric(canvas) && exact_start_domain(canvas);
 }
 
 BrickSeedLists nearest_seed_candidates(const Canvas& canvas, const std::vector<Vec3>& seeds) {

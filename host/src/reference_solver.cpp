@@ -128,7 +128,6 @@ ReferenceSolver::ReferenceSolver(const Canvas& canvas)
     throw Error("reference solver: unexpected canvas brick size");
   compute_stencils(canvas);
   compute_reverse_graph();
-  exact_start_applies_.reset();
 }
 
 void ReferenceSolver::compute_stencils(const Canvas& canvas) {
@@ -272,8 +271,7 @@ void ReferenceSolver::mark_seed_block(const Canvas& canvas, std::size_t s, bool 
 // was smaller: solving with all seeds at once would have frozen it to that value too. Boundary data
 // keeps the smallest value (ties: smaller label).
 void ReferenceSolver::offer_exact_value(int32_t voxel, int32_t s, bool was_frozen) {
-  const Vec3 p = position_of(voxel) - seeds_[s].position;
-  const double u0 = std::sqrt(std::max(0.0, p.dot(seeds_[s].G * p)));
+  const double u0 = seed_distance(position_of(voxel), s);
   VoxelState& state = state_[voxel];
   const bool wins = !was_frozen || u0 < state.value || (u0 == state.value && s < state.label);
   if (!wins || (u0 == state.value && s == state.label)) return;
@@ -296,8 +294,7 @@ void ReferenceSolver::start_at_nearest_seeds(const Canvas& canvas, const std::ve
     const Vec3 x = position_of(static_cast<int32_t>(slot));
     for (std::uint32_t c = nearest.begin[brick]; c < nearest.begin[brick + 1]; ++c) {
       const int32_t s = nearest.seeds[c];
-      const Vec3 p = x - seeds_[s].position;
-      const double u0 = std::sqrt(std::max(0.0, p.dot(seeds_[s].G * p)));
+      const double u0 = seed_distance(x, s);
       if (u0 < state.value || (u0 == state.value && s < state.label))
         state.value = u0, state.label = s;
     }
@@ -476,6 +473,7 @@ uint64_t fingerprint(const Canvas& canvas) {
     mix(bits);
   };
   mix(static_cast<uint64_t>(canvas.dimension));
+  mix(canvas.convex_domain ? 1 : 0);  // the exact start's rule reads it
   for (int a = 0; a < 3; ++a) {
     mix(static_cast<uint64_t>(canvas.dims[a]));
     mix_double(canvas.origin[a]);

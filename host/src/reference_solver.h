@@ -112,6 +112,10 @@ class ReferenceSolver {
     const VoxelIndex x = index_of(slot);
     return origin_ + h_ * Vec3(x.i, x.j, x.k);
   }
+  // u0 of seed s at x: |x - s| in the seed's metric.
+  double seed_distance(const Vec3& x, int32_t s) const {
+    return metric_length(seeds_[s].G, x - seeds_[s].position);
+  }
   // Slot of x + sign * e; -1 outside the canvas or inactive (like Canvas::slot_of).
   int32_t neighbour_slot(const VoxelIndex& x, const int8_t* e, int sign) const {
     const int i = x.i + sign * e[0], j = x.j + sign * e[1], k = x.k + sign * e[2];

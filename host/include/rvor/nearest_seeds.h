@@ -43,6 +43,9 @@ bool is_face_connected(const Canvas& canvas);
 // (docs/scheme.md, "Initialisation": uniform:10,3,1 took more evaluations from u0 than from +inf).
 // Outside a convex domain u0 can lie far below the geodesic distance (behind a hole).
 bool exact_start_applies(const Canvas& canvas);
+// The domain half of exact_start_applies (for an engine that knows the metric half already):
+// the canvas fills its index box, or its domain is convex and its voxels one face-connected piece.
+bool exact_start_domain(const Canvas& canvas);
 
 // Per canvas brick b, the seeds seeds[begin[b]..begin[b+1]) (labels, ascending): for a uniform
 // metric they hold, for every voxel x of the brick, each seed of least u0(x), ties included.

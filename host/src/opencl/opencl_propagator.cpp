@@ -97,7 +97,7 @@ class OpenCLPropagator final : public Propagator {
       const std::vector<cl_int4> claims = prepare(canvas, seeds, 0);
       device_field_hash_.reset();
       // The exact start writes every slot; its values are no front to step.
-      const bool exact_start = options_.exact_start && exact_start_applies_ && !seeds.empty();
+      const bool exact_start = exact_start_applies_ && !seeds.empty();
       if (!exact_start)
         queue_.enqueueFillBuffer(canvas_->state, opencl::kInfiniteState, 0,
                                  canvas_->slots * sizeof(cl_ulong));
@@ -106,10 +106,8 @@ class OpenCLPropagator final : public Propagator {
       if (step_ > 0.0f) build_stepping_kernel();
       const std::optional<BrickSeedLists> nearest =
           exact_start ? std::optional(nearest_seed_candidates(canvas, seeds)) : std::nullopt;
-      PropagationStats stats = finish(canvas, 0, seeds.size(), claims, field, start, std::nullopt,
-                                      nearest ? &*nearest : nullptr);
-      stats.exact_start = exact_start;
-      return stats;
+      return finish(canvas, 0, seeds.size(), claims, field, start, std::nullopt,
+                    nearest ? &*nearest : nullptr);
     });
   }
 
@@ -200,7 +198,9 @@ class OpenCLPropagator final : public Propagator {
           opencl::upload_canvas(context_, canvas, colours(canvas)));
       canvas_identity_ = &canvas;
       fingerprint_ = fingerprint;
-      exact_start_applies_ = options_.exact_start && exact_start_applies(canvas);
+      // The metric half of exact_start_applies, which the upload has just decided.
+      exact_start_applies_ = options_.exact_start && canvas_->uniform_stencil &&
+                             canvas_->uniform_diagonal && exact_start_domain(canvas);
       device_field_hash_.reset();
       build_kernels(canvas);
     }
@@ -344,6 +344,7 @@ class OpenCLPropagator final : public Propagator {
     claim_seed_voxels(claims, seed_stamp);
     activate_initial_bricks();
     PropagationStats stats;
+    stats.exact_start = exact_start != nullptr;
     const int colour_count = colours(canvas);
     int colour = 0;
     do {
