@@ -78,9 +78,10 @@ TEST(ReferencePropagator, PublicInterfaceMatchesExactSolver) {
 }
 
 // A one-seed reference solve's voxel updates per active voxel.
+// From +inf: the exact start would begin a diagonal metric at the answer and settle nothing.
 double reference_updates_per_voxel(const Canvas& canvas, const Vec3& seed) {
   VoronoiField field;
-  const PropagationStats stats = make_reference_propagator()->solve(canvas, {seed}, field);
+  const PropagationStats stats = make_reference_propagator(false)->solve(canvas, {seed}, field);
   return static_cast<double>(stats.voxel_updates) / static_cast<double>(canvas.active_voxel_count);
 }
 

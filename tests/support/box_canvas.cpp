@@ -38,4 +38,28 @@ Canvas make_uniform_box_canvas(int dimension, const Vec3& lo, const Vec3& hi, in
   return make_box_canvas(dimension, lo, hi, resolution, [&G](const Vec3&) { return G; });
 }
 
+Canvas two_bands_claimed_convex() {
+  Canvas canvas = make_uniform_box_canvas(2, Vec3(-1, -1, 0), Vec3(1, 1, 0), 64, Mat3::Identity());
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot)
+    if (canvas.voxel_of(slot).i >= 28 && canvas.voxel_of(slot).i < 36) canvas.active[slot] = 0;
+  canvas.finalize();
+  canvas.convex_domain = true;
+  return canvas;
+}
+
+std::vector<Vec3> left_band_seeds() {
+  return {Vec3(-0.7, 0.2, 0), Vec3(-0.5, -0.6, 0)};
+}
+
+BandCounts count_band_labels(const Canvas& canvas, const std::vector<int32_t>& labels) {
+  BandCounts counts;
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
+    if (!canvas.active[slot]) continue;
+    const bool left = canvas.voxel_of(slot).i < 28, labelled = labels[slot] >= 0;
+    (left ? counts.left_voxels : counts.right_voxels) += 1;
+    (left ? counts.left_labelled : counts.right_labelled) += labelled ? 1 : 0;
+  }
+  return counts;
+}
+
 }  // namespace rvor::test
