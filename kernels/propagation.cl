@@ -111,13 +111,16 @@ __kernel void claim_seed_voxels(int claim_count, __global const int4* claims,
 
 // The exact start (docs/scheme.md, "Initialisation"), for a uniform diagonal metric, before the
 // seed blocks: a work-item per brick row (EDGE slots along x, as vectors). An active slot starts at
-// the least u0 over its brick's candidate seeds (rvor/nearest_seeds.h; ties: the smaller label),
-// not frozen, stamped as changed so that its first visit evaluates it; an inactive one at
-// INF_STATE. Every brick is pending: it verifies its values and repairs the voxels next to
-// bisectors. (A work-item per slot, its seed loads and arithmetic scalar, took 0.33 s of a 1.9 s
-// euclidean solve at 256^3 with 1000 seeds: a temporary timer, not kept.)
+// the least u0 over its brick's candidate seeds (rvor/nearest_seeds.h; ties: the smaller label)
+// where its quarter brick sees that seed (`candidate_seen`, a bit per quarter), else and where
+// inactive at INF_STATE; not frozen, stamped as changed so that its first visit evaluates it.
+// Every brick is pending: it verifies its values and repairs the voxels next to bisectors. (A
+// work-item per slot, its seed loads and arithmetic scalar, took 0.33 s of a 1.9 s euclidean solve
+// at 256^3 with 1000 seeds: a temporary timer, not kept.)
 __kernel void start_at_nearest_seeds(int brick_count, __global const uint* candidate_begin,
-                                     __global const int* candidates, __global const float* seeds,
+                                     __global const int* candidates,
+                                     __global const uchar* candidate_seen,
+                                     __global const float* seeds,
                                      __global const int4* brick_origins,
                                      __global const uint* activity, __global ulong* state,
                                      __global uchar* flags, __global uint* changed, uint stamp) {
@@ -127,10 +130,15 @@ __kernel void start_at_nearest_seeds(int brick_count, __global const uint* candi
   const int row = (int)(get_global_id(0) % rows);
   if (row == 0) flags[brick] = FLAG_UNCONVERGED;
   const int first = row * EDGE;  // local index of the row's first slot
-  const int3 v = brick_origins[brick].xyz + local_coordinates(first);
+  const int3 in_brick = local_coordinates(first);
+  const int3 v = brick_origins[brick].xyz + in_brick;
   const float8 x = (float8)(0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f) + (float)v.x;
+  // The row's quarters: x < 4 and x >= 4 at its y and z.
+  const int quarter = (in_brick.y >= EDGE / 2 ? 2 : 0) + (in_brick.z >= EDGE / 2 ? 4 : 0);
+  const int8 upper_half = (int8)(0, 0, 0, 0, -1, -1, -1, -1);
   float8 least = (float8)(INFINITY);
   int8 nearest = (int8)(-1);
+  int8 seen = (int8)(0);
   // Candidates come in ascending labels, so on a tie the first, smaller label stays.
   for (uint c = candidate_begin[brick]; c < candidate_begin[brick + 1]; ++c) {
     const int label = candidates[c];
@@ -140,17 +148,21 @@ __kernel void start_at_nearest_seeds(int brick_count, __global const uint* candi
     // A diagonal metric (the host checks): u0^2 = g11 qx^2 + g22 qy^2 + g33 qz^2.
     const float8 u0 = sqrt(seed[8] * qx * qx + (seed[10] * qy * qy + seed[13] * qz * qz));
     const int8 nearer = u0 < least;
+    const int bits = candidate_seen[c] >> quarter;
+    const int8 sees = select((int8)(-((bits & 1) != 0)), (int8)(-((bits & 2) != 0)), upper_half);
     least = select(least, u0, nearer);
     nearest = select(nearest, (int8)(label), nearer);
+    seen = select(seen, sees, nearer);
   }
   const size_t slot = (size_t)brick * BRICK_VOLUME + first;
   const float d[EDGE] = {least.s0, least.s1, least.s2, least.s3,
                          least.s4, least.s5, least.s6, least.s7};
   const int l[EDGE] = {nearest.s0, nearest.s1, nearest.s2, nearest.s3,
                        nearest.s4, nearest.s5, nearest.s6, nearest.s7};
+  const int s[EDGE] = {seen.s0, seen.s1, seen.s2, seen.s3, seen.s4, seen.s5, seen.s6, seen.s7};
   for (int i = 0; i < EDGE; ++i) {
     const bool active = slot_active(activity, slot + i);
-    state[slot + i] = active && l[i] >= 0 ? make_state(d[i], l[i]) : INF_STATE;
+    state[slot + i] = active && l[i] >= 0 && s[i] ? make_state(d[i], l[i]) : INF_STATE;
     if (active) changed[slot + i] = stamp;
   }
 }

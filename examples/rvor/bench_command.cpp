@@ -291,10 +291,10 @@ void add_bench_command(CLI::App& app) {
       ->transform(seed_count(0))
       ->capture_default_str();
   cmd->add_flag("--no-exact-start", options->no_exact_start,
-                "Solve a uniform diagonal metric (the isotropic one among them) on a convex "
-                "domain (a box, a sphere, ellipsoid or disk, a convex mesh; its voxels in one "
-                "face-connected piece) from +inf, as any other metric, instead of from each "
-                "voxel's nearest seed's exact distance (both engines)");
+                "Solve a uniform diagonal metric (the isotropic one among them) from +inf, as "
+                "any other metric, instead of from each voxel's nearest seed's exact distance "
+                "(every voxel of a convex domain; elsewhere those whose 4^3 block sees the seed "
+                "through active voxels; both engines)");
   cmd->add_flag("--no-reference", options->no_reference, "Skip the CPU reference (slow at 256^3)");
   cmd->add_flag("--no-fastsweeping", options->no_fastsweeping,
                 "Skip OpenVDB FastSweeping (it runs on 3D canvases only)");

@@ -173,13 +173,16 @@ bool is_face_connected(const Canvas& canvas) {
   return count == canvas.active_voxel_count;
 }
 
-bool exact_start_domain(const Canvas& canvas) {
-  return fills_index_box(canvas) || (canvas.convex_domain && is_face_connected(canvas));
+ExactStartReach exact_start_reach(const Canvas& canvas, bool uniform_diagonal_metric) {
+  if (!uniform_diagonal_metric || canvas.active_voxel_count == 0) return ExactStartReach::none;
+  const bool every_brick =
+      fills_index_box(canvas) || (canvas.convex_domain && is_face_connected(canvas));
+  return every_brick ? ExactStartReach::every_brick
+                     : ExactStartReach::quarters_that_see_their_seeds;
 }
 
-bool exact_start_applies(const Canvas& canvas) {
-  return canvas.active_voxel_count > 0 && first_metric_is_diagonal(canvas) &&
-         has_uniform_metric(canvas) && exact_start_domain(canvas);
+ExactStartReach exact_start_reach(const Canvas& canvas) {
+  return exact_start_reach(canvas, first_metric_is_diagonal(canvas) && has_uniform_metric(canvas));
 }
 
 BrickSeedLists nearest_seed_candidates(const Canvas& canvas, const std::vector<Vec3>& seeds) {
@@ -228,6 +231,14 @@ BrickSeedLists nearest_seed_candidates(const Canvas& canvas, const std::vector<V
                   " seeds on " + std::to_string(canvas.brick_count()) + " bricks)");
     lists.begin[brick + 1] = static_cast<std::uint32_t>(lists.seeds.size());
   }
+  lists.seen.assign(lists.seeds.size(), 0xff);
+  return lists;
+}
+
+BrickSeedLists exact_start_lists(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                                 ExactStartReach reach) {
+  BrickSeedLists lists = nearest_seed_candidates(canvas, seeds);
+  if (reach != ExactStartReach::every_brick) mark_where_seeds_are_seen(canvas, seeds, lists);
   return lists;
 }
 

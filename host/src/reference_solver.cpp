@@ -176,8 +176,8 @@ PropagationStats ReferenceSolver::solve(const Canvas& canvas, const std::vector<
   empty.label.assign(slot_count_, -1);
   field = std::move(empty);
   const bool wanted = exact_start_ && !seeds.empty() && distance_limit_ == kInfinity;
-  if (wanted && !exact_start_applies_) exact_start_applies_ = exact_start_applies(canvas);
-  const bool exact_start = wanted && *exact_start_applies_;
+  if (wanted && !exact_start_reach_) exact_start_reach_ = exact_start_reach(canvas);
+  const bool exact_start = wanted && *exact_start_reach_ != ExactStartReach::none;
   return propagate(canvas, seeds, 0, field, exact_start);
 }
 
@@ -282,22 +282,31 @@ void ReferenceSolver::offer_exact_value(int32_t voxel, int32_t s, bool was_froze
 }
 
 // The exact start (docs/scheme.md, "Initialisation"): every active voxel at the least u0 over the
-// seeds (ties: the smaller label), from its brick's candidates. Not boundary data: the seed blocks
-// overwrite their voxels next, and evaluate_all_once checks every other one.
+// seeds (ties: the smaller label), from its brick's candidates, where its quarter brick sees that
+// seed; elsewhere it stays at +inf. Not boundary data: the seed blocks overwrite their voxels next,
+// and evaluate_all_once checks every other one.
 void ReferenceSolver::start_at_nearest_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds) {
-  const BrickSeedLists nearest = nearest_seed_candidates(canvas, seeds);
+  const BrickSeedLists nearest = exact_start_lists(canvas, seeds, *exact_start_reach_);
   const std::size_t brick_volume = std::size_t{1} << brick_shift_;
+  const int edge = Canvas::kBrickEdge, half = Canvas::kBrickEdge / 2;
   for (std::size_t slot = 0; slot < slot_count_; ++slot) {
     VoxelState& state = state_[slot];
     if (state.stencil < 0) continue;
     const std::size_t brick = slot / brick_volume;
+    const int local = static_cast<int>(slot % brick_volume);
+    const int quarter = (local % edge >= half) + 2 * ((local / edge) % edge >= half) +
+                        4 * (local / (edge * edge) >= half);
     const Vec3 x = position_of(static_cast<int32_t>(slot));
+    double least = kInfinity;
+    int32_t label = -1;
+    bool seen = false;
     for (std::uint32_t c = nearest.begin[brick]; c < nearest.begin[brick + 1]; ++c) {
       const int32_t s = nearest.seeds[c];
       const double u0 = seed_distance(x, s);
-      if (u0 < state.value || (u0 == state.value && s < state.label))
-        state.value = u0, state.label = s;
+      if (u0 < least || (u0 == least && s < label))
+        least = u0, label = s, seen = (nearest.seen[c] >> quarter) & 1;
     }
+    if (seen && least < state.value) state.value = least, state.label = label;
   }
 }
 

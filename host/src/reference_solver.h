@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "rvor/canvas.h"
+#include "rvor/nearest_seeds.h"
 #include "rvor/propagation.h"
 #include "rvor/seed_blocks.h"
 
@@ -44,10 +45,10 @@ class ReferenceSolver {
   // only upper bounds. For fields needed in a bounded ball only (rvor/local_fields.h). Default
   // +inf: solve everything.
   void set_distance_limit(double limit) { distance_limit_ = limit; }
-  // Solves on a canvas where exact_start_applies (rvor/nearest_seeds.h) start every voxel at its
-  // nearest seed's u0 and evaluate each once, in increasing order, before the queue runs
-  // (docs/scheme.md, "Initialisation"). Off by default; ignored under a distance limit, whose
-  // unsolved values must stay upper bounds.
+  // Solves under a uniform diagonal metric start the voxels that exact_start_reach
+  // (rvor/nearest_seeds.h) allows at their nearest seed's u0 and evaluate each voxel once, in
+  // increasing order, before the queue runs (docs/scheme.md, "Initialisation"). Off by default;
+  // ignored under a distance limit, whose unsolved values must stay upper bounds.
   void set_exact_start(bool on) { exact_start_ = on; }
 
  private:
@@ -161,9 +162,9 @@ class ReferenceSolver {
   std::vector<QueueEntry> queue_;  // binary min-heap (std::push_heap with greater)
   double distance_limit_ = std::numeric_limits<double>::infinity();
   bool exact_start_ = false;
-  // Whether the exact start applies to the canvas (rvor/nearest_seeds.h), decided at the first
+  // Where the exact start applies on the canvas (rvor/nearest_seeds.h), decided at the first
   // solve that wants it: the test can flood-fill the canvas.
-  std::optional<bool> exact_start_applies_;
+  std::optional<ExactStartReach> exact_start_reach_;
 };
 
 }  // namespace rvor::detail

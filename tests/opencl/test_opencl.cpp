@@ -195,11 +195,19 @@ std::unique_ptr<Propagator> engine_from_infinity() {
   return make_opencl_propagator(test::engine_device(), options);
 }
 
+// What the exact start must save: the engine's evaluations at most `share` of a start from
+// +inf's (the reference's at most `reference_share`: from +inf it runs in value order already)
+// and fewer than `per_voxel` per voxel.
+struct ExactStartSaving {
+  double share = 0.5, reference_share = 0.5, per_voxel = 4.0;
+};
+
 // Compares the four solves of `canvas`: both engines from u0 and from +inf reach one fixed point,
-// and u0 saves at least half of the evaluations.
+// and u0 saves evaluations.
 void expect_exact_start_reaches_the_fixed_point(Propagator& engine, Propagator& cold,
                                                 const Canvas& canvas,
-                                                const std::vector<Vec3>& seeds) {
+                                                const std::vector<Vec3>& seeds,
+                                                const ExactStartSaving& saving = {}) {
   VoronoiField reference_cold, reference_exact, exact, from_inf;
   const PropagationStats reference_cold_stats =
       make_reference_propagator(false)->solve(canvas, seeds, reference_cold);
@@ -217,9 +225,10 @@ void expect_exact_start_reaches_the_fixed_point(Propagator& engine, Propagator& 
       "%.2f and %.2f\n",
       canvas.dimension, exact_stats.voxel_updates / voxels, cold_stats.voxel_updates / voxels,
       reference_stats.voxel_updates / voxels, reference_cold_stats.voxel_updates / voxels);
-  EXPECT_LT(exact_stats.voxel_updates, cold_stats.voxel_updates / 2);
-  EXPECT_LT(reference_stats.voxel_updates, reference_cold_stats.voxel_updates / 2);
-  EXPECT_LT(exact_stats.voxel_updates / voxels, 4.0);  // a few evaluations per voxel
+  EXPECT_LT(exact_stats.voxel_updates, cold_stats.voxel_updates * saving.share);
+  EXPECT_LT(reference_stats.voxel_updates,
+            reference_cold_stats.voxel_updates * saving.reference_share);
+  EXPECT_LT(exact_stats.voxel_updates / voxels, saving.per_voxel);
   EXPECT_TRUE(exact_stats.exact_start && reference_stats.exact_start);
   EXPECT_FALSE(cold_stats.exact_start || reference_cold_stats.exact_start);
 }
@@ -257,36 +266,56 @@ TEST(OpenCLExactStart, ConvexDomainsReachTheFixedPointOfAStartFromInfinity) {
   }
 }
 
-// Where u0 may lie far below the geodesic distance (behind the hole of a torus, a rotated stencil
-// that loses terms at the box's faces) the engines start from +inf whatever the option says.
-TEST(OpenCLExactStart, OtherCanvasesStartFromInfinity) {
+// Other domains: the voxels whose quarter brick sees their nearest seed start at u0, the others
+// at +inf (behind the hole of a torus, or near its curved faces, where quarters are not full).
+// Fewer voxels start at their answer than in a convex domain, so less is saved.
+TEST(OpenCLExactStart, OtherDomainsReachTheFixedPointOfAStartFromInfinity) {
   REQUIRE_ENGINE_WITH(OpenCLOptions{});
   const std::unique_ptr<Propagator> cold = engine_from_infinity();
-  const Canvas torus = test::domain_canvas("implicit:torus", "uniform:1,0,4,0,0,1", 40);
-  const Canvas rotated = test::make_uniform_box_canvas(3, kLo, kHi, 24, rotated_metric(3, 3.0));
-  for (const Canvas* canvas : {&torus, &rotated}) {
-    const std::vector<Vec3> seeds = test::seeds_in(*canvas, 20, 3);
-    VoronoiField a, b;
-    const PropagationStats with_option = engine->solve(*canvas, seeds, a);
-    const PropagationStats without = cold->solve(*canvas, seeds, b);
-    EXPECT_EQ(with_option.voxel_updates, without.voxel_updates);
-    EXPECT_FALSE(with_option.exact_start);
-    EXPECT_EQ(a.distance, b.distance);
-    EXPECT_EQ(a.label, b.label);
-    EXPECT_FALSE(make_reference_propagator(true)->solve(*canvas, seeds, a).exact_start);
+  for (const auto& [domain, metric, resolution] :
+       {std::tuple<const char*, const char*, int>{"implicit:torus:R=0.6,r=0.35", "euclidean", 96},
+        {"implicit:torus", "uniform:1,0,4,0,0,1", 96}}) {
+    SCOPED_TRACE(domain);
+    const Canvas canvas = test::domain_canvas(domain, metric, resolution);
+    ASSERT_EQ(exact_start_reach(canvas), ExactStartReach::quarters_that_see_their_seeds);
+    expect_exact_start_reaches_the_fixed_point(*engine, *cold, canvas,
+                                               test::seeds_in(canvas, 60, 23), {0.75, 0.9, 7.0});
   }
+  SCOPED_TRACE("a rectangle with a wall");
+  const Canvas walled = test::box_with_a_wall(2, 256);
+  ASSERT_EQ(exact_start_reach(walled), ExactStartReach::quarters_that_see_their_seeds);
+  expect_exact_start_reaches_the_fixed_point(*engine, *cold, walled, test::seeds_in(walled, 60, 23),
+                                             {0.75, 0.9, 7.0});
+}
+
+// A stencil with other than axis offsets loses terms at the box's faces, where its values lie
+// above u0 by more than a relaxation raises them: the engines start from +inf whatever the option
+// says.
+TEST(OpenCLExactStart, RotatedStencilsStartFromInfinity) {
+  REQUIRE_ENGINE_WITH(OpenCLOptions{});
+  const std::unique_ptr<Propagator> cold = engine_from_infinity();
+  const Canvas rotated = test::make_uniform_box_canvas(3, kLo, kHi, 24, rotated_metric(3, 3.0));
+  const std::vector<Vec3> seeds = test::seeds_in(rotated, 20, 3);
+  VoronoiField a, b;
+  const PropagationStats with_option = engine->solve(rotated, seeds, a);
+  const PropagationStats without = cold->solve(rotated, seeds, b);
+  EXPECT_EQ(with_option.voxel_updates, without.voxel_updates);
+  EXPECT_FALSE(with_option.exact_start);
+  EXPECT_EQ(a.distance, b.distance);
+  EXPECT_EQ(a.label, b.label);
+  EXPECT_FALSE(make_reference_propagator(true)->solve(rotated, seeds, a).exact_start);
 }
 
 // A convex domain's voxels can still fall apart (a sliver near a sharp corner, a shape thinner
 // than a voxel): a piece without seeds started at u0 would count to infinity, each voxel raised a
-// step past its neighbour's value, until the round limit. The exact start asks for one piece of
-// face-connected voxels; here two bands of a box, with seeds in one only, claimed convex.
+// step past its neighbour's value, until the round limit. No quarter of such a piece sees a seed,
+// so it starts at +inf; here two bands of a box, with seeds in one only, claimed convex.
 TEST(OpenCLExactStart, DisconnectedPiecesStartFromInfinity) {
   REQUIRE_ENGINE_WITH(OpenCLOptions{});
   const Canvas canvas = test::two_bands_claimed_convex();
-  EXPECT_FALSE(exact_start_applies(canvas));
+  EXPECT_EQ(exact_start_reach(canvas), ExactStartReach::quarters_that_see_their_seeds);
   VoronoiField field;
-  EXPECT_FALSE(engine->solve(canvas, test::left_band_seeds(), field).exact_start);
+  EXPECT_TRUE(engine->solve(canvas, test::left_band_seeds(), field).exact_start);
   const test::BandCounts counts = test::count_band_labels(canvas, field.label);
   EXPECT_EQ(counts.left_labelled, counts.left_voxels);
   EXPECT_EQ(counts.right_labelled, 0u);

@@ -38,6 +38,17 @@ Canvas make_uniform_box_canvas(int dimension, const Vec3& lo, const Vec3& hi, in
   return make_box_canvas(dimension, lo, hi, resolution, [&G](const Vec3&) { return G; });
 }
 
+Canvas box_with_a_wall(int dimension, int resolution) {
+  Canvas canvas = make_uniform_box_canvas(dimension, Vec3(-1, -1, -1), Vec3(1, 1, 1), resolution,
+                                          Mat3::Identity());
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
+    const Vec3 p = canvas.world_of(slot);
+    if (p.x() >= -0.25 && p.x() < 0.0 && p.y() >= -0.5) canvas.active[slot] = 0;
+  }
+  canvas.finalize();
+  return canvas;
+}
+
 Canvas two_bands_claimed_convex() {
   Canvas canvas = make_uniform_box_canvas(2, Vec3(-1, -1, 0), Vec3(1, 1, 0), 64, Mat3::Identity());
   for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot)

@@ -17,6 +17,9 @@ Canvas make_box_canvas(int dimension, const Vec3& lo, const Vec3& hi, int resolu
                        const MetricFunction& metric);
 Canvas make_uniform_box_canvas(int dimension, const Vec3& lo, const Vec3& hi, int resolution,
                                const Mat3& G);
+// The isotropic box [-1,1]^d at `resolution` voxels a side less a wall x in [-0.25, 0), with a
+// door at y < -0.5: a domain that is not convex.
+Canvas box_with_a_wall(int dimension, int resolution);
 // The isotropic 64^2 box [-1,1]^2 less the voxel columns i in [28, 36): two bands that share no
 // face, x < -0.125 and x > 0.125, marked convex_domain as if a builder had said so.
 Canvas two_bands_claimed_convex();

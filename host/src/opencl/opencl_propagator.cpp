@@ -97,7 +97,7 @@ class OpenCLPropagator final : public Propagator {
       const std::vector<cl_int4> claims = prepare(canvas, seeds, 0);
       device_field_hash_.reset();
       // The exact start writes every slot; its values are no front to step.
-      const bool exact_start = exact_start_applies_ && !seeds.empty();
+      const bool exact_start = exact_start_reach_ != ExactStartReach::none && !seeds.empty();
       if (!exact_start)
         queue_.enqueueFillBuffer(canvas_->state, opencl::kInfiniteState, 0,
                                  canvas_->slots * sizeof(cl_ulong));
@@ -105,7 +105,8 @@ class OpenCLPropagator final : public Propagator {
       step_ = exact_start ? 0.0f : front_step(canvas, seeds);
       if (step_ > 0.0f) build_stepping_kernel();
       const std::optional<BrickSeedLists> nearest =
-          exact_start ? std::optional(nearest_seed_candidates(canvas, seeds)) : std::nullopt;
+          exact_start ? std::optional(exact_start_lists(canvas, seeds, exact_start_reach_))
+                      : std::nullopt;
       return finish(canvas, 0, seeds.size(), claims, field, start, std::nullopt,
                     nearest ? &*nearest : nullptr);
     });
@@ -198,9 +199,11 @@ class OpenCLPropagator final : public Propagator {
           opencl::upload_canvas(context_, canvas, colours(canvas)));
       canvas_identity_ = &canvas;
       fingerprint_ = fingerprint;
-      // The metric half of exact_start_applies, which the upload has just decided.
-      exact_start_applies_ = options_.exact_start && canvas_->uniform_stencil &&
-                             canvas_->uniform_diagonal && exact_start_domain(canvas);
+      // The metric half of the exact start's rule, which the upload has just decided.
+      exact_start_reach_ =
+          options_.exact_start
+              ? exact_start_reach(canvas, canvas_->uniform_stencil && canvas_->uniform_diagonal)
+              : ExactStartReach::none;
       device_field_hash_.reset();
       build_kernels(canvas);
     }
@@ -407,8 +410,9 @@ class OpenCLPropagator final : public Propagator {
                                 cl::NDRange(kBookkeepingGroup));
   }
 
-  // Every slot at its least u0 over its brick's candidate seeds, every brick pending
-  // (docs/scheme.md, "Initialisation": the exact start of a uniform metric).
+  // Every slot at its least u0 over its brick's candidate seeds where its quarter brick sees that
+  // seed, else at +inf; every brick pending (docs/scheme.md, "Initialisation": the exact start of
+  // a uniform metric).
   void start_at_nearest_seeds(const BrickSeedLists& nearest, cl_uint stamp) {
     const DeviceCanvasRef d = *canvas_;
     if (d.bricks == 0) return;
@@ -419,8 +423,11 @@ class OpenCLPropagator final : public Propagator {
     const cl::Buffer listed(context_, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
                             nearest.seeds.size() * sizeof(cl_int),
                             const_cast<std::int32_t*>(nearest.seeds.data()));
-    set_args(start_, static_cast<cl_int>(d.bricks), begin, listed, d.seeds, d.origins, d.activity,
-             d.state, d.flags, d.changed, stamp);
+    const cl::Buffer seen(context_, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                          nearest.seen.size() * sizeof(cl_uchar),
+                          const_cast<std::uint8_t*>(nearest.seen.data()));
+    set_args(start_, static_cast<cl_int>(d.bricks), begin, listed, seen, d.seeds, d.origins,
+             d.activity, d.state, d.flags, d.changed, stamp);
     const std::size_t rows = d.slots / Canvas::kBrickEdge;  // a work-item per brick row
     queue_.enqueueNDRangeKernel(start_, cl::NullRange,
                                 cl::NDRange(round_up(rows, kBookkeepingGroup)),
@@ -589,7 +596,7 @@ class OpenCLPropagator final : public Propagator {
   std::unique_ptr<opencl::DeviceCanvas> canvas_;
   const Canvas* canvas_identity_ = nullptr;
   std::uint64_t fingerprint_ = 0;
-  bool exact_start_applies_ = false;  // to the canvas held (rvor/nearest_seeds.h)
+  ExactStartReach exact_start_reach_ = ExactStartReach::none;  // on the canvas held
   std::size_t brick_volume_ = 512;
   static constexpr std::uint64_t kMaxStamp = 0xFFFFFFFFu;  // stamps are cl_uint on the device
   cl_uint stamp_stride_ = 1, round_base_ = 0;              // brick_sweep evaluation stamps
