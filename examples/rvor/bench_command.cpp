@@ -293,8 +293,9 @@ void add_bench_command(CLI::App& app) {
   cmd->add_flag("--no-exact-start", options->no_exact_start,
                 "Solve a uniform diagonal metric (the isotropic one among them) from +inf, as "
                 "any other metric, instead of from each voxel's nearest seed's exact distance "
-                "(every voxel of a convex domain; elsewhere those whose 4^3 block sees the seed "
-                "through active voxels; both engines)");
+                "(every voxel of a convex domain in one face-connected piece; elsewhere those "
+                "whose 4^3 block, 4^2 in 2D, sees the seed through active voxels; both "
+                "engines)");
   cmd->add_flag("--no-reference", options->no_reference, "Skip the CPU reference (slow at 256^3)");
   cmd->add_flag("--no-fastsweeping", options->no_fastsweeping,
                 "Skip OpenVDB FastSweeping (it runs on 3D canvases only)");

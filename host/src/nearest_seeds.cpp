@@ -231,7 +231,7 @@ BrickSeedLists nearest_seed_candidates(const Canvas& canvas, const std::vector<V
                   " seeds on " + std::to_string(canvas.brick_count()) + " bricks)");
     lists.begin[brick + 1] = static_cast<std::uint32_t>(lists.seeds.size());
   }
-  lists.seen.assign(lists.seeds.size(), 0xff);
+  lists.seen.assign(lists.seeds.size(), canvas.dimension == 3 ? 0xff : 0x0f);
   return lists;
 }
 

@@ -155,7 +155,7 @@ std::uint8_t quarters_seeing(const FullCells& bricks, const FullCells& quarter_c
   if (quarters == 0 || block_sees(bricks, origin, target)) return quarters;
   const int half = Canvas::kBrickEdge / 2;
   std::uint8_t seen = 0;
-  for (int q = 0; q < 8; ++q) {
+  for (int q = 0; q < (quarter_cells.edge_z() > 1 ? 8 : 4); ++q) {
     if (!(quarters >> q & 1)) continue;
     const VoxelIndex corner{origin.i + (q & 1) * half, origin.j + ((q >> 1) & 1) * half,
                             origin.k + ((q >> 2) & 1) * half};

@@ -43,10 +43,45 @@ Canvas box_with_a_wall(int dimension, int resolution) {
                                           Mat3::Identity());
   for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
     const Vec3 p = canvas.world_of(slot);
-    if (p.x() >= -0.25 && p.x() < 0.0 && p.y() >= -0.5) canvas.active[slot] = 0;
+    if (p.x() >= -0.2 && p.x() < 0.03 && p.y() >= -0.5) canvas.active[slot] = 0;
   }
   canvas.finalize();
   return canvas;
+}
+
+Canvas split_inside_a_quarter(int dimension, int axis) {
+  Canvas canvas = make_uniform_box_canvas(dimension, Vec3(-1, -1, -1), Vec3(1, 1, 1),
+                                          dimension == 3 ? 32 : 64, Mat3::Identity());
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
+    const VoxelIndex v = canvas.voxel_of(slot);
+    if ((axis == 0 ? v.i : axis == 1 ? v.j : v.k) == 20) canvas.active[slot] = 0;
+  }
+  canvas.finalize();
+  return canvas;
+}
+
+std::vector<Vec3> lower_piece_seeds(int dimension, int axis) {
+  std::vector<Vec3> seeds{Vec3(0.1, 0.2, 0.3), Vec3(-0.3, 0.1, -0.2)};
+  const double h = 2.0 / (dimension == 3 ? 32 : 64);
+  for (std::size_t n = 0; n < seeds.size(); ++n) {
+    seeds[n][axis] = -1.0 + (5.5 + 6 * n) * h;  // voxels 5 and 11 along the axis
+    if (dimension == 2) seeds[n].z() = 0.0;
+  }
+  return seeds;
+}
+
+BandCounts count_piece_labels(const Canvas& canvas, int axis, int first_right,
+                              const std::vector<int32_t>& labels) {
+  BandCounts counts;
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
+    if (!canvas.active[slot]) continue;
+    const VoxelIndex v = canvas.voxel_of(slot);
+    const bool lower = (axis == 0 ? v.i : axis == 1 ? v.j : v.k) < first_right;
+    const bool labelled = labels[slot] >= 0;
+    (lower ? counts.left_voxels : counts.right_voxels) += 1;
+    (lower ? counts.left_labelled : counts.right_labelled) += labelled ? 1 : 0;
+  }
+  return counts;
 }
 
 Canvas two_bands_claimed_convex() {
@@ -63,14 +98,7 @@ std::vector<Vec3> left_band_seeds() {
 }
 
 BandCounts count_band_labels(const Canvas& canvas, const std::vector<int32_t>& labels) {
-  BandCounts counts;
-  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
-    if (!canvas.active[slot]) continue;
-    const bool left = canvas.voxel_of(slot).i < 28, labelled = labels[slot] >= 0;
-    (left ? counts.left_voxels : counts.right_voxels) += 1;
-    (left ? counts.left_labelled : counts.right_labelled) += labelled ? 1 : 0;
-  }
-  return counts;
+  return count_piece_labels(canvas, 0, 28, labels);
 }
 
 }  // namespace rvor::test

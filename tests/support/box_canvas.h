@@ -17,18 +17,28 @@ Canvas make_box_canvas(int dimension, const Vec3& lo, const Vec3& hi, int resolu
                        const MetricFunction& metric);
 Canvas make_uniform_box_canvas(int dimension, const Vec3& lo, const Vec3& hi, int resolution,
                                const Mat3& G);
-// The isotropic box [-1,1]^d at `resolution` voxels a side less a wall x in [-0.25, 0), with a
-// door at y < -0.5: a domain that is not convex.
+// The isotropic box [-1,1]^d at `resolution` voxels a side less a wall x in [-0.2, 0.03), with a
+// door at y < -0.5: a domain that is not convex, whose wall cuts through bricks and quarters.
 Canvas box_with_a_wall(int dimension, int resolution);
 // The isotropic 64^2 box [-1,1]^2 less the voxel columns i in [28, 36): two bands that share no
 // face, x < -0.125 and x > 0.125, marked convex_domain as if a builder had said so.
 Canvas two_bands_claimed_convex();
 // Its seeds, both in the left band.
 std::vector<Vec3> left_band_seeds();
-// How many voxels of each band `field` labels, and how many each band has.
+// The isotropic box [-1,1]^d at 64^2 or 32^3 voxels less the voxel layer 20 along `axis`, which
+// cuts the quarters of voxels 20 to 23 (the upper half of the bricks of voxels 16 to 23): two
+// pieces, the lower one holding lower_piece_seeds.
+Canvas split_inside_a_quarter(int dimension, int axis);
+std::vector<Vec3> lower_piece_seeds(int dimension, int axis);
+
+// How many voxels of each piece `field` labels, and how many each piece has.
 struct BandCounts {
   std::size_t left_labelled = 0, left_voxels = 0, right_labelled = 0, right_voxels = 0;
 };
+// The pieces of voxel index below `first_right` along `axis` (left) and the others (right).
+BandCounts count_piece_labels(const Canvas& canvas, int axis, int first_right,
+                              const std::vector<int32_t>& labels);
+// Of two_bands_claimed_convex.
 BandCounts count_band_labels(const Canvas& canvas, const std::vector<int32_t>& labels);
 
 }  // namespace rvor::test

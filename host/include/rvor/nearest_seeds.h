@@ -60,7 +60,8 @@ ExactStartReach exact_start_reach(const Canvas& canvas);
 struct BrickSeedLists {
   std::vector<std::uint32_t> begin;  // brick_count + 1 entries
   std::vector<std::int32_t> seeds;
-  std::vector<std::uint8_t> seen;  // as many as seeds; every bit set by nearest_seed_candidates
+  std::vector<std::uint8_t>
+      seen;  // as many as seeds; each quarter's bit set by nearest_seed_candidates
 };
 
 // The lists for `seeds` (which must lie in the canvas: validate_seeds), measured in the diagonal of

@@ -50,10 +50,12 @@ struct OpenCLOptions {
   // them. 0: off; negative: automatic, 3 for stencils with non-axis offsets and Voronoi cells at
   // least 50 voxels across, else off (swirl 1024^2, 10 seeds: 5.5 -> 3.1 s; radial_shock_3d
   // 128^3, 10 seeds: 4.7 -> 3.5 s; off for the standard bench cases). make_opencl_propagator
-  // throws for NaN, infinities and steps in (0, 0.25), whose rounds would multiply.
+  // throws for NaN, infinities and steps in (0, 0.25), whose rounds would multiply. A solve that
+  // takes the exact start (below) steps no front, whatever this says.
   double front_step = -1.0;
-  // Solves (not insertions) on a canvas whose metric is uniform start every voxel at its nearest
-  // seed's exact distance, which the relaxations then verify and repair next to bisectors
+  // Solves (not insertions) under a uniform diagonal metric start voxels at their nearest seed's
+  // exact distance (every voxel of a convex domain, elsewhere those whose quarter brick sees the
+  // seed: rvor/nearest_seeds.h), which the relaxations then verify and repair next to bisectors
   // (docs/scheme.md, "Initialisation"); false: from +inf, as for any other metric.
   bool exact_start = true;
 };

@@ -49,8 +49,9 @@ struct PropagationStats {
   // voxel_phases iterations per round), so voxel_updates <= visits_per_relaxation * 512 *
   // brick_relaxations; the reference: 0.
   std::uint64_t visits_per_relaxation = 0;
-  // Whether the solve started every voxel at its nearest seed's exact distance (the exact start of
-  // rvor/nearest_seeds.h: a uniform diagonal metric on a convex domain) rather than +inf.
+  // Whether the solve started voxels at their nearest seed's exact distance rather than +inf (the
+  // exact start of rvor/nearest_seeds.h, under a uniform diagonal metric: every voxel of a convex
+  // domain, elsewhere those whose quarter brick sees the seed, which may be none).
   bool exact_start = false;
   double seconds = 0.0;
 };
@@ -82,9 +83,9 @@ class Propagator {
 std::vector<std::uint8_t> find_multi_label_bricks(const Canvas& canvas, const VoronoiField& field);
 
 // The sequential CPU reference solver: clear on purpose, the ground truth for every kernel.
-// exact_start: solves on a canvas whose metric is uniform start every voxel at its nearest seed's
-// exact distance (docs/scheme.md, "Initialisation"), as the OpenCL engine does by default; false:
-// from +inf.
+// exact_start: solves under a uniform diagonal metric start voxels at their nearest seed's exact
+// distance (docs/scheme.md, "Initialisation"; which voxels: rvor/nearest_seeds.h), as the OpenCL
+// engine does by default; false: from +inf.
 std::unique_ptr<Propagator> make_reference_propagator(bool exact_start = true);
 
 // "cpu" -> the reference; "auto", "opencl", "opencl:N", "pocl" -> the OpenCL engine (added by
