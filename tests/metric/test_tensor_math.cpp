@@ -231,6 +231,26 @@ TEST(TensorMath, IsSpdAcceptsStrongAnisotropy) {
   EXPECT_TRUE(is_spd(G));
 }
 
+// is_spd settles most tensors by bounds (trace and determinant) instead of an eigen solve; it must
+// decide as the eigenvalues do on either side of the threshold, 64 epsilons of the largest:
+// rotated spectra with ratios from 1e-1 to 1e-12 are accepted, 1e-15 and below refused.
+TEST(TensorMath, IsSpdDecidesByTheSpectrumWithOrWithoutTheEigenSolve) {
+  for (int i = 0; i < 50; ++i) {
+    const Mat3 Q =
+        Eigen::AngleAxisd(0.1 * i, Vec3(1, 2 + 0.1 * i, 3).normalized()).toRotationMatrix();
+    for (int exponent = 1; exponent <= 12; ++exponent) {
+      const double ratio = std::pow(10.0, -exponent);
+      EXPECT_TRUE(is_spd(Q * Vec3(ratio, 1, 0.5).asDiagonal() * Q.transpose()))
+          << "rotation " << i << ", ratio " << ratio;
+      EXPECT_TRUE(is_spd(Q * Vec3(1, 1 / std::sqrt(ratio), 1 / ratio).asDiagonal() * Q.transpose()))
+          << "rotation " << i << ", ratio " << ratio;
+    }
+    for (const double ratio : {1e-15, 1e-17, 1e-20})
+      EXPECT_FALSE(is_spd(Q * Vec3(ratio, 1, 0.5).asDiagonal() * Q.transpose()))
+          << "rotation " << i << ", ratio " << ratio;
+  }
+}
+
 TEST(TensorMath, RequireSpdAcceptsSpd) {
   EXPECT_NO_THROW(require_spd(with_spectrum(Vec3(0.1, 1, 10)), "fine"));
 }
