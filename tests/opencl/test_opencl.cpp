@@ -167,6 +167,8 @@ INSTANTIATE_TEST_SUITE_P(
         EngineConfig{"BrickLanesNoColouring", RelaxationVariant::brick_lanes, 2, false},
         EngineConfig{"BrickLanesFromInfinity", RelaxationVariant::brick_lanes, 0, true, true,
                      false},
+        EngineConfig{"BrickSweepFromInfinity", RelaxationVariant::brick_sweep, 2, true, true,
+                     false},
         EngineConfig{"VoxelPhasesFromInfinity", RelaxationVariant::voxel_phases, 2, true, true,
                      false}),
     [](const auto& info) { return std::string(info.param.name); });

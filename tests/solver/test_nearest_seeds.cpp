@@ -33,8 +33,10 @@ std::vector<Vec3> points_around(const Vec3& centre, double spread, int dimension
 }
 
 // For every active voxel, each seed whose u0 is the least (to a relative 1e-12) is in the list of
-// the voxel's brick. Returns the mean list length.
-double expect_lists_hold_nearest_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds) {
+// the voxel's brick. Returns the mean list length; `tied_voxels`, when given, counts the voxels
+// with more than one such seed.
+double expect_lists_hold_nearest_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                                       std::size_t* tied_voxels = nullptr) {
   const BrickSeedLists lists = nearest_seed_candidates(canvas, seeds);
   EXPECT_EQ(lists.begin.size(), canvas.brick_count() + 1);
   const Mat3 G = canvas.metric_at(0);
@@ -45,6 +47,9 @@ double expect_lists_hold_nearest_seeds(const Canvas& canvas, const std::vector<V
     for (std::size_t s = 0; s < seeds.size(); ++s)
       u0[s] = std::sqrt((x - seeds[s]).dot(G * (x - seeds[s])));
     const double least = *std::min_element(u0.begin(), u0.end());
+    if (tied_voxels)
+      *tied_voxels += std::count_if(u0.begin(), u0.end(),
+                                    [&](double d) { return d <= least * (1 + 1e-12); }) > 1;
     const std::size_t brick = slot / canvas.brick_volume();
     const auto first = lists.seeds.begin() + lists.begin[brick];
     const auto last = lists.seeds.begin() + lists.begin[brick + 1];
@@ -85,7 +90,9 @@ TEST(NearestSeeds, ListsHoldEveryVoxelsNearestSeeds) {
 TEST(NearestSeeds, TiesAreAllListed) {
   // Two seeds mirrored about the plane x = 0: voxels at x = 0 have two nearest seeds.
   const Canvas canvas = make_uniform_box_canvas(3, kLo, kHi, 33, Mat3::Identity());
-  expect_lists_hold_nearest_seeds(canvas, {Vec3(-0.5, 0.1, 0.2), Vec3(0.5, 0.1, 0.2)});
+  std::size_t tied = 0;
+  expect_lists_hold_nearest_seeds(canvas, {Vec3(-0.5, 0.1, 0.2), Vec3(0.5, 0.1, 0.2)}, &tied);
+  EXPECT_EQ(tied, 33u * 33u);  // the voxel plane x = 0
 }
 
 TEST(NearestSeeds, TheExactStartNeedsAUniformDiagonalMetricAndReachesEveryBrickOfAConvexDomain) {
