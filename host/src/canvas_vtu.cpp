@@ -1,8 +1,8 @@
 // The labeled canvas as a VTK XML unstructured grid with raw appended binary data: voxel cells
 // (VTK_VOXEL in 3D, VTK_PIXEL in 2D) sharing their corner points.
+#include <array>
 #include <cstdint>
 #include <string>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -25,29 +25,46 @@ struct VtuArrays {
 };
 
 // Corner (a,b,c) of voxel (i,j,k) is the lattice point (i+a, j+b, k+c), at world centre - h/2.
+// Ids are kept in blocks of 8^3 lattice points (8^2 in 2D), one per cell of the brick grid grown
+// by a layer, allocated when a corner first falls in them: a hash map of every corner took most
+// of a 192^3 canvas's write (its nodes, one allocation each).
 class CornerPoints {
  public:
   CornerPoints(const Canvas& canvas, std::vector<float>& points)
-      : canvas_(canvas), points_(points) {}
+      : canvas_(canvas),
+        points_(points),
+        edge_z_(canvas.dimension == 3 ? Canvas::kBrickEdge : 1),
+        grid_{canvas.brick_grid_dims[0] + 1, canvas.brick_grid_dims[1] + 1,
+              canvas.dimension == 3 ? canvas.brick_grid_dims[2] + 1 : 1},
+        block_of_(static_cast<std::size_t>(grid_[0]) * grid_[1] * grid_[2], -1) {}
+
   int64_t id(int i, int j, int k) {
-    const uint64_t key =
-        static_cast<uint64_t>(i + 1) +
-        static_cast<uint64_t>(canvas_.dims[0] + 3) *
-            (static_cast<uint64_t>(j + 1) + static_cast<uint64_t>(canvas_.dims[1] + 3) * k);
-    auto [found, inserted] = ids_.emplace(key, static_cast<int64_t>(points_.size() / 3));
-    if (inserted) {
+    const int e = Canvas::kBrickEdge, block_size = e * e * edge_z_;
+    const std::size_t cell =
+        (static_cast<std::size_t>(k / edge_z_) * grid_[1] + j / e) * grid_[0] + i / e;
+    int64_t& block = block_of_[cell];
+    if (block < 0) {
+      block = static_cast<int64_t>(ids_.size());
+      ids_.resize(ids_.size() + block_size, -1);
+    }
+    int64_t& id = ids_[block + ((k % edge_z_) * e + j % e) * e + i % e];
+    if (id < 0) {
+      id = static_cast<int64_t>(points_.size() / 3);
       const double half = 0.5 * canvas_.voxel_size;
       const Vec3 p = canvas_.world_of(VoxelIndex{i, j, k}) -
                      Vec3(half, half, canvas_.dimension == 3 ? half : 0.0);
       for (int a = 0; a < 3; ++a) points_.push_back(static_cast<float>(p[a]));
     }
-    return found->second;
+    return id;
   }
 
  private:
   const Canvas& canvas_;
   std::vector<float>& points_;
-  std::unordered_map<uint64_t, int64_t> ids_;
+  int edge_z_;
+  std::array<int, 3> grid_;
+  std::vector<int64_t> block_of_;  // per grid cell: where its block starts in ids_, or -1
+  std::vector<int64_t> ids_;       // per lattice point of an allocated block: its id, or -1
 };
 
 VtuArrays collect_cells(const Canvas& canvas, const VoronoiField& field) {
@@ -55,6 +72,13 @@ VtuArrays collect_cells(const Canvas& canvas, const VoronoiField& field) {
   CornerPoints corners(canvas, arrays.points);
   const bool volume = canvas.dimension == 3;
   const int corner_count = volume ? 8 : 4;
+  // Reserved, not grown: at 192^3 the connectivity alone is 450 MB.
+  const std::size_t cells = canvas.active_voxel_count;
+  arrays.connectivity.reserve(cells * corner_count);
+  arrays.offsets.reserve(cells);
+  arrays.types.reserve(cells);
+  arrays.labels.reserve(cells);
+  arrays.distances.reserve(cells);
   for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
     if (!canvas.active[slot]) continue;
     const VoxelIndex v = canvas.voxel_of(slot);
