@@ -2,6 +2,7 @@
 // (VTK_VOXEL in 3D, VTK_PIXEL in 2D) sharing their corner points.
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -16,9 +17,11 @@ namespace {
 constexpr uint8_t kVtkPixel = 8;
 constexpr uint8_t kVtkVoxel = 11;
 
+// Index: int32_t where every connectivity entry fits (a third less to write), else int64_t.
+template <typename Index>
 struct VtuArrays {
   std::vector<float> points;
-  std::vector<int64_t> connectivity, offsets;
+  std::vector<Index> connectivity, offsets;
   std::vector<uint8_t> types;
   std::vector<int32_t> labels;
   std::vector<float> distances;
@@ -67,8 +70,9 @@ class CornerPoints {
   std::vector<int64_t> ids_;       // per lattice point of an allocated block: its id, or -1
 };
 
-VtuArrays collect_cells(const Canvas& canvas, const VoronoiField& field) {
-  VtuArrays arrays;
+template <typename Index>
+VtuArrays<Index> collect_cells(const Canvas& canvas, const VoronoiField& field) {
+  VtuArrays<Index> arrays;
   CornerPoints corners(canvas, arrays.points);
   const bool volume = canvas.dimension == 3;
   const int corner_count = volume ? 8 : 4;
@@ -83,9 +87,9 @@ VtuArrays collect_cells(const Canvas& canvas, const VoronoiField& field) {
     if (!canvas.active[slot]) continue;
     const VoxelIndex v = canvas.voxel_of(slot);
     for (int c = 0; c < corner_count; ++c)  // VTK order: x fastest, then y, then z
-      arrays.connectivity.push_back(
-          corners.id(v.i + (c & 1), v.j + ((c >> 1) & 1), v.k + ((c >> 2) & 1)));
-    arrays.offsets.push_back(static_cast<int64_t>(arrays.connectivity.size()));
+      arrays.connectivity.push_back(static_cast<Index>(
+          corners.id(v.i + (c & 1), v.j + ((c >> 1) & 1), v.k + ((c >> 2) & 1))));
+    arrays.offsets.push_back(static_cast<Index>(arrays.connectivity.size()));
     arrays.types.push_back(volume ? kVtkVoxel : kVtkPixel);
     arrays.labels.push_back(field.label[slot]);
     arrays.distances.push_back(field.distance[slot]);
@@ -93,11 +97,9 @@ VtuArrays collect_cells(const Canvas& canvas, const VoronoiField& field) {
   return arrays;
 }
 
-}  // namespace
-
-void write_canvas_vtu(const std::string& path, const Canvas& canvas, const VoronoiField& field) {
-  require_field_for(canvas, field, "cannot write " + path);
-  const VtuArrays arrays = collect_cells(canvas, field);
+template <typename Index>
+void write_cells(const std::string& path, const Canvas& canvas, const VoronoiField& field) {
+  const VtuArrays<Index> arrays = collect_cells<Index>(canvas, field);
   vtu::AppendedWriter appended;
   std::string xml = vtu::grid_geometry(appended, arrays.points, arrays.connectivity, arrays.offsets,
                                        arrays.types);
@@ -106,6 +108,18 @@ void write_canvas_vtu(const std::string& path, const Canvas& canvas, const Voron
   xml += appended.declare("Float32", "distance", 1, arrays.distances);
   xml += "</CellData>\n";
   vtu::publish(path, std::move(xml), appended);
+}
+
+}  // namespace
+
+void write_canvas_vtu(const std::string& path, const Canvas& canvas, const VoronoiField& field) {
+  require_field_for(canvas, field, "cannot write " + path);
+  // Corner ids and offsets are at most the connectivity's length: cells times corners.
+  const std::uint64_t entries = canvas.active_voxel_count * (canvas.dimension == 3 ? 8u : 4u);
+  if (entries <= static_cast<std::uint64_t>(std::numeric_limits<int32_t>::max()))
+    write_cells<int32_t>(path, canvas, field);
+  else
+    write_cells<int64_t>(path, canvas, field);
 }
 
 }  // namespace rvor

@@ -46,17 +46,29 @@ inline std::string grid_header(std::size_t points, std::size_t cells) {
          std::to_string(points) + "\" NumberOfCells=\"" + std::to_string(cells) + "\">\n<Points>\n";
 }
 
+// The VTK name of the index types that connectivity and offsets may take.
+template <typename Index>
+const char* index_type_name();
+template <>
+inline const char* index_type_name<int32_t>() {
+  return "Int32";
+}
+template <>
+inline const char* index_type_name<int64_t>() {
+  return "Int64";
+}
+
 // The XML from the file header through </Cells>: points (3 floats each) and cells, declared in
 // `appended`. Cell and point data sections follow.
-inline std::string grid_geometry(AppendedWriter& appended, const std::vector<float>& points,
-                                 const std::vector<int64_t>& connectivity,
-                                 const std::vector<int64_t>& offsets,
-                                 const std::vector<uint8_t>& types) {
+template <typename Index>
+std::string grid_geometry(AppendedWriter& appended, const std::vector<float>& points,
+                          const std::vector<Index>& connectivity, const std::vector<Index>& offsets,
+                          const std::vector<uint8_t>& types) {
   std::string xml = grid_header(points.size() / 3, types.size());
   xml += appended.declare("Float32", "", 3, points);
   xml += "</Points>\n<Cells>\n";
-  xml += appended.declare("Int64", "connectivity", 1, connectivity);
-  xml += appended.declare("Int64", "offsets", 1, offsets);
+  xml += appended.declare(index_type_name<Index>(), "connectivity", 1, connectivity);
+  xml += appended.declare(index_type_name<Index>(), "offsets", 1, offsets);
   xml += appended.declare("UInt8", "types", 1, types);
   return xml + "</Cells>\n";
 }
