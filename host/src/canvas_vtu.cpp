@@ -29,8 +29,9 @@ struct VtuArrays {
 
 // Corner (a,b,c) of voxel (i,j,k) is the lattice point (i+a, j+b, k+c), at world centre - h/2.
 // Ids are kept in blocks of 8^3 lattice points (8^2 in 2D), one per cell of the brick grid grown
-// by a layer, allocated when a corner first falls in them: a hash map of every corner took most
-// of a 192^3 canvas's write (its nodes, one allocation each).
+// by a layer, allocated when a corner first falls in them: a hash map of every corner took about
+// half of a 192^3 canvas's write (4.0 of 4.2 s against 2.1 with the blocks; a node, one
+// allocation, per corner).
 class CornerPoints {
  public:
   CornerPoints(const Canvas& canvas, std::vector<float>& points)
