@@ -113,11 +113,13 @@ void write_cells(const std::string& path, const Canvas& canvas, const VoronoiFie
 
 }  // namespace
 
-void write_canvas_vtu(const std::string& path, const Canvas& canvas, const VoronoiField& field) {
+void write_canvas_vtu(const std::string& path, const Canvas& canvas, const VoronoiField& field,
+                      VtuIndices indices) {
   require_field_for(canvas, field, "cannot write " + path);
   // Corner ids and offsets are at most the connectivity's length: cells times corners.
   const std::uint64_t entries = canvas.active_voxel_count * (canvas.dimension == 3 ? 8u : 4u);
-  if (entries <= static_cast<std::uint64_t>(std::numeric_limits<int32_t>::max()))
+  if (indices == VtuIndices::narrowest &&
+      entries <= static_cast<std::uint64_t>(std::numeric_limits<int32_t>::max()))
     write_cells<int32_t>(path, canvas, field);
   else
     write_cells<int64_t>(path, canvas, field);

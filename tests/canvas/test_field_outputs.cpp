@@ -12,6 +12,7 @@
 #include "rvor/canvas_png.h"
 #include "rvor/field_summary.h"
 #include "support/box_canvas.h"
+#include "support/run_command.h"
 #include "support/temp_dir.h"
 
 namespace rvor {
@@ -53,6 +54,57 @@ TEST(FieldOutputs, LabelsBeyondTheSeedsAndNonFiniteProbesAreErrors) {
       << message;
   // A finite point far away is taken to the nearest voxel (documented), not refused.
   EXPECT_EQ(probe_field(canvas, field, {Vec3(1e300, 0, 0)}).size(), 1u);
+}
+
+// A canvas.vtu with Int32 connectivity (where it fits) and one with Int64 read back by VTK as the
+// same grid: points, connectivity, labels and distances, 2D and 3D. The Int64 form is the one a
+// canvas of over 2^31 corner entries gets.
+TEST(FieldOutputs, VtuIndexWidthsReadBackAlike) {
+  const std::string script =
+      "import sys, vtk\n"
+      "from vtk.util.numpy_support import vtk_to_numpy as n\n"
+      "def load(f):\n"
+      "    r = vtk.vtkXMLUnstructuredGridReader(); r.SetFileName(f); r.Update()\n"
+      "    return r.GetOutput()\n"
+      "a, b = load(sys.argv[1]), load(sys.argv[2])\n"
+      "same = lambda x, y: x.shape == y.shape and (x == y).all()\n"
+      "print(a.GetNumberOfCells(), a.GetNumberOfPoints(),\n"
+      "      same(n(a.GetPoints().GetData()), n(b.GetPoints().GetData())),\n"
+      "      same(n(a.GetCells().GetConnectivityArray()), "
+      "n(b.GetCells().GetConnectivityArray())),\n"
+      "      same(n(a.GetCellData().GetArray('label')), n(b.GetCellData().GetArray('label'))),\n"
+      "      same(n(a.GetCellData().GetArray('distance')), "
+      "n(b.GetCellData().GetArray('distance'))))\n";
+  test::TempDir dir;
+  test::write_text(dir.file("compare.py"), script);
+  for (const int dimension : {2, 3}) {
+    SCOPED_TRACE(std::to_string(dimension) + "D");
+    Canvas canvas = test::make_uniform_box_canvas(dimension, Vec3(-1, -1, -1), Vec3(1, 1, 1), 12,
+                                                  Mat3::Identity());
+    canvas.active[0] = 0;  // a corner shared by fewer cells
+    canvas.finalize();
+    VoronoiField field;
+    field.distance.resize(canvas.slot_count());
+    field.label.resize(canvas.slot_count());
+    for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
+      field.distance[slot] = 0.5f * static_cast<float>(slot);
+      field.label[slot] = static_cast<int32_t>(slot % 7);
+    }
+    write_canvas_vtu(dir.file("narrow.vtu"), canvas, field);
+    write_canvas_vtu(dir.file("wide.vtu"), canvas, field, VtuIndices::int64);
+    EXPECT_NE(test::read_text(dir.file("narrow.vtu")).find("type=\"Int32\" Name=\"connectivity\""),
+              std::string::npos);
+    EXPECT_NE(test::read_text(dir.file("wide.vtu")).find("type=\"Int64\" Name=\"connectivity\""),
+              std::string::npos);
+    const test::CommandResult result =
+        test::run_command(test::debian_python() + " " + dir.file("compare.py") + " " +
+                          dir.file("narrow.vtu") + " " + dir.file("wide.vtu"));
+    ASSERT_EQ(result.exit_code, 0) << result.err;
+    const std::size_t cells = canvas.active_voxel_count;
+    const std::size_t points = dimension == 3 ? 13 * 13 * 13 - 1 : 13 * 13 - 1;
+    EXPECT_EQ(result.out,
+              std::to_string(cells) + " " + std::to_string(points) + " True True True True\n");
+  }
 }
 
 }  // namespace

@@ -8,9 +8,14 @@
 
 namespace rvor {
 
+// The integer type of a .vtu's connectivity and offsets: Int32 wherever they fit (cells times
+// corners below 2^31: a third less to write than Int64), else Int64; or Int64 always.
+enum class VtuIndices { narrowest, int64 };
+
 // Active voxels as VTK_VOXEL cells with cell data `label` (int) and `distance` (float);
 // binary appended data. Atomic.
-void write_canvas_vtu(const std::string& path, const Canvas& canvas, const VoronoiField& field);
+void write_canvas_vtu(const std::string& path, const Canvas& canvas, const VoronoiField& field,
+                      VtuIndices indices = VtuIndices::narrowest);
 
 struct ProbeSample {
   Vec3 query;         // the probe point as given
