@@ -49,8 +49,11 @@ Mat3 normalised_weighted_sum(const std::vector<Mat3>& terms, const std::vector<d
 // The eigenvalues is_spd judges a symmetric S by: a 2D metric's z entry is decoupled from its xy
 // block, so those of the xy block alone (a large xy block next to S(2,2) = 1 is no singular
 // matrix), else those of S.
+int judged_block_size(const Mat3& S) {
+  return S(0, 2) == 0 && S(1, 2) == 0 ? 2 : 3;
+}
 Eigen::VectorXd judged_eigenvalues(const Mat3& S) {
-  return metric_eigenvalues(S, S(0, 2) == 0 && S(1, 2) == 0 ? 2 : 3);
+  return metric_eigenvalues(S, judged_block_size(S));
 }
 
 // A rotated singular matrix often comes out of rounding with a tiny positive eigenvalue
@@ -96,8 +99,8 @@ bool is_spd(const Mat3& G) {
   // spectrum (S(2,2) > 0 follows from Cholesky's success), settled without an eigen solve where
   // the bound of clearly_positive_by_bounds does (most tensors: the solve was most of a varying
   // metric's canvas build).
-  const int n = S(0, 2) == 0 && S(1, 2) == 0 ? 2 : 3;  // the block judged_eigenvalues judges
-  return clearly_positive_by_bounds(S, n) || clearly_positive(judged_eigenvalues(S));
+  return clearly_positive_by_bounds(S, judged_block_size(S)) ||
+         clearly_positive(judged_eigenvalues(S));
 }
 
 namespace {

@@ -112,8 +112,9 @@ __kernel void claim_seed_voxels(int claim_count, __global const int4* claims,
 // The exact start (docs/scheme.md, "Initialisation"), for a uniform diagonal metric, before the
 // seed blocks: a work-item per brick row (EDGE slots along x, as vectors). An active slot starts at
 // the least u0 over its brick's candidate seeds (rvor/nearest_seeds.h; ties: the smaller label)
-// where its quarter brick sees that seed (`candidate_seen`, a bit per quarter), else and where
-// inactive at INF_STATE; not frozen, stamped as changed so that its first visit evaluates it.
+// where its quarter brick sees that seed (`candidate_seen`, a bit per quarter); elsewhere, and
+// where inactive, at INF_STATE. Not frozen, stamped as changed so that its first visit evaluates
+// it.
 // Every brick is pending: it verifies its values and repairs the voxels next to bisectors. (A
 // work-item per slot, its seed loads and arithmetic scalar, took 0.33 s of a 1.9 s euclidean solve
 // at 256^3 with 1000 seeds: a temporary timer, not kept.)
@@ -133,36 +134,31 @@ __kernel void start_at_nearest_seeds(int brick_count, __global const uint* candi
   const int3 in_brick = local_coordinates(first);
   const int3 v = brick_origins[brick].xyz + in_brick;
   const float8 x = (float8)(0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f) + (float)v.x;
-  // The row's quarters: x < 4 and x >= 4 at its y and z.
-  const int quarter = (in_brick.y >= EDGE / 2 ? 2 : 0) + (in_brick.z >= EDGE / 2 ? 4 : 0);
-  const int8 upper_half = (int8)(0, 0, 0, 0, -1, -1, -1, -1);
   float8 least = (float8)(INFINITY);
-  int8 nearest = (int8)(-1);
-  int8 seen = (int8)(0);
+  int8 entry = (int8)(-1);  // of the list: the nearest seed's, whose label and bits are read after
   // Candidates come in ascending labels, so on a tie the first, smaller label stays.
   for (uint c = candidate_begin[brick]; c < candidate_begin[brick + 1]; ++c) {
-    const int label = candidates[c];
-    __global const float* seed = seeds + (size_t)label * SEED_RECORD;
+    __global const float* seed = seeds + (size_t)candidates[c] * SEED_RECORD;
     const float8 qx = x - seed[0];
     const float qy = (float)v.y - seed[1], qz = (float)v.z - seed[2];
     // A diagonal metric (the host checks): u0^2 = g11 qx^2 + g22 qy^2 + g33 qz^2.
     const float8 u0 = sqrt(seed[8] * qx * qx + (seed[10] * qy * qy + seed[13] * qz * qz));
     const int8 nearer = u0 < least;
-    const int bits = candidate_seen[c] >> quarter;
-    const int8 sees = select((int8)(-((bits & 1) != 0)), (int8)(-((bits & 2) != 0)), upper_half);
     least = select(least, u0, nearer);
-    nearest = select(nearest, (int8)(label), nearer);
-    seen = select(seen, sees, nearer);
+    entry = select(entry, (int8)((int)c), nearer);
   }
   const size_t slot = (size_t)brick * BRICK_VOLUME + first;
   const float d[EDGE] = {least.s0, least.s1, least.s2, least.s3,
                          least.s4, least.s5, least.s6, least.s7};
-  const int l[EDGE] = {nearest.s0, nearest.s1, nearest.s2, nearest.s3,
-                       nearest.s4, nearest.s5, nearest.s6, nearest.s7};
-  const int s[EDGE] = {seen.s0, seen.s1, seen.s2, seen.s3, seen.s4, seen.s5, seen.s6, seen.s7};
+  const int e[EDGE] = {entry.s0, entry.s1, entry.s2, entry.s3,
+                       entry.s4, entry.s5, entry.s6, entry.s7};
+  // The row's quarters (bit q = (x >= 4) + 2 (y >= 4) + 4 (z >= 4), rvor/nearest_seeds.h).
+  const int row_quarter = (in_brick.y >= EDGE / 2 ? 2 : 0) + (in_brick.z >= EDGE / 2 ? 4 : 0);
   for (int i = 0; i < EDGE; ++i) {
     const bool active = slot_active(activity, slot + i);
-    state[slot + i] = active && l[i] >= 0 && s[i] ? make_state(d[i], l[i]) : INF_STATE;
+    const int quarter = row_quarter + (i >= EDGE / 2 ? 1 : 0);
+    const bool sees = e[i] >= 0 && ((candidate_seen[e[i]] >> quarter) & 1);
+    state[slot + i] = active && sees ? make_state(d[i], candidates[e[i]]) : INF_STATE;
     if (active) changed[slot + i] = stamp;
   }
 }

@@ -117,6 +117,12 @@ std::pair<double, double> box_distances(const Vec3& y, const Vec3& lo, const Vec
 
 }  // namespace
 
+Vec3 seed_index_point(const Canvas& canvas, const Vec3& seed) {
+  Vec3 p = canvas.index_coordinates(seed);
+  if (canvas.dimension == 2) p.z() = 0.0;
+  return p;
+}
+
 bool has_uniform_metric(const Canvas& canvas) {
   const float* first = nullptr;
   for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
@@ -193,11 +199,8 @@ BrickSeedLists nearest_seed_candidates(const Canvas& canvas, const std::vector<V
   const Vec3 scales = axis_scales(canvas);
   std::vector<Vec3> points;
   points.reserve(seeds.size());
-  for (const Vec3& seed : seeds) {
-    Vec3 c = canvas.index_coordinates(seed);
-    if (canvas.dimension == 2) c.z() = 0.0;
-    points.push_back(scales.cwiseProduct(c));
-  }
+  for (const Vec3& seed : seeds)
+    points.push_back(scales.cwiseProduct(seed_index_point(canvas, seed)));
   const PointTree tree(points, canvas.dimension);
   const double edge = Canvas::kBrickEdge - 1;
   const Vec3 extent = scales.cwiseProduct(Vec3(edge, edge, canvas.dimension == 3 ? edge : 0.0));

@@ -288,25 +288,23 @@ void ReferenceSolver::offer_exact_value(int32_t voxel, int32_t s, bool was_froze
 void ReferenceSolver::start_at_nearest_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds) {
   const BrickSeedLists nearest = exact_start_lists(canvas, seeds, *exact_start_reach_);
   const std::size_t brick_volume = std::size_t{1} << brick_shift_;
-  const int edge = Canvas::kBrickEdge, half = Canvas::kBrickEdge / 2;
   for (std::size_t slot = 0; slot < slot_count_; ++slot) {
     VoxelState& state = state_[slot];
     if (state.stencil < 0) continue;
     const std::size_t brick = slot / brick_volume;
-    const int local = static_cast<int>(slot % brick_volume);
-    const int quarter = (local % edge >= half) + 2 * ((local / edge) % edge >= half) +
-                        4 * (local / (edge * edge) >= half);
     const Vec3 x = position_of(static_cast<int32_t>(slot));
     double least = kInfinity;
-    int32_t label = -1;
-    bool seen = false;
+    std::uint32_t entry = nearest.begin[brick + 1];  // of the nearest seed; none yet
     for (std::uint32_t c = nearest.begin[brick]; c < nearest.begin[brick + 1]; ++c) {
-      const int32_t s = nearest.seeds[c];
-      const double u0 = seed_distance(x, s);
-      if (u0 < least || (u0 == least && s < label))
-        least = u0, label = s, seen = (nearest.seen[c] >> quarter) & 1;
+      const double u0 = seed_distance(x, nearest.seeds[c]);
+      if (u0 < least) least = u0, entry = c;  // ascending labels: a tie keeps the smaller
     }
-    if (seen && least < state.value) state.value = least, state.label = label;
+    if (entry == nearest.begin[brick + 1]) continue;
+    const VoxelIndex v = index_of(static_cast<int32_t>(slot));
+    const VoxelIndex& o = canvas.brick_origins[brick];
+    const int quarter = quarter_of(v.i - o.i, v.j - o.j, v.k - o.k);
+    if ((nearest.seen[entry] >> quarter & 1) && least < state.value)
+      state.value = least, state.label = nearest.seeds[entry];
   }
 }
 

@@ -153,12 +153,11 @@ std::uint8_t quarters_seeing(const FullCells& bricks, const FullCells& quarter_c
                              const VoxelIndex& origin, const Target& target,
                              std::uint8_t quarters) {
   if (quarters == 0 || block_sees(bricks, origin, target)) return quarters;
-  const int half = Canvas::kBrickEdge / 2;
   std::uint8_t seen = 0;
   for (int q = 0; q < (quarter_cells.edge_z() > 1 ? 8 : 4); ++q) {
     if (!(quarters >> q & 1)) continue;
-    const VoxelIndex corner{origin.i + (q & 1) * half, origin.j + ((q >> 1) & 1) * half,
-                            origin.k + ((q >> 2) & 1) * half};
+    const VoxelIndex offset = quarter_origin(q);
+    const VoxelIndex corner{origin.i + offset.i, origin.j + offset.j, origin.k + offset.k};
     if (block_sees(quarter_cells, corner, target)) seen |= static_cast<std::uint8_t>(1u << q);
   }
   return seen;
@@ -173,8 +172,8 @@ void mark_where_seeds_are_seen(const Canvas& canvas, const std::vector<Vec3>& se
   std::vector<Target> targets;
   targets.reserve(seeds.size());
   for (const Vec3& seed : seeds) {
-    Target t{canvas.index_coordinates(seed), canvas.voxel_containing(seed)};
-    if (canvas.dimension == 2) t.point.z() = 0.0, t.voxel.k = 0;
+    Target t{seed_index_point(canvas, seed), canvas.voxel_containing(seed)};
+    if (canvas.dimension == 2) t.voxel.k = 0;
     targets.push_back(t);
   }
   for_slot_ranges(

@@ -137,8 +137,8 @@ SeenBits expect_seen_quarters_see(const Canvas& canvas, const std::vector<Vec3>&
     for (std::uint32_t c = lists.begin[brick]; c < lists.begin[brick + 1]; ++c)
       for (int q = 0; q < quarters; ++q) {
         const VoxelIndex& o = canvas.brick_origins[brick];
-        const VoxelIndex corner{o.i + (q & 1) * half, o.j + ((q >> 1) & 1) * half,
-                                o.k + ((q >> 2) & 1) * half};
+        const VoxelIndex offset = quarter_origin(q);
+        const VoxelIndex corner{o.i + offset.i, o.j + offset.j, o.k + offset.k};
         bool any_active = false, all_active = true, all_seen = true;
         for (int k = 0; k < (quarters == 8 ? half : 1); ++k)
           for (int j = 0; j < half; ++j)

@@ -57,6 +57,21 @@ ExactStartReach exact_start_reach(const Canvas& canvas);
 // Per entry, `seen` holds a bit per quarter brick (the 4^3 blocks of a brick, 4^2 in 2D; bit
 // q = (x >= 4) + 2 (y >= 4) + 4 (z >= 4) in brick coordinates) that is set where a voxel of that
 // quarter may start at the seed's u0, and a voxel whose nearest seed's bit is clear starts at +inf.
+// The quarter bit of the voxel at (i, j, k) in its brick's coordinates (the kernel
+// start_at_nearest_seeds computes it per brick row).
+inline int quarter_of(int i, int j, int k) {
+  const int half = Canvas::kBrickEdge / 2;
+  return (i >= half ? 1 : 0) + (j >= half ? 2 : 0) + (k >= half ? 4 : 0);
+}
+// The voxel of that quarter closest to the brick's origin, in the brick's coordinates.
+inline VoxelIndex quarter_origin(int q) {
+  const int half = Canvas::kBrickEdge / 2;
+  return {(q & 1) * half, ((q >> 1) & 1) * half, ((q >> 2) & 1) * half};
+}
+
+// The seed's point in continuous index coordinates as the exact start measures it (z = 0 in 2D).
+Vec3 seed_index_point(const Canvas& canvas, const Vec3& seed);
+
 struct BrickSeedLists {
   std::vector<std::uint32_t> begin;  // brick_count + 1 entries
   std::vector<std::int32_t> seeds;
