@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <string>
 #include <vector>
@@ -57,7 +58,8 @@ TEST(FieldOutputs, LabelsBeyondTheSeedsAndNonFiniteProbesAreErrors) {
 }
 
 // A canvas.vtu with Int32 connectivity (where it fits) and one with Int64 read back by VTK as the
-// same grid: points, connectivity, labels and distances, 2D and 3D. The Int64 form is the one a
+// same grid: points, connectivity, labels and distances, 2D and 3D, with the field's labels and
+// distances (their sums). The Int64 form is the one a
 // canvas of over 2^31 corner entries gets.
 TEST(FieldOutputs, VtuIndexWidthsReadBackAlike) {
   const std::string script =
@@ -74,7 +76,9 @@ TEST(FieldOutputs, VtuIndexWidthsReadBackAlike) {
       "n(b.GetCells().GetConnectivityArray())),\n"
       "      same(n(a.GetCellData().GetArray('label')), n(b.GetCellData().GetArray('label'))),\n"
       "      same(n(a.GetCellData().GetArray('distance')), "
-      "n(b.GetCellData().GetArray('distance'))))\n";
+      "n(b.GetCellData().GetArray('distance'))),\n"
+      "      int(n(a.GetCellData().GetArray('label')).sum()),\n"
+      "      float(n(a.GetCellData().GetArray('distance')).astype('float64').sum()))\n";
   test::TempDir dir;
   test::write_text(dir.file("compare.py"), script);
   for (const int dimension : {2, 3}) {
@@ -100,10 +104,17 @@ TEST(FieldOutputs, VtuIndexWidthsReadBackAlike) {
         test::run_command(test::debian_python() + " " + dir.file("compare.py") + " " +
                           dir.file("narrow.vtu") + " " + dir.file("wide.vtu"));
     ASSERT_EQ(result.exit_code, 0) << result.err;
+    // The cell data as the field holds it (halves and small integers: the sums are exact).
+    long label_sum = 0;
+    double distance_sum = 0;
+    for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot)
+      if (canvas.active[slot]) label_sum += field.label[slot], distance_sum += field.distance[slot];
+    char sums[64];
+    std::snprintf(sums, sizeof sums, " %ld %.1f\n", label_sum, distance_sum);
     const std::size_t cells = canvas.active_voxel_count;
     const std::size_t points = dimension == 3 ? 13 * 13 * 13 - 1 : 13 * 13 - 1;
     EXPECT_EQ(result.out,
-              std::to_string(cells) + " " + std::to_string(points) + " True True True True\n");
+              std::to_string(cells) + " " + std::to_string(points) + " True True True True" + sums);
   }
 }
 

@@ -245,9 +245,12 @@ TEST(TensorMath, IsSpdDecidesByTheSpectrumWithOrWithoutTheEigenSolve) {
       EXPECT_TRUE(is_spd(Q * Vec3(1, 1 / std::sqrt(ratio), 1 / ratio).asDiagonal() * Q.transpose()))
           << "rotation " << i << ", ratio " << ratio;
     }
+    // At scales where the determinant alone is large (a bound without the trace's power would
+    // accept these).
     for (const double ratio : {1e-15, 1e-17, 1e-20})
-      EXPECT_FALSE(is_spd(Q * Vec3(ratio, 1, 0.5).asDiagonal() * Q.transpose()))
-          << "rotation " << i << ", ratio " << ratio;
+      for (const double scale : {1.0, 1e6, 1e12})
+        EXPECT_FALSE(is_spd(scale * (Q * Vec3(ratio, 1, 0.5).asDiagonal() * Q.transpose())))
+            << "rotation " << i << ", ratio " << ratio << ", scale " << scale;
   }
 }
 

@@ -1,5 +1,7 @@
 #include "support/box_canvas.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -99,6 +101,12 @@ std::vector<Vec3> left_band_seeds() {
 
 BandCounts count_band_labels(const Canvas& canvas, const std::vector<int32_t>& labels) {
   return count_piece_labels(canvas, 0, 28, labels);
+}
+
+void expect_only_left_labelled(const BandCounts& counts) {
+  EXPECT_EQ(counts.left_labelled, counts.left_voxels);
+  EXPECT_EQ(counts.right_labelled, 0u);
+  EXPECT_GT(counts.right_voxels, 0u);
 }
 
 }  // namespace rvor::test

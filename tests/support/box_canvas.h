@@ -40,5 +40,7 @@ BandCounts count_piece_labels(const Canvas& canvas, int axis, int first_right,
                               const std::vector<int32_t>& labels);
 // Of two_bands_claimed_convex.
 BandCounts count_band_labels(const Canvas& canvas, const std::vector<int32_t>& labels);
+// Every voxel of the left piece labelled, none of the right one, which has voxels (gtest checks).
+void expect_only_left_labelled(const BandCounts& counts);
 
 }  // namespace rvor::test
