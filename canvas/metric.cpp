@@ -4,7 +4,6 @@
 #include <limits>
 #include <sstream>
 
-#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 
@@ -89,14 +88,23 @@ SolTensor tensor_to_sol(const Mat3& G) {
   return {G(0, 0), G(0, 1), G(1, 1), G(0, 2), G(1, 2), G(2, 2)};
 }
 
+bool has_positive_pivots(const Mat3& S) {
+  const double d0 = S(0, 0);
+  if (!(d0 > 0)) return false;
+  const double l10 = S(1, 0) / d0, l20 = S(2, 0) / d0;
+  const double d1 = S(1, 1) - l10 * S(1, 0);
+  if (!(d1 > 0)) return false;
+  const double e21 = S(2, 1) - l20 * S(1, 0);
+  return S(2, 2) - l20 * S(2, 0) - e21 * (e21 / d1) > 0;
+}
+
 bool is_spd(const Mat3& G) {
   if (!G.allFinite()) return false;
   if (G.cwiseAbs().maxCoeff() <= 0 || !is_symmetric(G)) return false;
   const Mat3 S = 0.5 * (G + G.transpose());
-  Eigen::LLT<Mat3> cholesky(S);
-  if (cholesky.info() != Eigen::Success) return false;
-  // Cholesky accepts some matrices that are numerically singular: require a clearly positive
-  // spectrum (S(2,2) > 0 follows from Cholesky's success), settled without an eigen solve where
+  if (!has_positive_pivots(S)) return false;
+  // Positive pivots admit some matrices that are numerically singular: require a clearly positive
+  // spectrum (S(2,2) > 0 follows from the pivots), settled without an eigen solve where
   // the bound of clearly_positive_by_bounds does (most tensors: the solve was most of a varying
   // metric's canvas build).
   return clearly_positive_by_bounds(S, judged_block_size(S)) ||

@@ -4,7 +4,6 @@
 #include <sstream>
 #include <string>
 
-#include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 
 #include "rvor/error.h"
@@ -46,17 +45,18 @@ Mat3 checked_dual_metric(const Mat3& D, int dimension) {
   S.topLeftCorner(dimension, dimension) = D.topLeftCorner(dimension, dimension);
   S = 0.5 * (S + S.transpose()).eval();
   const bool finite = D.topLeftCorner(dimension, dimension).allFinite();
-  const bool positive = finite && Eigen::LLT<Mat3>(S).info() == Eigen::Success;
+  const bool positive = finite && has_positive_pivots(S);
   if (!positive)
     throw Error("selling_decomposition: matrix " + describe(D, dimension) +
                 " is not symmetric positive definite");
   return S;
 }
 
-bool is_acute(const Vec3& a, const Vec3& b, const Mat3& D) {
-  const double scalar = a.dot(D * b);
+// Whether the pair (a, b) is acute, given Da = D a and Db = D b.
+bool is_acute(const Vec3& a, const Vec3& Da, const Vec3& b, const Vec3& Db) {
+  const double scalar = a.dot(Db);
   if (!(scalar > 0)) return false;  // most pairs; the square root below is not needed for them
-  return scalar > kAcuteTolerance * std::sqrt(a.dot(D * a) * b.dot(D * b));
+  return scalar > kAcuteTolerance * std::sqrt(a.dot(Da) * b.dot(Db));
 }
 
 // rho = -<a, D b> in extended precision: superbase vectors grow with the anisotropy, and the
@@ -99,16 +99,25 @@ void add_term(SellingStencil& stencil, double rho, const Vec3& e) {
 }
 
 // 3D: flip (b_i, b_j, b_k, b_l) -> (-b_i, b_j, b_k + b_i, b_l + b_i) while some pair is acute.
+// D b of each superbase vector is kept alongside it and recomputed only for the vectors a flip
+// changes (negating b negates D b exactly), so a pair test costs dot products, not matrix
+// products, and decides exactly as with D b computed afresh.
 Superbase3 obtuse_superbase_3d(const Mat3& D) {
   Superbase3 b = {Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1), Vec3(-1, -1, -1)};
+  Superbase3 Db;
+  for (int k = 0; k < 4; ++k) Db[k] = D * b[k];
   for (int iteration = 0; iteration < kMaxSellingIterations; ++iteration) {
     bool flipped = false;
     for (int i = 0; i < 4 && !flipped; ++i)
       for (int j = i + 1; j < 4 && !flipped; ++j) {
-        if (!is_acute(b[i], b[j], D)) continue;
+        if (!is_acute(b[i], Db[i], b[j], Db[j])) continue;
         for (int k = 0; k < 4; ++k)
-          if (k != i && k != j) b[k] += b[i];
+          if (k != i && k != j) {
+            b[k] += b[i];
+            Db[k] = D * b[k];
+          }
         b[i] = -b[i];
+        Db[i] = -Db[i];
         flipped = true;
       }
     if (!flipped) return b;
@@ -119,14 +128,18 @@ Superbase3 obtuse_superbase_3d(const Mat3& D) {
 // 2D: flip (b_i, b_j, b_k) -> (-b_i, b_j, b_i - b_j) while some pair is acute.
 Superbase2 obtuse_superbase_2d(const Mat3& D) {
   Superbase2 b = {Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(-1, -1, 0)};
+  Superbase2 Db;
+  for (int k = 0; k < 3; ++k) Db[k] = D * b[k];
   for (int iteration = 0; iteration < kMaxSellingIterations; ++iteration) {
     bool flipped = false;
     for (int i = 0; i < 3 && !flipped; ++i)
       for (int j = i + 1; j < 3 && !flipped; ++j) {
-        if (!is_acute(b[i], b[j], D)) continue;
+        if (!is_acute(b[i], Db[i], b[j], Db[j])) continue;
         const int k = 3 - i - j;
         b[k] = b[i] - b[j];
+        Db[k] = D * b[k];
         b[i] = -b[i];
+        Db[i] = -Db[i];
         flipped = true;
       }
     if (!flipped) return b;

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 
 #include "rvor/error.h"
@@ -252,6 +253,30 @@ TEST(TensorMath, IsSpdDecidesByTheSpectrumWithOrWithoutTheEigenSolve) {
         EXPECT_FALSE(is_spd(scale * (Q * Vec3(ratio, 1, 0.5).asDiagonal() * Q.transpose())))
             << "rotation " << i << ", ratio " << ratio << ", scale " << scale;
   }
+}
+
+// The pivots decide as Eigen's Cholesky does on spectra clear of the boundary (next to it both
+// are rounding-level tests, which is_spd's bound and eigen solve then settle): positive definite
+// ones of ratio down to 1e-12 at any scale accepted, ones with a negative eigenvalue refused, and
+// non-finite or zero matrices refused.
+TEST(TensorMath, PositivePivotsDecideAsCholesky) {
+  for (int i = 0; i < 200; ++i) {
+    const Mat3 Q = Eigen::AngleAxisd(0.37 * i, Vec3(1, 2 + 0.05 * i, 3 - 0.02 * i).normalized())
+                       .toRotationMatrix();
+    for (const double scale : {1e-8, 1.0, 1e8})
+      for (const double smallest : {1.0, 1e-3, 1e-12, -1e-12, -1e-3, -1.0}) {
+        const Mat3 S = scale * (Q * Vec3(smallest, 1, 0.3).asDiagonal() * Q.transpose());
+        EXPECT_EQ(has_positive_pivots(S), smallest > 0)
+            << "rotation " << i << ", smallest " << smallest << ", scale " << scale;
+        EXPECT_EQ(Eigen::LLT<Mat3>(S).info() == Eigen::Success, smallest > 0);
+      }
+  }
+  for (int entry = 0; entry < 9; ++entry) {
+    Mat3 S = Mat3::Identity();
+    S(entry / 3, entry % 3) = S(entry % 3, entry / 3) = std::nan("");  // S stays symmetric
+    EXPECT_FALSE(has_positive_pivots(S)) << "NaN at " << entry;
+  }
+  EXPECT_FALSE(has_positive_pivots(Mat3::Zero()));
 }
 
 TEST(TensorMath, RequireSpdAcceptsSpd) {
