@@ -4,10 +4,12 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <memory>
 #include <tuple>
 
 #include <Eigen/LU>
 
+#include "rvor/error.h"
 #include "rvor/metric.h"
 #include "slot_ranges.h"
 
@@ -157,39 +159,52 @@ class SeedGrid {
   std::vector<std::vector<std::int32_t>> lists_;
 };
 
-double largest_block_reach(const std::vector<IndexSeed>& seeds) {
-  double largest = 0;
-  for (const IndexSeed& seed : seeds) largest = std::max(largest, seed.block_reach);
-  return largest;
-}
-
 // Rounding allowance of the squared lower bounds below (least_scale itself is lowered by its
 // eigenvalue's error): they skip a seed only when it is farther by more than rounding could
 // explain, since an exact tie goes to the smaller seed index.
 constexpr double kBoundMargin = 1.0 + 1e-8;
 
-// Whether seed t may claim a voxel of `owner`'s block: not certainly farther than the owner
-// everywhere on it (u0_t >= least_scale_t |x - t| over the block's box, against the owner's
-// largest value there). Squared, as the claims test it for every pair of nearby blocks.
-bool may_claim(const IndexSeed& t, const IndexSeed& owner, int dimension) {
-  Vec3 gap = Vec3::Zero();  // from t's centre to the block's box
+// The square of a lower bound of u0_t over `owner`'s block: u0_t >= least_scale_t |x - t|, and
+// |x - t| is at least the gap from t's centre to the block's box.
+double squared_bound_over_block(const IndexSeed& t, const IndexSeed& owner, int dimension) {
+  Vec3 gap = Vec3::Zero();
   const int box[3] = {owner.voxel.i, owner.voxel.j, owner.voxel.k};
   for (int a = 0; a < dimension; ++a)
     gap[a] = std::max(
         {0.0, box[a] - kSeedBlockRadius - t.centre[a], t.centre[a] - box[a] - kSeedBlockRadius});
-  return t.least_scale * t.least_scale * gap.squaredNorm() <
+  return t.least_scale * t.least_scale * gap.squaredNorm();
+}
+
+// Whether seed t may claim a voxel of `owner`'s block: not certainly farther than the owner
+// everywhere on it (the bound above against the owner's largest value there).
+bool may_claim(const IndexSeed& t, const IndexSeed& owner, int dimension) {
+  return squared_bound_over_block(t, owner, dimension) <
          owner.block_reach * owner.block_reach * kBoundMargin;
 }
 
-// The seeds among `listed` that may claim in `owner`'s block, the owner included.
-std::vector<std::int32_t> possible_claimants(const std::vector<IndexSeed>& seeds, std::size_t owner,
-                                             const std::vector<std::int32_t>& listed,
-                                             int dimension) {
-  std::vector<std::int32_t> possible;
-  for (const std::int32_t t : listed)
-    if (static_cast<std::size_t>(t) == owner || may_claim(seeds[t], seeds[owner], dimension))
-      possible.push_back(t);
-  return possible;
+// A possible claimant of a block, with its squared_bound_over_block.
+struct Claimant {
+  double squared_bound;
+  std::int32_t seed;
+  bool operator<(const Claimant& other) const {
+    return std::tie(squared_bound, seed) < std::tie(other.squared_bound, other.seed);
+  }
+};
+using Claimants = std::vector<Claimant>;
+using ClaimantIt = Claimants::iterator;
+
+// The seeds among `listed` whose bound over `owner`'s block lies below `limit` (squared), the
+// owner included, in no particular order.
+Claimants claimants_below(const std::vector<IndexSeed>& seeds, std::size_t owner,
+                          const std::vector<std::int32_t>& listed, double limit, int dimension) {
+  Claimants below;
+  for (const std::int32_t t : listed) {
+    const double bound = static_cast<std::size_t>(t) == owner
+                             ? 0.0
+                             : squared_bound_over_block(seeds[t], seeds[owner], dimension);
+    if (bound < limit) below.push_back({bound, t});
+  }
+  return below;
 }
 
 // Whether seed t is certainly farther from x than `best` (its u0 is at least least_scale_t
@@ -198,26 +213,159 @@ bool certainly_farther(const IndexSeed& t, const Vec3& x, double best) {
   return t.least_scale * t.least_scale * (x - t.centre).squaredNorm() > best * best * kBoundMargin;
 }
 
-// The claims in `owner`'s block among the seeds `near` (the owner's possible claimants).
-void claim_block(const Canvas& canvas, const std::vector<IndexSeed>& seeds, std::size_t owner,
-                 const std::vector<std::int32_t>& near, std::vector<SeedClaim>& claims) {
+// A block voxel's least (u0, seed) pair so far; seed -1 where nothing is to be decided (outside
+// the canvas).
+using LeastPair = std::pair<double, std::int32_t>;
+
+// The owner's pair at each voxel of its block, as for_each_seed_block_voxel visits them.
+std::vector<LeastPair> owner_pairs(const Canvas& canvas, const std::vector<IndexSeed>& seeds,
+                                   std::size_t owner) {
+  std::vector<LeastPair> best;
   for_each_seed_block_voxel(seeds[owner].voxel, canvas.dimension, [&](const VoxelIndex& x) {
-    if (canvas.slot_of(x) < 0) return;
+    best.push_back(canvas.slot_of(x) < 0
+                       ? LeastPair{0.0, -1}
+                       : LeastPair{seeds[owner].u0(x), static_cast<std::int32_t>(owner)});
+  });
+  return best;
+}
+
+double largest_value(const std::vector<LeastPair>& best) {
+  double largest = 0.0;
+  for (const LeastPair& b : best)
+    if (b.second >= 0) largest = std::max(largest, b.first);
+  return largest;
+}
+
+// Lists no longer than this are read whole rather than sorted (a uniform metric's blocks list a few
+// dozen seeds, and sorting them made a 20000-seed euclidean solve slower).
+constexpr std::ptrdiff_t kSortedFrom = 64;
+
+// Lowers each voxel's pair of `owner`'s block to the least over the seeds of [begin, end); a long
+// list is sorted by bound first, and a voxel stops at the first bound beyond its value. The least
+// pair does not depend on the order the seeds are read in, so reading them in several passes, or
+// some twice, changes nothing.
+void lower_pairs(const Canvas& canvas, const std::vector<IndexSeed>& seeds, std::size_t owner,
+                 ClaimantIt begin, ClaimantIt end, std::vector<LeastPair>& best) {
+  const bool sorted = end - begin > kSortedFrom;
+  if (sorted) std::sort(begin, end);
+  std::size_t n = 0;
+  for_each_seed_block_voxel(seeds[owner].voxel, canvas.dimension, [&](const VoxelIndex& x) {
+    LeastPair& b = best[n++];
+    if (b.second < 0) return;
     const Vec3 position(x.i, x.j, x.k);
-    std::pair<double, std::int32_t> best{seeds[owner].u0(x), static_cast<std::int32_t>(owner)};
-    for (const std::int32_t t : near)
-      if (t != best.second && !certainly_farther(seeds[t], position, best.first))
-        best = std::min(best, {seeds[t].u0(x), t});
-    if (!seeds[best.second].owns(x)) claims.push_back({x, best.second});
+    for (ClaimantIt c = begin; c != end; ++c) {
+      if (sorted && c->squared_bound > b.first * b.first * kBoundMargin) break;
+      if (c->seed != b.second && !certainly_farther(seeds[c->seed], position, b.first))
+        b = std::min(b, {seeds[c->seed].u0(x), c->seed});
+    }
   });
 }
 
-// A solve: every block, its candidates from the grid of reach boxes; the blocks are independent,
+// The voxels of `owner`'s block whose least pair is a seed whose own block does not hold them.
+void report_claims(const Canvas& canvas, const std::vector<IndexSeed>& seeds, std::size_t owner,
+                   const std::vector<LeastPair>& best, std::vector<SeedClaim>& claims) {
+  std::size_t n = 0;
+  for_each_seed_block_voxel(seeds[owner].voxel, canvas.dimension, [&](const VoxelIndex& x) {
+    const LeastPair& b = best[n++];
+    if (b.second >= 0 && !seeds[b.second].owns(x)) claims.push_back({x, b.second});
+  });
+}
+
+// How many seeds a block's first pass reads at most: those of least bound.
+constexpr std::ptrdiff_t kFirstPassSeeds = 64;
+
+// Grids of reach boxes for reaches r_max / 2^k (r_max the largest block reach), down to the least
+// block reach: a block reads the least level whose reach covers what it asks for. One grid at
+// r_max listed nearly every seed near every block of a field whose scale varies (radial_shock_3d:
+// block reaches 0.34 to 13.5 index units at 128^3); a uniform metric keeps that one grid (its
+// block reaches differ by less than half, with the seeds' places in their voxels).
+class SeedGridLevels {
+ public:
+  SeedGridLevels(const Canvas& canvas, const std::vector<IndexSeed>& seeds) {
+    least_ = std::numeric_limits<double>::infinity();
+    for (const IndexSeed& seed : seeds) {
+      if (seed.block_reach > 0) least_ = std::min(least_, seed.block_reach);
+      largest_ = std::max(largest_, seed.block_reach);
+    }
+    if (!std::isfinite(least_)) least_ = largest_;
+    std::size_t levels = 1;
+    // Level 0 is at most twice the least (and a degenerate reach stops at 64 levels).
+    while (least_ > 0 && levels < 64 && reach_of(0, levels) / 2 >= least_) ++levels;
+    for (std::size_t level = 0; level < levels; ++level)
+      grids_.push_back(std::make_unique<SeedGrid>(canvas, seeds, reach_of(level, levels)));
+  }
+
+  double least_reach() const { return least_; }
+  // The least level whose reach is at least `reach` (the top one beyond it).
+  std::size_t level_for(double reach) const {
+    std::size_t level = 0;
+    while (level + 1 < grids_.size() && reach_of(level, grids_.size()) < reach) ++level;
+    return level;
+  }
+  const SeedGrid& grid(std::size_t level) const { return *grids_[level]; }
+
+ private:
+  double reach_of(std::size_t level, std::size_t levels) const {
+    return std::ldexp(largest_ * kBoundMargin, -static_cast<int>(levels - 1 - level));
+  }
+
+  double least_ = 0.0;
+  double largest_ = 0.0;
+  std::vector<std::unique_ptr<SeedGrid>> grids_;
+};
+
+// Where a block's possible claimants come from: the grids of a solve, or every seed (an
+// insertion, whose cost follows the new seeds rather than a grid of all of them).
+struct ClaimantSource {
+  const SeedGridLevels* grids = nullptr;
+  const std::vector<std::int32_t>* every_seed = nullptr;
+
+  double least_reach() const { return grids ? grids->least_reach() : 0.0; }
+  std::size_t level_for(double reach) const { return grids ? grids->level_for(reach) : 0; }
+  // Every seed whose u0 may be at most the reach of `level` somewhere on the block (more too).
+  std::vector<std::int32_t> listed(std::size_t level, const VoxelIndex& centre) const {
+    return grids ? grids->grid(level).seeds_near(centre, kSeedBlockRadius) : *every_seed;
+  }
+};
+
+// The least pairs over `owner`'s block, in two passes: the few seeds of least bound among those
+// listed for the least reach settle most voxels; then only the seeds that can beat the largest
+// value left are read, from the same listing when its level covers that value. With dense seeds
+// in a field whose scale varies, a block of the fine part may list thousands of coarse seeds at
+// its own block reach, most of them far (radial_shock_3d 128^3, 20000 seeds: 18 s of claims with
+// one listing at the largest block reach of all seeds, as before 2026-12-04).
+void settle_block(const Canvas& canvas, const std::vector<IndexSeed>& seeds, std::size_t owner,
+                  const ClaimantSource& source, std::vector<LeastPair>& best) {
+  const double owner_limit = seeds[owner].block_reach * seeds[owner].block_reach * kBoundMargin;
+  const std::size_t first_level = source.level_for(source.least_reach());
+  Claimants near = claimants_below(seeds, owner, source.listed(first_level, seeds[owner].voxel),
+                                   owner_limit, canvas.dimension);
+  const ClaimantIt first_end =
+      near.begin() + std::min(kFirstPassSeeds, static_cast<std::ptrdiff_t>(near.size()));
+  std::nth_element(near.begin(), first_end, near.end());
+  lower_pairs(canvas, seeds, owner, near.begin(), first_end, best);
+  const double largest = largest_value(best);
+  const double limit = largest * largest * kBoundMargin;
+  const std::size_t level = source.level_for(largest * kBoundMargin);
+  if (level == first_level) {
+    const ClaimantIt end = std::partition(
+        first_end, near.end(), [&](const Claimant& c) { return c.squared_bound < limit; });
+    lower_pairs(canvas, seeds, owner, first_end, end, best);
+  } else {
+    near = claimants_below(seeds, owner, source.listed(level, seeds[owner].voxel), limit,
+                           canvas.dimension);
+    lower_pairs(canvas, seeds, owner, near.begin(), near.end(), best);
+  }
+}
+
+// A solve: every block, its candidates from the grids of reach boxes; the blocks are independent,
 // so they are split over threads when there are many (thousands of seeds take seconds alone).
 void claim_all_blocks(const Canvas& canvas, const std::vector<IndexSeed>& seeds,
                       std::vector<SeedClaim>& claims) {
-  const SeedGrid grid(canvas, seeds, largest_block_reach(seeds));
-  const std::vector<std::int32_t> order = grid.cell_order(seeds);
+  if (seeds.empty()) return;
+  const SeedGridLevels grids(canvas, seeds);
+  const ClaimantSource source{&grids, nullptr};
+  const std::vector<std::int32_t> order = grids.grid(0).cell_order(seeds);
   constexpr std::size_t kSeedsPerThread = 256;
   const unsigned threads = static_cast<unsigned>(
       std::min<std::size_t>(slot_threads(), 1 + seeds.size() / kSeedsPerThread));
@@ -225,28 +373,56 @@ void claim_all_blocks(const Canvas& canvas, const std::vector<IndexSeed>& seeds,
   for_slot_ranges(order.size(), threads, [&](unsigned part, std::size_t begin, std::size_t end) {
     for (std::size_t n = begin; n < end; ++n) {
       const std::size_t s = static_cast<std::size_t>(order[n]);
-      claim_block(canvas, seeds, s,
-                  possible_claimants(seeds, s, grid.seeds_near(seeds[s].voxel, kSeedBlockRadius),
-                                     canvas.dimension),
-                  parts[part]);
+      std::vector<LeastPair> best = owner_pairs(canvas, seeds, s);
+      settle_block(canvas, seeds, s, source, best);
+      report_claims(canvas, seeds, s, best, parts[part]);
     }
   });
   for (const std::vector<SeedClaim>& part : parts)
     claims.insert(claims.end(), part.begin(), part.end());
 }
 
-// An insertion: the new seeds' blocks and the old blocks a new seed may claim in, each against
-// every seed, so that the cost follows the new seeds, not a grid of all of them.
+// The claims of new seeds (seeds[first_new..]) in the block of an old seed: only voxels where a
+// new seed is nearer than the owner can change, and only there are the other seeds read.
+void claim_for_new_seeds(const Canvas& canvas, const std::vector<IndexSeed>& seeds,
+                         std::size_t owner, std::size_t first_new,
+                         const std::vector<std::int32_t>& all, std::vector<SeedClaim>& claims) {
+  std::vector<LeastPair> best = owner_pairs(canvas, seeds, owner);
+  const std::vector<std::int32_t> new_seeds(all.begin() + static_cast<std::ptrdiff_t>(first_new),
+                                            all.end());
+  const double owner_limit = seeds[owner].block_reach * seeds[owner].block_reach * kBoundMargin;
+  Claimants near = claimants_below(seeds, owner, new_seeds, owner_limit, canvas.dimension);
+  lower_pairs(canvas, seeds, owner, near.begin(), near.end(), best);
+  for (LeastPair& b : best)
+    if (static_cast<std::size_t>(b.second) == owner) b.second = -1;  // no new seed is nearer
+  if (std::none_of(best.begin(), best.end(), [](const LeastPair& b) { return b.second >= 0; }))
+    return;
+  const double largest = largest_value(best);
+  near = claimants_below(seeds, owner, all, largest * largest * kBoundMargin, canvas.dimension);
+  lower_pairs(canvas, seeds, owner, near.begin(), near.end(), best);
+  for (LeastPair& b : best)
+    if (static_cast<std::size_t>(b.second) < first_new) b.second = -1;  // an old seed's, as before
+  report_claims(canvas, seeds, owner, best, claims);
+}
+
+// An insertion: the new seeds' blocks against every seed, and the voxels of old blocks that a new
+// seed may claim.
 void claim_new_blocks(const Canvas& canvas, const std::vector<IndexSeed>& seeds,
                       std::size_t first_new, std::vector<SeedClaim>& claims) {
   std::vector<std::int32_t> all(seeds.size());
   for (std::size_t t = 0; t < seeds.size(); ++t) all[t] = static_cast<std::int32_t>(t);
+  const ClaimantSource source{nullptr, &all};
   for (std::size_t s = 0; s < seeds.size(); ++s) {
-    bool affected = s >= first_new;
+    if (s >= first_new) {
+      std::vector<LeastPair> best = owner_pairs(canvas, seeds, s);
+      settle_block(canvas, seeds, s, source, best);
+      report_claims(canvas, seeds, s, best, claims);
+      continue;
+    }
+    bool affected = false;
     for (std::size_t n = first_new; n < seeds.size() && !affected; ++n)
       affected = may_claim(seeds[n], seeds[s], canvas.dimension);
-    if (affected)
-      claim_block(canvas, seeds, s, possible_claimants(seeds, s, all, canvas.dimension), claims);
+    if (affected) claim_for_new_seeds(canvas, seeds, s, first_new, all, claims);
   }
 }
 

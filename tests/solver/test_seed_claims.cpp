@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <map>
+#include <string>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -59,6 +60,13 @@ std::map<VoxelKey, int> brute_force_claims(const Canvas& canvas, const std::vect
   return claims;
 }
 
+// A varying anisotropic metric: anisotropy 3 along a direction that turns across the box.
+Mat3 turning_metric(const Vec3& p, int dimension) {
+  const double angle = 1.5 * p.x() + p.y();
+  const Vec3 axis(std::cos(angle), std::sin(angle), dimension == 3 ? 0.5 * p.z() : 0.0);
+  return uniform_anisotropic_metric(axis, 3.0);
+}
+
 std::map<VoxelKey, int> listed_claims(const Canvas& canvas, const std::vector<Vec3>& seeds) {
   std::map<VoxelKey, int> claims;
   for (const SeedClaim& c : foreign_seed_claims(canvas, seeds))
@@ -74,11 +82,39 @@ void expect_brute_force_claims(const Canvas& canvas, std::size_t seed_count) {
   EXPECT_EQ(listed_claims(canvas, seeds), expected);
 }
 
-// A varying anisotropic metric: anisotropy 3 along a direction that turns across the box.
-Mat3 turning_metric(const Vec3& p, int dimension) {
-  const double angle = 1.5 * p.x() + p.y();
-  const Vec3 axis(std::cos(angle), std::sin(angle), dimension == 3 ? 0.5 * p.z() : 0.0);
-  return uniform_anisotropic_metric(axis, 3.0);
+// An insertion of seeds[first_new..] lists every claim that a new seed changes (on a new seed's
+// block, or by a new seed) and nothing that a solve with all the seeds would not list.
+// `all` holds brute_force_claims(canvas, seeds).
+void expect_insertion_claims(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                             const std::map<VoxelKey, int>& all, std::size_t first_new) {
+  const std::vector<BruteForceSeed> index = brute_force_seeds(canvas, seeds);
+  std::map<VoxelKey, int> required;
+  for (const auto& [key, label] : all) {
+    const VoxelIndex x{std::get<0>(key), std::get<1>(key), std::get<2>(key)};
+    bool on_new_block = false;
+    for (std::size_t n = first_new; n < seeds.size(); ++n)
+      on_new_block = on_new_block || in_block(index[n].voxel, x);
+    if (on_new_block || static_cast<std::size_t>(label) >= first_new) required[key] = label;
+  }
+  std::map<VoxelKey, int> listed;
+  for (const SeedClaim& c : foreign_seed_claims(canvas, seeds, first_new))
+    listed[{c.voxel.i, c.voxel.j, c.voxel.k}] = c.label;
+  for (const auto& [key, label] : required) {
+    ASSERT_EQ(listed.count(key), 1u) << "a claim the insertion changes is missing";
+    EXPECT_EQ(listed.at(key), label);
+  }
+  for (const auto& [key, label] : listed) {
+    ASSERT_EQ(all.count(key), 1u) << "a claim that a solve would not list";
+    EXPECT_EQ(all.at(key), label);
+  }
+}
+
+// A metric whose scale varies 40-fold across the box (the anisotropy of turning_metric on top):
+// the blocks' reaches span several levels of the claims' seed grids, and a block of the fine part
+// is reachable by coarse seeds from far away, as with radial_shock_3d.
+Mat3 scale_varying_metric(const Vec3& p, int dimension) {
+  const double scale = std::pow(40.0, 0.5 * (p.x() + 1));  // 1 at x = -1, 40 at x = 1
+  return scale * scale * turning_metric(p, dimension);
 }
 
 TEST(SeedClaims, DenseSeedsMatchBruteForce3D) {
@@ -91,6 +127,39 @@ TEST(SeedClaims, DenseSeedsMatchBruteForce2D) {
   const Canvas canvas = make_box_canvas(2, Vec3(-1, -1, 0), Vec3(1, 1, 0), 64,
                                         [](const Vec3& p) { return turning_metric(p, 2); });
   expect_brute_force_claims(canvas, 600);
+}
+
+TEST(SeedClaims, ScaleVaryingSeedsMatchBruteForce3D) {
+  const Canvas canvas = make_box_canvas(3, Vec3(-1, -1, -1), Vec3(1, 1, 1), 24,
+                                        [](const Vec3& p) { return scale_varying_metric(p, 3); });
+  expect_brute_force_claims(canvas, 700);
+}
+
+TEST(SeedClaims, ScaleVaryingSeedsMatchBruteForce2D) {
+  const Canvas canvas = make_box_canvas(2, Vec3(-1, -1, 0), Vec3(1, 1, 0), 64,
+                                        [](const Vec3& p) { return scale_varying_metric(p, 2); });
+  expect_brute_force_claims(canvas, 600);
+}
+
+// Insertions one seed and ten seeds at a time, in both fields, 2D and 3D.
+TEST(SeedClaims, InsertionListsTheClaimsThatNewSeedsChange) {
+  for (const int dimension : {2, 3})
+    for (const bool scale_varying : {false, true}) {
+      const auto metric = [&](const Vec3& p) {
+        return scale_varying ? scale_varying_metric(p, dimension) : turning_metric(p, dimension);
+      };
+      const Canvas canvas = dimension == 3
+                                ? make_box_canvas(3, Vec3(-1, -1, -1), Vec3(1, 1, 1), 24, metric)
+                                : make_box_canvas(2, Vec3(-1, -1, 0), Vec3(1, 1, 0), 64, metric);
+      const std::vector<Vec3> seeds = random_seeds(canvas, 600, 11);
+      const std::map<VoxelKey, int> all = brute_force_claims(canvas, seeds);
+      for (const std::size_t first_new : {599u, 590u, 400u}) {
+        SCOPED_TRACE(std::to_string(dimension) + "D, " +
+                     (scale_varying ? "scale varying" : "turning") + ", first new " +
+                     std::to_string(first_new));
+        expect_insertion_claims(canvas, seeds, all, first_new);
+      }
+    }
 }
 
 TEST(SeedClaims, UniformIsotropicSeedsMatchBruteForce) {
