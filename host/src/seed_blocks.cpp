@@ -9,7 +9,6 @@
 
 #include <Eigen/LU>
 
-#include "rvor/error.h"
 #include "rvor/metric.h"
 #include "slot_ranges.h"
 

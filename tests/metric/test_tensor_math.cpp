@@ -259,7 +259,7 @@ TEST(TensorMath, IsSpdDecidesByTheSpectrumWithOrWithoutTheEigenSolve) {
 // are rounding-level tests, which is_spd's bound and eigen solve then settle): positive definite
 // ones of ratio down to 1e-12 at any scale accepted, ones with a negative eigenvalue refused, and
 // non-finite or zero matrices refused.
-TEST(TensorMath, PositivePivotsDecideAsCholesky) {
+TEST(TensorMath, PositivePivotsDecideClearSpectraAsCholesky) {
   for (int i = 0; i < 200; ++i) {
     const Mat3 Q = Eigen::AngleAxisd(0.37 * i, Vec3(1, 2 + 0.05 * i, 3 - 0.02 * i).normalized())
                        .toRotationMatrix();

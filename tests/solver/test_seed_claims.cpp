@@ -162,6 +162,12 @@ TEST(SeedClaims, InsertionListsTheClaimsThatNewSeedsChange) {
     }
 }
 
+// Inactive voxels (a wall through the box): blocks that reach into it, seeds on both sides.
+TEST(SeedClaims, SeedsBesideAWallMatchBruteForce) {
+  expect_brute_force_claims(box_with_a_wall(3, 24), 500);
+  expect_brute_force_claims(box_with_a_wall(2, 64), 500);
+}
+
 TEST(SeedClaims, UniformIsotropicSeedsMatchBruteForce) {
   // Isotropic: the lower bounds are exact, the tightest case for their rounding margin.
   const Canvas canvas =

@@ -21,10 +21,10 @@ SolTensor tensor_to_sol(const Mat3& G);
 bool is_spd(const Mat3& G);
 // Whether the symmetric S has an LDL^T factorisation with positive pivots (S is positive definite
 // to rounding): Cholesky's test without its square roots, written out for 3x3; like Eigen's LLT,
-// it reads the lower triangle only. An Eigen::LLT per
-// voxel took a quarter of a Selling decomposition and a sixth of a varying metric's canvas build.
-// (The leading minors through determinants are not a substitute: their cancellation rejected
-// rotated spectra of ratio 1e-12, which Cholesky accepts.)
+// it reads the lower triangle only, and finiteness is the caller's to check (diag(inf, 1, 1)
+// passes). An Eigen::LLT per voxel took a quarter of a Selling decomposition and a sixth of a
+// varying metric's canvas build. (The leading minors through determinants are not a substitute:
+// their cancellation rejected rotated spectra of ratio 1e-12, which Cholesky accepts.)
 bool has_positive_pivots(const Mat3& S);
 // Throws rvor::Error "metric <where> is not symmetric positive definite: [..]" (or "is not
 // finite") unless is_spd(G). `where` names the source, e.g. "'swirl' at (0.1, 0.2, 0)".

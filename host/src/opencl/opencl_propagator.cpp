@@ -167,7 +167,8 @@ class OpenCLPropagator final : public Propagator {
     return device_.info.is_gpu ? RelaxationVariant::voxel_phases : RelaxationVariant::brick_lanes;
   }
 
-  // Uploads the seeds; returns the claims of the seeds from first_new on (rvor/seed_blocks.h).
+  // Uploads the seeds; returns the claims that seeds[first_new..] can change (all of a solve's;
+  // rvor/seed_blocks.h).
   std::vector<cl_int4> prepare(const Canvas& canvas, const std::vector<Vec3>& seeds,
                                std::size_t first_new) {
     // Labels leave TENTATIVE_LABEL (kernels/state_word.clh) free for front stepping.
@@ -205,6 +206,7 @@ class OpenCLPropagator final : public Propagator {
               ? exact_start_reach(canvas, canvas_->uniform_stencil && canvas_->uniform_diagonal)
               : ExactStartReach::none;
       device_field_hash_.reset();
+      frozen_marks_held_ = false;  // a new state buffer
       build_kernels(canvas);
     }
   }
