@@ -174,11 +174,16 @@ double squared_bound_over_block(const IndexSeed& t, const IndexSeed& owner, int 
   return t.least_scale * t.least_scale * gap.squaredNorm();
 }
 
+// The owner's largest value over its block, squared, with the bounds' rounding margin: a seed
+// whose bound lies at or beyond it claims nothing there.
+double squared_block_limit(const IndexSeed& owner) {
+  return owner.block_reach * owner.block_reach * kBoundMargin;
+}
+
 // Whether seed t may claim a voxel of `owner`'s block: not certainly farther than the owner
-// everywhere on it (the bound above against the owner's largest value there).
+// everywhere on it.
 bool may_claim(const IndexSeed& t, const IndexSeed& owner, int dimension) {
-  return squared_bound_over_block(t, owner, dimension) <
-         owner.block_reach * owner.block_reach * kBoundMargin;
+  return squared_bound_over_block(t, owner, dimension) < squared_block_limit(owner);
 }
 
 // A possible claimant of a block, with its squared_bound_over_block.
@@ -270,8 +275,8 @@ void report_claims(const Canvas& canvas, const std::vector<IndexSeed>& seeds, st
   });
 }
 
-// How many seeds a block's first pass reads at most: those of least bound.
-constexpr std::ptrdiff_t kFirstPassSeeds = 64;
+// How many seeds a block's first pass reads at most, those of least bound: a list read whole.
+constexpr std::ptrdiff_t kFirstPassSeeds = kSortedFrom;
 
 // Grids of reach boxes for reaches r_max / 2^k (r_max the largest block reach), down to the least
 // block reach: a block reads the least level whose reach covers what it asks for. One grid at
@@ -281,20 +286,18 @@ constexpr std::ptrdiff_t kFirstPassSeeds = 64;
 class SeedGridLevels {
  public:
   SeedGridLevels(const Canvas& canvas, const std::vector<IndexSeed>& seeds) {
-    least_ = std::numeric_limits<double>::infinity();
+    double least = std::numeric_limits<double>::infinity();
     for (const IndexSeed& seed : seeds) {
-      if (seed.block_reach > 0) least_ = std::min(least_, seed.block_reach);
+      if (seed.block_reach > 0) least = std::min(least, seed.block_reach);
       largest_ = std::max(largest_, seed.block_reach);
     }
-    if (!std::isfinite(least_)) least_ = largest_;
     std::size_t levels = 1;
-    // Level 0 is at most twice the least (and a degenerate reach stops at 64 levels).
-    while (least_ > 0 && levels < 64 && reach_of(0, levels) / 2 >= least_) ++levels;
+    // Level 0 is at least the least reach and at most twice it (a degenerate reach stops at 64).
+    while (std::isfinite(least) && levels < 64 && reach_of(0, levels) / 2 >= least) ++levels;
     for (std::size_t level = 0; level < levels; ++level)
       grids_.push_back(std::make_unique<SeedGrid>(canvas, seeds, reach_of(level, levels)));
   }
 
-  double least_reach() const { return least_; }
   // The least level whose reach is at least `reach` (the top one beyond it).
   std::size_t level_for(double reach) const {
     std::size_t level = 0;
@@ -308,7 +311,6 @@ class SeedGridLevels {
     return std::ldexp(largest_ * kBoundMargin, -static_cast<int>(levels - 1 - level));
   }
 
-  double least_ = 0.0;
   double largest_ = 0.0;
   std::vector<std::unique_ptr<SeedGrid>> grids_;
 };
@@ -319,7 +321,6 @@ struct ClaimantSource {
   const SeedGridLevels* grids = nullptr;
   const std::vector<std::int32_t>* every_seed = nullptr;
 
-  double least_reach() const { return grids ? grids->least_reach() : 0.0; }
   std::size_t level_for(double reach) const { return grids ? grids->level_for(reach) : 0; }
   // Every seed whose u0 may be at most the reach of `level` somewhere on the block (more too).
   std::vector<std::int32_t> listed(std::size_t level, const VoxelIndex& centre) const {
@@ -328,17 +329,15 @@ struct ClaimantSource {
 };
 
 // The least pairs over `owner`'s block, in two passes: the few seeds of least bound among those
-// listed for the least reach settle most voxels; then only the seeds that can beat the largest
-// value left are read, from the same listing when its level covers that value. With dense seeds
-// in a field whose scale varies, a block of the fine part may list thousands of coarse seeds at
-// its own block reach, most of them far (radial_shock_3d 128^3, 20000 seeds: 18 s of claims with
+// listed at level 0 (the least reach) settle most voxels; then only the seeds that can beat the
+// largest value left are read, from the same listing when its level covers that value. With dense
+// seeds in a field whose scale varies, a block of the fine part may list thousands of coarse seeds
+// at its own block reach, most of them far (radial_shock_3d 128^3, 20000 seeds: 18 s of claims with
 // one listing at the largest block reach of all seeds, as before 2026-12-04).
 void settle_block(const Canvas& canvas, const std::vector<IndexSeed>& seeds, std::size_t owner,
                   const ClaimantSource& source, std::vector<LeastPair>& best) {
-  const double owner_limit = seeds[owner].block_reach * seeds[owner].block_reach * kBoundMargin;
-  const std::size_t first_level = source.level_for(source.least_reach());
-  Claimants near = claimants_below(seeds, owner, source.listed(first_level, seeds[owner].voxel),
-                                   owner_limit, canvas.dimension);
+  Claimants near = claimants_below(seeds, owner, source.listed(0, seeds[owner].voxel),
+                                   squared_block_limit(seeds[owner]), canvas.dimension);
   const ClaimantIt first_end =
       near.begin() + std::min(kFirstPassSeeds, static_cast<std::ptrdiff_t>(near.size()));
   std::nth_element(near.begin(), first_end, near.end());
@@ -346,7 +345,7 @@ void settle_block(const Canvas& canvas, const std::vector<IndexSeed>& seeds, std
   const double largest = largest_value(best);
   const double limit = largest * largest * kBoundMargin;
   const std::size_t level = source.level_for(largest * kBoundMargin);
-  if (level == first_level) {
+  if (level == 0) {
     const ClaimantIt end = std::partition(
         first_end, near.end(), [&](const Claimant& c) { return c.squared_bound < limit; });
     lower_pairs(canvas, seeds, owner, first_end, end, best);
@@ -385,12 +384,11 @@ void claim_all_blocks(const Canvas& canvas, const std::vector<IndexSeed>& seeds,
 // new seed is nearer than the owner can change, and only there are the other seeds read.
 void claim_for_new_seeds(const Canvas& canvas, const std::vector<IndexSeed>& seeds,
                          std::size_t owner, std::size_t first_new,
+                         const std::vector<std::int32_t>& new_seeds,
                          const std::vector<std::int32_t>& all, std::vector<SeedClaim>& claims) {
   std::vector<LeastPair> best = owner_pairs(canvas, seeds, owner);
-  const std::vector<std::int32_t> new_seeds(all.begin() + static_cast<std::ptrdiff_t>(first_new),
-                                            all.end());
-  const double owner_limit = seeds[owner].block_reach * seeds[owner].block_reach * kBoundMargin;
-  Claimants near = claimants_below(seeds, owner, new_seeds, owner_limit, canvas.dimension);
+  Claimants near =
+      claimants_below(seeds, owner, new_seeds, squared_block_limit(seeds[owner]), canvas.dimension);
   lower_pairs(canvas, seeds, owner, near.begin(), near.end(), best);
   for (LeastPair& b : best)
     if (static_cast<std::size_t>(b.second) == owner) b.second = -1;  // no new seed is nearer
@@ -410,6 +408,8 @@ void claim_new_blocks(const Canvas& canvas, const std::vector<IndexSeed>& seeds,
                       std::size_t first_new, std::vector<SeedClaim>& claims) {
   std::vector<std::int32_t> all(seeds.size());
   for (std::size_t t = 0; t < seeds.size(); ++t) all[t] = static_cast<std::int32_t>(t);
+  const std::vector<std::int32_t> new_seeds(all.begin() + static_cast<std::ptrdiff_t>(first_new),
+                                            all.end());
   const ClaimantSource source{nullptr, &all};
   for (std::size_t s = 0; s < seeds.size(); ++s) {
     if (s >= first_new) {
@@ -421,7 +421,7 @@ void claim_new_blocks(const Canvas& canvas, const std::vector<IndexSeed>& seeds,
     bool affected = false;
     for (std::size_t n = first_new; n < seeds.size() && !affected; ++n)
       affected = may_claim(seeds[n], seeds[s], canvas.dimension);
-    if (affected) claim_for_new_seeds(canvas, seeds, s, first_new, all, claims);
+    if (affected) claim_for_new_seeds(canvas, seeds, s, first_new, new_seeds, all, claims);
   }
 }
 

@@ -141,7 +141,7 @@ TEST(SeedClaims, ScaleVaryingSeedsMatchBruteForce2D) {
   expect_brute_force_claims(canvas, 600);
 }
 
-// Insertions one seed and ten seeds at a time, in both fields, 2D and 3D.
+// Insertions of 1, 10 and 200 seeds at once, in both fields, 2D and 3D.
 TEST(SeedClaims, InsertionListsTheClaimsThatNewSeedsChange) {
   for (const int dimension : {2, 3})
     for (const bool scale_varying : {false, true}) {

@@ -76,6 +76,13 @@ std::vector<float> seed_records(const Canvas& canvas, const std::vector<Vec3>& s
   return records;
 }
 
+// The field the device state holds bit for bit: its field_hash, and whether the state is that of
+// a completed propagation (its seeds' blocks frozen) rather than an upload (no frozen marks).
+struct HeldField {
+  std::uint64_t hash = 0;
+  bool frozen_marks = false;
+};
+
 class OpenCLPropagator final : public Propagator {
  public:
   OpenCLPropagator(opencl::Device device, const OpenCLOptions& options)
@@ -95,7 +102,7 @@ class OpenCLPropagator final : public Propagator {
     return guarded("solving", [&] {
       const auto start = std::chrono::steady_clock::now();
       const std::vector<cl_int4> claims = prepare(canvas, seeds, 0);
-      device_field_hash_.reset();
+      device_field_.reset();
       // The exact start writes every slot; its values are no front to step.
       const bool exact_start = exact_start_reach_ != ExactStartReach::none && !seeds.empty();
       if (!exact_start)
@@ -120,9 +127,9 @@ class OpenCLPropagator final : public Propagator {
       if (first_new > seeds.size()) throw Error("insert(): first_new is past the last seed");
       const std::vector<cl_int4> claims = prepare(canvas, seeds, first_new);
       step_ = 0.0f;  // an insertion changes a region around its seeds: no stepping
-      const std::optional<std::uint64_t> held_field_hash = hold_field(field);
-      device_field_hash_.reset();
-      return finish(canvas, first_new, seeds.size(), claims, field, start, held_field_hash);
+      const std::optional<HeldField> held_field = hold_field(field);
+      device_field_.reset();
+      return finish(canvas, first_new, seeds.size(), claims, field, start, held_field);
     });
   }
 
@@ -205,23 +212,21 @@ class OpenCLPropagator final : public Propagator {
           options_.exact_start
               ? exact_start_reach(canvas, canvas_->uniform_stencil && canvas_->uniform_diagonal)
               : ExactStartReach::none;
-      device_field_hash_.reset();
-      frozen_marks_held_ = false;  // a new state buffer
+      device_field_.reset();
       build_kernels(canvas);
     }
   }
 
   // Makes the device state hold `field`: unless it is the field returned last (the device still
   // holds it, with stamps that describe it), upload it and forget the evaluations. Returns the
-  // field's hash when the device held it already, bit for bit (an upload turns unlabelled slots
-  // into +inf, so only then may a read-back skip the bricks nothing wrote).
-  std::optional<std::uint64_t> hold_field(const VoronoiField& field) {
+  // field when the device held it already, bit for bit (an upload turns unlabelled slots into
+  // +inf, so only then may a read-back skip the bricks nothing wrote).
+  std::optional<HeldField> hold_field(const VoronoiField& field) {
     const std::uint64_t hash = opencl::field_hash(field);
-    if (device_field_hash_ == hash) return hash;
+    if (device_field_ && device_field_->hash == hash) return device_field_;
     opencl::upload_field(queue_, canvas_->state, field, canvas_->length_unit);
-    frozen_marks_held_ = false;
     reset_stamps();
-    device_field_hash_ = hash;
+    device_field_ = HeldField{hash, false};
     return std::nullopt;
   }
 
@@ -325,12 +330,12 @@ class OpenCLPropagator final : public Propagator {
     flag_multi_label_ = cl::Kernel();  // built when first used (only the nerve needs it)
   }
 
-  // held_field_hash: the device state was `field` bit for bit, with that hash (an insertion into
-  // the field returned last); then only the bricks the propagation touched are read back.
+  // held_field: the device state was `field` bit for bit (an insertion into a field the device
+  // holds); then only the bricks the propagation touched are read back.
   PropagationStats finish(const Canvas& canvas, std::size_t first_seed, std::size_t seed_count,
                           const std::vector<cl_int4>& claims, VoronoiField& field,
                           std::chrono::steady_clock::time_point start,
-                          std::optional<std::uint64_t> held_field_hash,
+                          std::optional<HeldField> held_field,
                           const BrickSeedLists* exact_start = nullptr) {
     queue_.enqueueFillBuffer(canvas_->update_counter, cl_ulong{0}, 0, sizeof(cl_ulong));
     queue_.enqueueFillBuffer(canvas_->touched, cl_uchar{0}, 0, canvas_->bricks);
@@ -347,8 +352,7 @@ class OpenCLPropagator final : public Propagator {
     // The solved seeds' blocks are frozen already where the device's own solve or insertion left
     // the field it holds; an uploaded field carries no frozen marks. (Re-freezing 20000 seeds'
     // blocks was ~45% of an insertion's samples at 128^3.)
-    const bool frozen_marks_held = held_field_hash && frozen_marks_held_;
-    frozen_marks_held_ = false;  // until this propagation completes
+    const bool frozen_marks_held = held_field && held_field->frozen_marks;
     if (first_seed > 0 && !frozen_marks_held) prepare_seed_blocks(0, first_seed, true, seed_stamp);
     prepare_seed_blocks(first_seed, seed_count, false, seed_stamp);
     initialise_seeds(first_seed, seed_count, seed_stamp);
@@ -376,13 +380,13 @@ class OpenCLPropagator final : public Propagator {
                              &stats.voxel_updates);
     stats.device_bytes = canvas_->bytes;
     stats.visits_per_relaxation = static_cast<std::uint64_t>(visits_per_relaxation());
-    device_field_hash_ = held_field_hash
-                             ? opencl::download_touched_bricks(
-                                   queue_, canvas_->state, canvas_->touched, canvas_->bricks,
-                                   brick_volume_, *held_field_hash, canvas_->length_unit, field)
-                             : opencl::download_field(queue_, canvas_->state, canvas_->slots,
-                                                      canvas_->length_unit, field);
-    frozen_marks_held_ = true;
+    const std::uint64_t hash =
+        held_field ? opencl::download_touched_bricks(queue_, canvas_->state, canvas_->touched,
+                                                     canvas_->bricks, brick_volume_,
+                                                     held_field->hash, canvas_->length_unit, field)
+                   : opencl::download_field(queue_, canvas_->state, canvas_->slots,
+                                            canvas_->length_unit, field);
+    device_field_ = HeldField{hash, true};
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return stats;
   }
@@ -609,11 +613,8 @@ class OpenCLPropagator final : public Propagator {
   std::size_t brick_volume_ = 512;
   static constexpr std::uint64_t kMaxStamp = 0xFFFFFFFFu;  // stamps are cl_uint on the device
   cl_uint stamp_stride_ = 1, round_base_ = 0;              // brick_sweep evaluation stamps
-  // field_hash of the field finish() returned last, while the device state is still that field.
-  std::optional<std::uint64_t> device_field_hash_;
-  // Whether the device state is that of a completed propagation (its seeds' blocks frozen), not an
-  // upload.
-  bool frozen_marks_held_ = false;
+  // The field the device state holds, while it holds one bit for bit.
+  std::optional<HeldField> device_field_;
   cl::Kernel freeze_, init_, start_, claim_, relax_, commit_, activate_, compact_, spread_,
       flag_multi_label_;
   cl::Kernel least_of_, pend_below_, relax_stepping_;
