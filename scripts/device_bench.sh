@@ -8,8 +8,11 @@
 #   scripts/device_bench.sh run [BUNDLE]   there, from the repository root: unpacks the bundle,
 #                                          points the OpenCL ICD loader at NVIDIA's driver, lists
 #                                          the devices, runs test_opencl's engine tests on the GPU,
-#                                          then `rvor bench` with every variant; logs and JSON go
-#                                          to $OUT (else ./device-results)
+#                                          then `rvor bench` with every variant and, while time
+#                                          is left, 512^3 cases; logs and JSON are packed after
+#                                          each step into $OUT/device-results.tar.gz (the device
+#                                          tool brings back at most 8 files), else into
+#                                          ./device-results
 #
 # With the device tool: run(command="bash scripts/device_bench.sh run",
 #                           carry=["build/device-bundle.tar.xz"], timeout_s=580)
@@ -51,9 +54,11 @@ nvidia_opencl_library() {
 # Environment, for a dry run elsewhere: ICD_LIBRARY (default NVIDIA's), BENCH_DEVICE (default the
 # first GPU `rvor devices` lists), RESOLUTION (default 256, the standard cases').
 run() {
-  local bundle=${1:-$BUNDLE_DEFAULT} out=${OUT:-$PWD/device-results} root=/tmp/rvor-device
+  local bundle=${1:-$BUNDLE_DEFAULT} archive_dir=${OUT:-$PWD/device-results} root=/tmp/rvor-device
+  local out=$root/results
   [[ -f $bundle ]] || { echo "no bundle at $bundle: run 'scripts/device_bench.sh pack' first" >&2; exit 1; }
-  rm -rf "$root" && mkdir -p "$out" "$root/vendors"
+  rm -rf "$root" && mkdir -p "$out" "$archive_dir" "$root/vendors"
+  save_results() { tar -C "$out" -czf "$archive_dir/device-results.tar.gz" .; }
   if command -v xz >/dev/null; then
     tar -C "$root" -xJf "$bundle"
   else
@@ -84,20 +89,32 @@ run() {
     echo "FAILED or timed out (rc $?)"
   fi
   tail -4 "$out/test_opencl.log"
+  save_results
 
   local -A domains=([euclidean]="box:-1,-1,-1,1,1,1" [radial_shock_3d]="box:1,1,1,11,11,11")
+  bench_case() {  # SECONDS VARIANT METRIC RESOLUTION
+    local seconds=$1 variant=$2 metric=$3 resolution=$4
+    local name="bench_${variant}_${metric}_$resolution"
+    echo "== rvor bench --device $device --variant $variant --metric $metric --resolution $resolution"
+    launch_for "$seconds" rvor bench --device "$device" --variant "$variant" --metric "$metric" \
+      --domain "${domains[$metric]}" \
+      --resolution "$resolution" --no-reference --insert 3 --repeat 2 --json \
+      >"$out/$name.json" 2>"$out/$name.log" || echo "rc $?: $(tail -1 "$out/$name.log")"
+    grep -E '"(seconds|voxels_per_second|updates_per_voxel|bytes_per_voxel|fastsweeping_ratio|insert_fraction)"' \
+      "$out/$name.json" | tr -d ' \n' || true
+    echo
+    save_results
+  }
   for variant in voxel_phases brick_sweep brick_lanes; do
     for metric in euclidean radial_shock_3d; do
-      local name="bench_${variant}_$metric"
-      echo "== rvor bench --device $device --variant $variant --metric $metric"
-      launch_for 55 rvor bench --device "$device" --variant "$variant" --metric "$metric" \
-        --domain "${domains[$metric]}" \
-        --resolution "${RESOLUTION:-256}" --no-reference --insert 3 --repeat 2 --json \
-        >"$out/$name.json" 2>"$out/$name.log" || echo "rc $?: $(tail -1 "$out/$name.log")"
-      grep -E '"(seconds|voxels_per_second|updates_per_voxel|fastsweeping_ratio|insert_fraction)"' \
-        "$out/$name.json" | tr -d ' \n' || true
-      echo
+      bench_case 55 "$variant" "$metric" "${RESOLUTION:-256}"
     done
+  done
+  # Larger canvases while the call's time lasts (SECONDS counts from the script's start).
+  for metric in euclidean radial_shock_3d; do
+    if ((SECONDS < ${EXTRA_UNTIL:-400})); then
+      bench_case 75 voxel_phases "$metric" "${EXTRA_RESOLUTION:-512}"
+    fi
   done
 }
 
