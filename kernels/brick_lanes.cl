@@ -31,6 +31,15 @@
 #define X86_GATHERS
 #endif
 
+// A cache-line request for a global address. On a CPU device (one address space) clang's builtin
+// emits the prefetch instruction; NVIDIA's compiler rejects a __global pointer there, so other
+// devices take OpenCL's own prefetch.
+#if defined(__x86_64__) || defined(__aarch64__)
+#define PREFETCH_GLOBAL(pointer) __builtin_prefetch(pointer)
+#else
+#define PREFETCH_GLOBAL(pointer) prefetch(pointer, 1)
+#endif
+
 #if defined(UNIFORM_METRIC) && defined(UNIFORM_TERMS)
 #define AXIS_LANES /* one stencil of axis offsets, constants from the build options */
 #define LANE_TERMS UNIFORM_TERMS
@@ -992,7 +1001,7 @@ inline int load_lane(int k, int brick, __global const ulong* state, __global con
   // the records arrive while the tile loads (docs/scheme.md, "Stencil prefetch").
   __global const float* records = stencils + brick_slot * STENCIL_RECORD;
   for (int i = 0; i < BRICK_VOLUME * STENCIL_RECORD; i += 64 / sizeof(float))
-    __builtin_prefetch(records + i);
+    PREFETCH_GLOBAL(records + i);
 #endif
   // Inactive voxels are skipped like frozen ones; the evaluation stamps go to frame positions.
   for (int w = 0; w < BRICK_VOLUME / 32; ++w) {
@@ -1107,9 +1116,9 @@ inline uint lane_news(int k, int corner, int lo[3][LANES], int hi[3][LANES], uin
 inline void prefetch_lane_records(int l, const LaneBricks* bricks, __global const float* stencils) {
 #if !defined(AXIS_LANES) && !defined(UNIFORM_METRIC)
   for (int k = 0; k < LANES; ++k)
-    __builtin_prefetch(stencils +
-                       ((size_t)max(bricks->brick[k], 0) * BRICK_VOLUME + (l ^ bricks->flip[k])) *
-                           STENCIL_RECORD);
+    PREFETCH_GLOBAL(stencils +
+                    ((size_t)max(bricks->brick[k], 0) * BRICK_VOLUME + (l ^ bricks->flip[k])) *
+                        STENCIL_RECORD);
 #endif
 }
 
