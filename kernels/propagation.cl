@@ -496,19 +496,75 @@ inline void gather_for_phases(int3 v, int3 origin, const int3* offset, int terms
   }
 }
 
+#define PHASE_MASK_WORDS (BRICK_VOLUME / 32)
+
+// Whether a stencil neighbour inside the brick (the only ones that change during a relaxation:
+// the others are read from the state, which the round's other bricks do not write) is marked in
+// one of the masks of changed voxels.
+inline bool neighbour_marked(int3 c, const int3* offset, int terms, __local const uint* mask,
+                             __local const uint* other_mask) {
+  for (int i = 0; i < terms; ++i)
+    for (int s = 0; s < 2; ++s) {
+      const int3 y = s == 0 ? c + offset[i] : c - offset[i];
+      if (!inside_brick(y, (int3)(0, 0, 0))) continue;
+      const int n = local_index(y);
+      if (((mask[n / 32] | other_mask[n / 32]) >> (n % 32)) & 1u) return true;
+    }
+  return false;
+}
+
+// Whether a stencil neighbour changed significantly since `last`, voxel c's last evaluation in an
+// earlier relaxation (0: never evaluated), by the stamps of the brick sweeps: exact inside the
+// brick; outside it from the round of `last` on, since the round's other bricks change the state
+// only after it (relax_brick_sweep's gather_far), and before this round: a change this round is
+// not in the state yet, and its stamp may or may not be written, which would make the outcome
+// depend on the timing of the work-groups.
+inline bool changed_since(int3 c, int3 origin, const int3* offset, int terms, uint last,
+                          uint round_base, uint stride, size_t brick_slot,
+                          __global const uint* changed, int4 dims, int4 grid,
+                          __global const int* table) {
+  if (last == 0) return true;
+  const uint last_round = last & ~(stride - 1);
+  for (int i = 0; i < terms; ++i)
+    for (int s = 0; s < 2; ++s) {
+      const int3 y = s == 0 ? c + offset[i] : c - offset[i];
+      if (inside_brick(y, (int3)(0, 0, 0))) {
+        if (changed[brick_slot + local_index(y)] > last) return true;
+      } else {
+        const long slot = slot_at(origin + y, dims, grid, table);
+        if (slot < 0) continue;
+        const uint when = changed[slot];
+        if (when >= last_round && when < round_base) return true;
+      }
+    }
+  return false;
+}
+
 // The new state of brick voxel l (unchanged when frozen or inactive); counts an update in *updates
-// and, when the state changes, gives the change tolerance of its stencil in *tolerance.
+// and, when the state changes, gives the change tolerance of its stencil in *tolerance. A voxel is
+// evaluated only where a neighbour changed since its last evaluation: in the first iteration by
+// the stamps (changed_since), in any by the masks of the changes of the last iteration and of this
+// one (mask, other_mask). The same inputs give the same value, so a skip changes nothing within a
+// relaxation; across relaxations the stamps record significant changes only, as the brick sweeps'.
 inline ulong phase_update(int l, size_t brick_slot, int3 origin, __local const ulong* values,
                           __global const ulong* state, __global const float* stencils,
                           __global const char* shapes, __global const uint* activity, int4 dims,
                           int4 grid, __global const int* table, __global const float* seeds,
-                          uint* updates, float* tolerance) {
+                          bool first, __local const uint* mask, __local const uint* other_mask,
+                          __global uint* evaluated, __global const uint* changed, uint stamp,
+                          uint round_base, uint stride, uint* updates, float* tolerance) {
   const ulong current = values[l];
   if (state_frozen(current) || !slot_active(activity, brick_slot + l)) return current;
   float weight[STENCIL_TERMS];
   int3 offset[STENCIL_TERMS];
   const int terms = load_stencil(stencils, shapes, brick_slot + l, weight, offset);
   if (terms == 0) return current;
+  const int3 c = local_coordinates(l);
+  if (!neighbour_marked(c, offset, terms, mask, other_mask) &&
+      !(first && changed_since(c, origin, offset, terms, evaluated[brick_slot + l], round_base,
+                               stride, brick_slot, changed, dims, grid, table)))
+    return current;
+  evaluated[brick_slot + l] = stamp;
   const int3 v = origin + local_coordinates(l);
   ulong nb[2 * STENCIL_TERMS];
   gather_for_phases(v, origin, offset, terms, values, state, dims, grid, table, nb);
@@ -524,13 +580,19 @@ inline ulong phase_update(int l, size_t brick_slot, int3 origin, __local const u
   return best;
 }
 
+// The brick sweeps' arguments: max_sweeps is the most iterations; no front stepping (threshold,
+// least_tentative unused).
 __kernel __attribute__((reqd_work_group_size(PHASE_VOXELS, 1, 1))) void relax_voxel_phases(
-    __global const int* list, int count, __global const ulong* state, __global ulong* scratch,
-    __global const float* stencils, __global const char* shapes, __global const int* table,
-    __global const int4* brick_origins, int4 dims, int4 grid, __global const float* seeds,
-    __global uchar* flags, __global ulong* update_counter, int iterations,
-    __global const uint* activity, __global uint* news) {
+    BRICK_SWEEP_ARGUMENTS) {
+  const int iterations = max_sweeps;
   __local ulong values[BRICK_VOLUME];
+  // The box of the voxels whose change was significant, lo then hi (brick_news; empty: lo > hi):
+  // only the bricks that read it are activated, as after a brick sweep. (Every brick within reach
+  // was: an insertion into a 48^3 canvas then relaxed 584 bricks where brick_sweep relaxed 166.)
+  __local int changed_box[6];
+  // changed_voxels[it % 3]: the voxels iteration `it` changed (any change, bit l of word l / 32);
+  // iteration `it` clears iteration it + 1's, which nobody reads or writes before a barrier.
+  __local uint changed_voxels[3][PHASE_MASK_WORDS];
   // changed_in[it % 3]: iteration `it` changed a value significantly. Iteration `it` resets the
   // flag of iteration it + 2: nobody reads it any more, and nobody sets it before a barrier.
   __local int changed_in[3];
@@ -542,19 +604,41 @@ __kernel __attribute__((reqd_work_group_size(PHASE_VOXELS, 1, 1))) void relax_vo
   const int3 origin = brick_origins[brick].xyz;
   for (int p = 0; p < PHASES; ++p)
     values[phase_voxel(w, p)] = state[brick_slot + phase_voxel(w, p)];
-  if (w < 3) changed_in[w] = 0;
+  if (w < 3) {
+    changed_in[w] = 0;
+    changed_box[w] = EDGE;
+    changed_box[3 + w] = -1;
+  }
   if (w == 0) brick_updates = 0;
+  if (w < PHASE_MASK_WORDS) {  // iteration 0 reads masks 0 and 2 (none changed before it)
+    changed_voxels[0][w] = 0;
+    changed_voxels[2][w] = 0;
+  }
   barrier(CLK_LOCAL_MEM_FENCE);
   uint updates = 0;
   bool changed_ever = false, changed_last = false;
+  int3 changed_lo = (int3)(EDGE, EDGE, EDGE), changed_hi = (int3)(-1, -1, -1);
   for (int it = 0; it < iterations; ++it) {
+    __local uint* changed_now = changed_voxels[it % 3];
+    __local const uint* changed_before = changed_voxels[(it + 2) % 3];
+    if (w < PHASE_MASK_WORDS) changed_voxels[(it + 1) % 3][w] = 0;
     for (int p = 0; p < PHASES; ++p) {
       const int l = phase_voxel(w, p);
       float tolerance = RELATIVE_TOLERANCE;
-      const ulong best = phase_update(l, brick_slot, origin, values, state, stencils, shapes,
-                                      activity, dims, grid, table, seeds, &updates, &tolerance);
+      // Stamps in (it, p) order, below round_base + stride (the host's stride covers them).
+      const uint stamp = round_base + 1 + it * PHASES + p;
+      const ulong best =
+          phase_update(l, brick_slot, origin, values, state, stencils, shapes, activity, dims, grid,
+                       table, seeds, it == 0, changed_now, changed_before, evaluated, changed,
+                       stamp, round_base, stride, &updates, &tolerance);
       if (best != values[l]) {
-        if (significant_change(values[l], best, tolerance)) changed_in[it % 3] = 1;
+        atomic_or(&changed_now[l / 32], 1u << (l % 32));
+        if (significant_change(values[l], best, tolerance)) {
+          changed[brick_slot + l] = stamp;
+          changed_in[it % 3] = 1;
+          changed_lo = min(changed_lo, local_coordinates(l));
+          changed_hi = max(changed_hi, local_coordinates(l));
+        }
         values[l] = best;
       }
       barrier(CLK_LOCAL_MEM_FENCE);
@@ -567,11 +651,21 @@ __kernel __attribute__((reqd_work_group_size(PHASE_VOXELS, 1, 1))) void relax_vo
   for (int p = 0; p < PHASES; ++p)
     scratch[(size_t)position * BRICK_VOLUME + phase_voxel(w, p)] = values[phase_voxel(w, p)];
   atomic_add(&brick_updates, updates);
+  if (changed_lo.x <= changed_hi.x) {
+    atomic_min(&changed_box[0], changed_lo.x);
+    atomic_min(&changed_box[1], changed_lo.y);
+    atomic_min(&changed_box[2], changed_lo.z);
+    atomic_max(&changed_box[3], changed_hi.x);
+    atomic_max(&changed_box[4], changed_hi.y);
+    atomic_max(&changed_box[5], changed_hi.z);
+  }
   barrier(CLK_LOCAL_MEM_FENCE);
   if (w == 0) {
     flags[brick] =
         (uchar)((changed_ever ? FLAG_CHANGED : 0u) | (changed_last ? FLAG_UNCONVERGED : 0u));
-    news[brick] = FAR_READERS;  // no box of changes kept: every brick within reach
+    news[brick] =
+        brick_news((int3)(changed_box[0], changed_box[1], changed_box[2]),
+                   (int3)(changed_box[3], changed_box[4], changed_box[5]), reader_reach[brick]);
     atom_add(update_counter, (ulong)brick_updates);
   }
 }

@@ -25,7 +25,8 @@ namespace rvor {
 
 namespace {
 
-// Bounds the evaluation stamps one relaxation uses (kernels/propagation.cl, work avoidance).
+// Bounds the evaluation stamps one relaxation uses (kernels/propagation.cl, work avoidance): the
+// sweeps of a brick sweep, the iterations of voxel phases.
 constexpr int kMaxSweeps = 64;
 constexpr std::size_t kSeedRecord = 16;  // floats, see kernels/eikonal_scheme.clh
 constexpr std::size_t kBookkeepingGroup = 64;
@@ -462,11 +463,11 @@ class OpenCLPropagator final : public Propagator {
   // Forgets every evaluation (brick_sweep work avoidance): the next one recomputes all voxels.
   void reset_stamps() {
     // A power of two above the evaluations of one relaxation, so rounds are stamp bit masks.
-    const cl_uint ticks = static_cast<cl_uint>(max_sweeps()) * static_cast<cl_uint>(brick_volume_);
+    const cl_uint ticks =
+        static_cast<cl_uint>(visits_per_relaxation()) * static_cast<cl_uint>(brick_volume_);
     stamp_stride_ = 1;
     while (stamp_stride_ <= ticks) stamp_stride_ *= 2;
     round_base_ = 0;
-    if (!sweeps_bricks()) return;
     queue_.enqueueFillBuffer(canvas_->evaluated, cl_uint{0}, 0, canvas_->slots * sizeof(cl_uint));
     queue_.enqueueFillBuffer(canvas_->changed, cl_uint{0}, 0, canvas_->slots * sizeof(cl_uint));
   }
@@ -556,23 +557,12 @@ class OpenCLPropagator final : public Propagator {
     const DeviceCanvasRef d = *canvas_;
     const bool sweep = sweeps_bricks();
     cl::Kernel& kernel = step_ > 0.0f ? relax_stepping_ : relax_;
+    // Every variant takes BRICK_SWEEP_ARGUMENTS (kernels/propagation.cl).
     set_args(kernel, d.list, static_cast<cl_int>(count), d.state, d.scratch, d.stencils, d.shapes,
              d.table, d.origins, d.dims, d.grid, d.seeds, d.flags, d.update_counter,
-             static_cast<cl_int>(visits_per_relaxation()));
-    if (sweep) {
-      kernel.setArg(14, d.evaluated);
-      kernel.setArg(15, d.changed);
-      kernel.setArg(16, next_round_base());
-      kernel.setArg(17, stamp_stride_);
-      kernel.setArg(18, d.activity);
-      kernel.setArg(19, d.reader_reach);
-      kernel.setArg(20, d.news);
-      kernel.setArg(21, threshold_);
-      kernel.setArg(22, d.least_tentative);
-    } else {
-      kernel.setArg(14, d.activity);
-      kernel.setArg(15, d.news);
-    }
+             static_cast<cl_int>(visits_per_relaxation()), d.evaluated, d.changed,
+             next_round_base(), stamp_stride_, d.activity, d.reader_reach, d.news, threshold_,
+             d.least_tentative);
     const std::size_t voxels = static_cast<std::size_t>(count) * brick_volume_;
     if (variant_ == RelaxationVariant::brick_lanes)
       queue_.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange((count + kLanes - 1) / kLanes),
@@ -631,9 +621,9 @@ std::unique_ptr<Propagator> make_opencl_propagator(const std::string& device,
   if (options.max_sweeps < 0 || options.max_sweeps > kMaxSweeps)
     throw Error("OpenCLOptions::max_sweeps must be in [0, " + std::to_string(kMaxSweeps) +
                 "] (0: automatic), got " + std::to_string(options.max_sweeps));
-  if (options.phase_iterations < 1)
-    throw Error("OpenCLOptions::phase_iterations must be at least 1, got " +
-                std::to_string(options.phase_iterations));
+  if (options.phase_iterations < 1 || options.phase_iterations > kMaxSweeps)
+    throw Error("OpenCLOptions::phase_iterations must be in [1, " + std::to_string(kMaxSweeps) +
+                "], got " + std::to_string(options.phase_iterations));
   if (!std::isfinite(options.front_step) ||
       (options.front_step > 0.0 && options.front_step < kSmallestFrontStep))
     throw Error(
