@@ -687,6 +687,15 @@ __kernel void commit_bricks(__global const int* list, int count, __global const 
   state[(size_t)brick * BRICK_VOLUME + item % BRICK_VOLUME] = scratch[item];
 }
 
+// The listed bricks' states one after another in scratch (a work-item per voxel), so that an
+// insertion reads what it touched back in one transfer rather than one per brick.
+__kernel void gather_bricks(__global const int* list, int count, __global const ulong* state,
+                            __global ulong* scratch) {
+  const size_t item = get_global_id(0);
+  if (item / BRICK_VOLUME >= (size_t)count) return;
+  scratch[item] = state[(size_t)list[item / BRICK_VOLUME] * BRICK_VOLUME + item % BRICK_VOLUME];
+}
+
 // At the start of a solve or insertion: a brick becomes pending when it is unconverged or a brick
 // within stencil reach changed (gathered per brick, so there are no write races). The host then
 // clears the flags.

@@ -289,9 +289,9 @@ DeviceCanvas upload_canvas(const cl::Context& context, const Canvas& canvas, int
   d.state = make_scratch(context, d.slots * sizeof(cl_ulong), d.bytes);
   // A round relaxes one colour class, so the scratch holds 1/8 of the bricks (1/4 in 2D): this
   // pays for 32-bit stamps, which never need restarting within a solve, under 64 B per voxel.
-  d.scratch = make_scratch(
-      context, largest_colour_class(canvas, colours) * canvas.brick_volume() * sizeof(cl_ulong),
-      d.bytes);
+  d.scratch_bricks = largest_colour_class(canvas, colours);
+  d.scratch =
+      make_scratch(context, d.scratch_bricks * canvas.brick_volume() * sizeof(cl_ulong), d.bytes);
   d.evaluated = make_scratch(context, d.slots * sizeof(cl_uint), d.bytes);
   d.changed = make_scratch(context, d.slots * sizeof(cl_uint), d.bytes);
   d.flags = make_scratch(context, d.bricks, d.bytes);

@@ -52,6 +52,7 @@ struct DeviceCanvas {
   double length_unit = 1.0;               // device distances are world distances / length_unit
   cl_int4 dims{}, grid{}, brick_reach{};  // brick_reach: bricks within stencil reach per axis
   cl::Buffer state, scratch, stencils, shapes, table, origins;  // stencils, shapes: PackedStencils
+  std::size_t scratch_bricks = 0;                               // the bricks the scratch holds
   cl::Buffer activity;  // a bit per slot (bit s % 32 of word s / 32): active
   // One stencil for the whole canvas (every active voxel has the same metric): the kernels must
   // be built with UNIFORM_METRIC.

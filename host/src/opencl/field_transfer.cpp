@@ -121,23 +121,21 @@ std::uint64_t download_field(const cl::CommandQueue& queue, const cl::Buffer& st
 std::uint64_t download_touched_bricks(const cl::CommandQueue& queue, const cl::Buffer& state,
                                       const cl::Buffer& touched, std::size_t bricks,
                                       std::size_t brick_volume, std::uint64_t hash,
-                                      double length_unit, VoronoiField& field) {
+                                      double length_unit, const BrickReader& read_bricks,
+                                      VoronoiField& field) {
   std::vector<cl_uchar> marks(bricks);
   queue.enqueueReadBuffer(touched, CL_TRUE, 0, bricks, marks.data());
-  std::vector<std::size_t> listed;
+  std::vector<cl_int> listed;
   for (std::size_t b = 0; b < bricks; ++b)
-    if (marks[b]) listed.push_back(b);
-  // One read per brick: beyond a quarter of the canvas, one read of everything is cheaper.
+    if (marks[b]) listed.push_back(static_cast<cl_int>(b));
+  // Beyond a quarter of the canvas, one read of everything costs less than packing the bricks.
   if (4 * listed.size() > bricks)
     return download_field(queue, state, bricks * brick_volume, length_unit, field);
   std::vector<cl_ulong> words(listed.size() * brick_volume);
-  const std::size_t bytes = brick_volume * sizeof(cl_ulong);
-  for (std::size_t n = 0; n < listed.size(); ++n)
-    queue.enqueueReadBuffer(state, CL_FALSE, listed[n] * bytes, bytes, &words[n * brick_volume]);
-  queue.finish();
+  read_bricks(listed, words.data());
   for (std::size_t n = 0; n < listed.size(); ++n) {
     for (std::size_t v = 0; v < brick_volume; ++v) {
-      const std::size_t slot = listed[n] * brick_volume + v;
+      const std::size_t slot = static_cast<std::size_t>(listed[n]) * brick_volume + v;
       hash -= field_slot_hash(field, slot);
       store_word(words[n * brick_volume + v], slot, static_cast<float>(length_unit), field);
       hash += field_slot_hash(field, slot);

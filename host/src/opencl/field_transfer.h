@@ -3,6 +3,8 @@
 // engine uses to recognise the field it returned last.
 #include <cstddef>
 #include <cstdint>
+#include <functional>
+#include <vector>
 
 #include "opencl_runtime.h"
 #include "rvor/propagation.h"
@@ -25,12 +27,17 @@ void upload_field(const cl::CommandQueue& queue, const cl::Buffer& state, const 
 std::uint64_t download_field(const cl::CommandQueue& queue, const cl::Buffer& state,
                              std::size_t slots, double length_unit, VoronoiField& field);
 
+// Reads the device states of the listed bricks, brick_volume words each in list order, into
+// `words` (sized for them).
+using BrickReader = std::function<void(const std::vector<cl_int>& bricks, cl_ulong* words)>;
+
 // Only the bricks whose `touched` byte is set (brick_volume slots each) into `field`, which held
 // the rest of the device state already and hashed to `hash`; returns the new field_hash. Falls
 // back to download_field when more than a quarter of the bricks were touched.
 std::uint64_t download_touched_bricks(const cl::CommandQueue& queue, const cl::Buffer& state,
                                       const cl::Buffer& touched, std::size_t bricks,
                                       std::size_t brick_volume, std::uint64_t hash,
-                                      double length_unit, VoronoiField& field);
+                                      double length_unit, const BrickReader& read_bricks,
+                                      VoronoiField& field);
 
 }  // namespace rvor::opencl

@@ -323,6 +323,7 @@ class OpenCLPropagator final : public Propagator {
                             : variant_ == RelaxationVariant::brick_sweep ? "relax_brick_sweep"
                                                                          : "relax_voxel_phases");
     commit_ = cl::Kernel(program, "commit_bricks");
+    gather_ = cl::Kernel(program, "gather_bricks");
     activate_ = cl::Kernel(program, "activate_bricks");
     compact_ = cl::Kernel(program, "compact_active");
     spread_ = cl::Kernel(program, "spread_activation");
@@ -381,12 +382,16 @@ class OpenCLPropagator final : public Propagator {
                              &stats.voxel_updates);
     stats.device_bytes = canvas_->bytes;
     stats.visits_per_relaxation = static_cast<std::uint64_t>(visits_per_relaxation());
-    const std::uint64_t hash =
-        held_field ? opencl::download_touched_bricks(queue_, canvas_->state, canvas_->touched,
-                                                     canvas_->bricks, brick_volume_,
-                                                     held_field->hash, canvas_->length_unit, field)
-                   : opencl::download_field(queue_, canvas_->state, canvas_->slots,
-                                            canvas_->length_unit, field);
+    const std::uint64_t hash = held_field
+                                   ? opencl::download_touched_bricks(
+                                         queue_, canvas_->state, canvas_->touched, canvas_->bricks,
+                                         brick_volume_, held_field->hash, canvas_->length_unit,
+                                         [&](const std::vector<cl_int>& bricks, cl_ulong* words) {
+                                           read_bricks(bricks, words);
+                                         },
+                                         field)
+                                   : opencl::download_field(queue_, canvas_->state, canvas_->slots,
+                                                            canvas_->length_unit, field);
     device_field_ = HeldField{hash, true};
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return stats;
@@ -553,6 +558,23 @@ class OpenCLPropagator final : public Propagator {
     relax_stepping_ = cl::Kernel(program, "relax_brick_lanes");
   }
 
+  // The states of `bricks` into `words`, packed on the device as many at a time as the scratch
+  // holds, each load in one transfer: one read per brick paid a transfer's latency per brick.
+  void read_bricks(const std::vector<cl_int>& bricks, cl_ulong* words) {
+    const DeviceCanvasRef d = *canvas_;
+    for (std::size_t first = 0; first < bricks.size(); first += d.scratch_bricks) {
+      const std::size_t count = std::min(d.scratch_bricks, bricks.size() - first);
+      queue_.enqueueWriteBuffer(d.list, CL_FALSE, 0, count * sizeof(cl_int), &bricks[first]);
+      set_args(gather_, d.list, static_cast<cl_int>(count), d.state, d.scratch);
+      queue_.enqueueNDRangeKernel(gather_, cl::NullRange,
+                                  cl::NDRange(round_up(count * brick_volume_, kBookkeepingGroup)),
+                                  cl::NDRange(kBookkeepingGroup));
+      queue_.enqueueReadBuffer(d.scratch, CL_FALSE, 0, count * brick_volume_ * sizeof(cl_ulong),
+                               words + first * brick_volume_);
+    }
+    queue_.finish();
+  }
+
   void relax(int count) {
     const DeviceCanvasRef d = *canvas_;
     const bool sweep = sweeps_bricks();
@@ -605,7 +627,7 @@ class OpenCLPropagator final : public Propagator {
   cl_uint stamp_stride_ = 1, round_base_ = 0;              // brick_sweep evaluation stamps
   // The field the device state holds, while it holds one bit for bit.
   std::optional<HeldField> device_field_;
-  cl::Kernel freeze_, init_, start_, claim_, relax_, commit_, activate_, compact_, spread_,
+  cl::Kernel freeze_, init_, start_, claim_, relax_, commit_, gather_, activate_, compact_, spread_,
       flag_multi_label_;
   cl::Kernel least_of_, pend_below_, relax_stepping_;
   std::string build_options_;  // of the program the kernels above come from
