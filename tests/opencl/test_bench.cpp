@@ -113,6 +113,9 @@ TEST(RunBenchmarkCase, SmallCaseGivesConsistentPositiveNumbers) {
   EXPECT_GT(*r.insert_mean_seconds, 0);
   EXPECT_GE(*r.insert_max_seconds, *r.insert_mean_seconds);
   EXPECT_NEAR(*r.insert_fraction, *r.insert_mean_seconds / r.seconds, 1e-9 * *r.insert_fraction);
+  ASSERT_TRUE(r.insert_mean_round_seconds);
+  EXPECT_GT(*r.insert_mean_round_seconds, 0);
+  EXPECT_LT(*r.insert_mean_round_seconds, *r.insert_mean_seconds);
   ASSERT_TRUE(r.fastsweeping_voxels_per_second && r.fastsweeping_ratio);
   EXPECT_GT(*r.fastsweeping_voxels_per_second, 0);
   EXPECT_NEAR(*r.fastsweeping_ratio, r.voxels_per_second / *r.fastsweeping_voxels_per_second,
@@ -181,6 +184,7 @@ TEST(BenchCommand, JsonHasTheRequiredKeysPerCase) {
     EXPECT_GT(c.at("cpu_reference_voxels_per_second").get<double>(), 0);
     EXPECT_EQ(c.at("inserted_seeds"), 1);
     EXPECT_GT(c.at("insert_fraction").get<double>(), 0);
+    EXPECT_GT(c.at("insert_mean_round_seconds").get<double>(), 0);
   }
   EXPECT_EQ(report["cases"][1].at("metric"), "radial_shock_3d");
   EXPECT_GE(report["cases"][1].at("max_anisotropy").get<double>(), 10.0);

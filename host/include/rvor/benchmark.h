@@ -59,6 +59,9 @@ struct BenchResult {
   // Incremental insertion (inserted_seeds > 0): mean and largest seconds of one insert() call
   // (including the field's upload and download), and the mean as a fraction of the solve.
   std::optional<double> insert_mean_seconds, insert_max_seconds, insert_fraction;
+  // Of the mean insertion, the seconds in its rounds of relaxations (PropagationStats::
+  // round_seconds); the rest is the seeds' and the field's preparation and the read-back.
+  std::optional<double> insert_mean_round_seconds;
 
   // OpenVDB FastSweeping: only sweep() is timed (initExt separately), 1 iteration of 8 sweeps.
   std::optional<double> fastsweeping_seconds, fastsweeping_init_seconds;

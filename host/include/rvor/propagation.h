@@ -54,6 +54,9 @@ struct PropagationStats {
   // domain, elsewhere those whose quarter brick sees the seed, which may be none).
   bool exact_start = false;
   double seconds = 0.0;
+  // OpenCL: the part of `seconds` in the rounds of relaxations (from the first round's start to
+  // the last's end); the rest prepares the seeds and the field and reads it back. Reference: 0.
+  double round_seconds = 0.0;
 };
 
 class Propagator {

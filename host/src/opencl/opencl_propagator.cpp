@@ -360,6 +360,8 @@ class OpenCLPropagator final : public Propagator {
     initialise_seeds(first_seed, seed_count, seed_stamp);
     claim_seed_voxels(claims, seed_stamp);
     activate_initial_bricks();
+    queue_.finish();  // so that round_seconds holds the rounds alone
+    const auto rounds_start = std::chrono::steady_clock::now();
     PropagationStats stats;
     stats.exact_start = exact_start != nullptr;
     const int colour_count = colours(canvas);
@@ -380,6 +382,8 @@ class OpenCLPropagator final : public Propagator {
     } while (step_ > 0.0f && raise_threshold());
     queue_.enqueueReadBuffer(canvas_->update_counter, CL_TRUE, 0, sizeof(cl_ulong),
                              &stats.voxel_updates);
+    stats.round_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - rounds_start).count();
     stats.device_bytes = canvas_->bytes;
     stats.visits_per_relaxation = static_cast<std::uint64_t>(visits_per_relaxation());
     const std::uint64_t hash = held_field
