@@ -33,10 +33,12 @@ struct IndexSeed {
   }
 };
 
-std::vector<IndexSeed> index_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds) {
-  std::vector<IndexSeed> result;
+// Appends the IndexSeed of each of seeds[first..] to `result`.
+void index_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds, std::size_t first,
+                 std::vector<IndexSeed>& result) {
   result.reserve(seeds.size());
-  for (const Vec3& p : seeds) {
+  for (std::size_t s = first; s < seeds.size(); ++s) {
+    const Vec3& p = seeds[s];
     IndexSeed seed;
     seed.centre = canvas.index_coordinates(p);
     seed.voxel = canvas.voxel_containing(p);
@@ -57,7 +59,6 @@ std::vector<IndexSeed> index_seeds(const Canvas& canvas, const std::vector<Vec3>
     for (int a = 0; a < n; ++a) seed.axis_reach[a] = std::sqrt(std::max(0.0, D(a, a)));
     result.push_back(seed);
   }
-  return result;
 }
 
 // Seeds listed per cell of a coarse grid over the canvas, each in every cell that its reach box
@@ -305,6 +306,8 @@ class SeedGridLevels {
     return level;
   }
   const SeedGrid& grid(std::size_t level) const { return *grids_[level]; }
+  // The reach of the top level: a listing covers no more.
+  double top_reach() const { return reach_of(grids_.size() - 1, grids_.size()); }
 
  private:
   double reach_of(std::size_t level, std::size_t levels) const {
@@ -315,16 +318,26 @@ class SeedGridLevels {
   std::vector<std::unique_ptr<SeedGrid>> grids_;
 };
 
-// Where a block's possible claimants come from: the grids of a solve, or every seed (an
-// insertion, whose cost follows the new seeds rather than a grid of all of them).
+// Where a block's possible claimants come from: grids of reach boxes over the seeds before
+// `ungridded` (SeedClaimCache keeps them between calls) and, in an insertion, every_seed: those
+// after `ungridded` are listed whole, and all of them for a reach beyond the grids' top level.
 struct ClaimantSource {
   const SeedGridLevels* grids = nullptr;
-  const std::vector<std::int32_t>* every_seed = nullptr;
+  const std::vector<std::int32_t>* every_seed = nullptr;  // null in a solve: the grids hold all
+  std::size_t ungridded = 0;
 
-  std::size_t level_for(double reach) const { return grids ? grids->level_for(reach) : 0; }
-  // Every seed whose u0 may be at most the reach of `level` somewhere on the block (more too).
-  std::vector<std::int32_t> listed(std::size_t level, const VoxelIndex& centre) const {
-    return grids ? grids->grid(level).seeds_near(centre, kSeedBlockRadius) : *every_seed;
+  std::size_t level_for(double reach) const { return grids->level_for(reach); }
+  // Whether the grid of level_for(reach) lists every gridded seed that may claim within `reach`.
+  bool covers(double reach) const { return !every_seed || reach <= grids->top_reach(); }
+  // Every seed whose u0 may be at most `reach` somewhere on the block around `centre` (more too).
+  std::vector<std::int32_t> listed(double reach, const VoxelIndex& centre) const {
+    if (!covers(reach)) return *every_seed;
+    std::vector<std::int32_t> seeds =
+        grids->grid(level_for(reach)).seeds_near(centre, kSeedBlockRadius);
+    if (every_seed)
+      seeds.insert(seeds.end(), every_seed->begin() + static_cast<std::ptrdiff_t>(ungridded),
+                   every_seed->end());
+    return seeds;
   }
 };
 
@@ -336,7 +349,7 @@ struct ClaimantSource {
 // one listing at the largest block reach of all seeds, as before 2026-12-04).
 void settle_block(const Canvas& canvas, const std::vector<IndexSeed>& seeds, std::size_t owner,
                   const ClaimantSource& source, std::vector<LeastPair>& best) {
-  Claimants near = claimants_below(seeds, owner, source.listed(0, seeds[owner].voxel),
+  Claimants near = claimants_below(seeds, owner, source.listed(0.0, seeds[owner].voxel),
                                    squared_block_limit(seeds[owner]), canvas.dimension);
   const ClaimantIt first_end =
       near.begin() + std::min(kFirstPassSeeds, static_cast<std::ptrdiff_t>(near.size()));
@@ -344,13 +357,13 @@ void settle_block(const Canvas& canvas, const std::vector<IndexSeed>& seeds, std
   lower_pairs(canvas, seeds, owner, near.begin(), first_end, best);
   const double largest = largest_value(best);
   const double limit = largest * largest * kBoundMargin;
-  const std::size_t level = source.level_for(largest * kBoundMargin);
-  if (level == 0) {
+  const double reach = largest * kBoundMargin;
+  if (source.level_for(reach) == 0 && source.covers(reach)) {
     const ClaimantIt end = std::partition(
         first_end, near.end(), [&](const Claimant& c) { return c.squared_bound < limit; });
     lower_pairs(canvas, seeds, owner, first_end, end, best);
   } else {
-    near = claimants_below(seeds, owner, source.listed(level, seeds[owner].voxel), limit,
+    near = claimants_below(seeds, owner, source.listed(reach, seeds[owner].voxel), limit,
                            canvas.dimension);
     lower_pairs(canvas, seeds, owner, near.begin(), near.end(), best);
   }
@@ -359,10 +372,9 @@ void settle_block(const Canvas& canvas, const std::vector<IndexSeed>& seeds, std
 // A solve: every block, its candidates from the grids of reach boxes; the blocks are independent,
 // so they are split over threads when there are many (thousands of seeds take seconds alone).
 void claim_all_blocks(const Canvas& canvas, const std::vector<IndexSeed>& seeds,
-                      std::vector<SeedClaim>& claims) {
+                      const SeedGridLevels& grids, std::vector<SeedClaim>& claims) {
   if (seeds.empty()) return;
-  const SeedGridLevels grids(canvas, seeds);
-  const ClaimantSource source{&grids, nullptr};
+  const ClaimantSource source{&grids, nullptr, seeds.size()};
   const std::vector<std::int32_t> order = grids.grid(0).cell_order(seeds);
   constexpr std::size_t kSeedsPerThread = 256;
   const unsigned threads = static_cast<unsigned>(
@@ -384,8 +396,8 @@ void claim_all_blocks(const Canvas& canvas, const std::vector<IndexSeed>& seeds,
 // new seed is nearer than the owner can change, and only there are the other seeds read.
 void claim_for_new_seeds(const Canvas& canvas, const std::vector<IndexSeed>& seeds,
                          std::size_t owner, std::size_t first_new,
-                         const std::vector<std::int32_t>& new_seeds,
-                         const std::vector<std::int32_t>& all, std::vector<SeedClaim>& claims) {
+                         const std::vector<std::int32_t>& new_seeds, const ClaimantSource& source,
+                         std::vector<SeedClaim>& claims) {
   std::vector<LeastPair> best = owner_pairs(canvas, seeds, owner);
   Claimants near =
       claimants_below(seeds, owner, new_seeds, squared_block_limit(seeds[owner]), canvas.dimension);
@@ -395,7 +407,8 @@ void claim_for_new_seeds(const Canvas& canvas, const std::vector<IndexSeed>& see
   if (std::none_of(best.begin(), best.end(), [](const LeastPair& b) { return b.second >= 0; }))
     return;
   const double largest = largest_value(best);
-  near = claimants_below(seeds, owner, all, largest * largest * kBoundMargin, canvas.dimension);
+  near = claimants_below(seeds, owner, source.listed(largest * kBoundMargin, seeds[owner].voxel),
+                         largest * largest * kBoundMargin, canvas.dimension);
   lower_pairs(canvas, seeds, owner, near.begin(), near.end(), best);
   for (LeastPair& b : best)
     if (static_cast<std::size_t>(b.second) < first_new) b.second = -1;  // an old seed's, as before
@@ -405,12 +418,13 @@ void claim_for_new_seeds(const Canvas& canvas, const std::vector<IndexSeed>& see
 // An insertion: the new seeds' blocks against every seed, and the voxels of old blocks that a new
 // seed may claim.
 void claim_new_blocks(const Canvas& canvas, const std::vector<IndexSeed>& seeds,
-                      std::size_t first_new, std::vector<SeedClaim>& claims) {
+                      std::size_t first_new, const SeedGridLevels* grids, std::size_t gridded,
+                      std::vector<SeedClaim>& claims) {
   std::vector<std::int32_t> all(seeds.size());
   for (std::size_t t = 0; t < seeds.size(); ++t) all[t] = static_cast<std::int32_t>(t);
   const std::vector<std::int32_t> new_seeds(all.begin() + static_cast<std::ptrdiff_t>(first_new),
                                             all.end());
-  const ClaimantSource source{nullptr, &all};
+  const ClaimantSource source{grids, &all, gridded};
   for (std::size_t s = 0; s < seeds.size(); ++s) {
     if (s >= first_new) {
       std::vector<LeastPair> best = owner_pairs(canvas, seeds, s);
@@ -421,20 +435,72 @@ void claim_new_blocks(const Canvas& canvas, const std::vector<IndexSeed>& seeds,
     bool affected = false;
     for (std::size_t n = first_new; n < seeds.size() && !affected; ++n)
       affected = may_claim(seeds[n], seeds[s], canvas.dimension);
-    if (affected) claim_for_new_seeds(canvas, seeds, s, first_new, new_seeds, all, claims);
+    if (affected) claim_for_new_seeds(canvas, seeds, s, first_new, new_seeds, source, claims);
   }
 }
 
 }  // namespace
 
+struct SeedClaimCache::Derived {
+  std::vector<Vec3> positions;   // the seeds of the last call
+  std::vector<IndexSeed> index;  // derived from them
+  // Grids over index[0..gridded), rebuilt when the seeds after them grow past a share of all
+  // (an insertion lists those whole) or the seeds before them change.
+  std::unique_ptr<SeedGridLevels> grids;
+  std::size_t gridded = 0;
+
+  // The grids, given that the first `known` seeds are those of the last call.
+  const SeedGridLevels& grids_for(const Canvas& canvas, std::size_t known) {
+    constexpr std::size_t kLeastUngridded = 256, kUngriddedShare = 32;
+    const std::size_t ungridded = index.size() - std::min(gridded, index.size());
+    if (!grids || gridded > known ||
+        ungridded > std::max(kLeastUngridded, index.size() / kUngriddedShare)) {
+      grids = std::make_unique<SeedGridLevels>(canvas, index);
+      gridded = index.size();
+    }
+    return *grids;
+  }
+};
+
+SeedClaimCache::SeedClaimCache() = default;
+SeedClaimCache::~SeedClaimCache() = default;
+SeedClaimCache::SeedClaimCache(SeedClaimCache&&) noexcept = default;
+SeedClaimCache& SeedClaimCache::operator=(SeedClaimCache&&) noexcept = default;
+void SeedClaimCache::clear() {
+  derived_.reset();
+}
+
+std::size_t shared_seed_prefix(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+  const std::size_t most = std::min(a.size(), b.size());
+  std::size_t n = 0;
+  while (n < most && a[n] == b[n]) ++n;
+  return n;
+}
+
 std::vector<SeedClaim> foreign_seed_claims(const Canvas& canvas, const std::vector<Vec3>& seeds,
                                            std::size_t first_new) {
-  const std::vector<IndexSeed> index = index_seeds(canvas, seeds);
+  SeedClaimCache cache;
+  return foreign_seed_claims(canvas, seeds, first_new, cache);
+}
+
+std::vector<SeedClaim> foreign_seed_claims(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                                           std::size_t first_new, SeedClaimCache& cache) {
+  if (!cache.derived_) cache.derived_ = std::make_unique<SeedClaimCache::Derived>();
+  SeedClaimCache::Derived& derived = *cache.derived_;
+  const std::size_t known = shared_seed_prefix(derived.positions, seeds);
+  derived.index.resize(known);
+  index_seeds(canvas, seeds, known, derived.index);
+  derived.positions.resize(known);
+  derived.positions.insert(derived.positions.end(),
+                           seeds.begin() + static_cast<std::ptrdiff_t>(known), seeds.end());
+  const std::vector<IndexSeed>& index = derived.index;
   std::vector<SeedClaim> claims;
+  // The grids first: they may be rebuilt, and with them `gridded`.
+  const SeedGridLevels& grids = derived.grids_for(canvas, first_new == 0 ? 0 : known);
   if (first_new == 0)
-    claim_all_blocks(canvas, index, claims);
+    claim_all_blocks(canvas, index, grids, claims);
   else
-    claim_new_blocks(canvas, index, first_new, claims);
+    claim_new_blocks(canvas, index, first_new, &grids, derived.gridded, claims);
   const auto key = [](const SeedClaim& c) { return std::tie(c.voxel.k, c.voxel.j, c.voxel.i); };
   std::sort(claims.begin(), claims.end(),
             [&](const SeedClaim& a, const SeedClaim& b) { return key(a) < key(b); });

@@ -138,7 +138,8 @@ void write_xyz(const std::string& path, const std::vector<Vec3>& points, int dim
   });
 }
 
-void validate_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds) {
+void validate_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                    std::size_t first_unchecked) {
   if (seeds.empty()) throw Error("no seeds given");
   // More seeds than voxels leave some without a cell, and the seed blocks' claims cost the square
   // of the seeds around a voxel (20 000 seeds on a 32^2 canvas ran for minutes).
@@ -147,7 +148,7 @@ void validate_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds) {
                 std::to_string(canvas.active_voxel_count) + " active voxels: at least " +
                 std::to_string(seeds.size() - canvas.active_voxel_count) +
                 " would share a voxel and own none; raise the resolution or give fewer seeds");
-  for (std::size_t n = 0; n < seeds.size(); ++n) {
+  for (std::size_t n = first_unchecked; n < seeds.size(); ++n) {
     const Vec3& s = seeds[n];
     if (!s.allFinite())
       throw Error("seed " + std::to_string(n) + " has a coordinate that is not finite");

@@ -3,6 +3,7 @@
 // block around each seed's voxel are boundary data, frozen at the least exact value
 // u0_t(x) = |F_t (x - t)| over all seeds t (ties: the smaller label).
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "rvor/canvas.h"
@@ -35,5 +36,31 @@ struct SeedClaim {
 // are listed: on the new seeds' blocks, and by new seeds; the others hold in the field already.
 std::vector<SeedClaim> foreign_seed_claims(const Canvas& canvas, const std::vector<Vec3>& seeds,
                                            std::size_t first_new = 0);
+
+// What the claims derive from each seed (its voxel's metric, eigenvalues, reach), kept between
+// calls on one canvas: a call derives only the seeds after the longest prefix it shares with the
+// last call's (with 100 000 seeds, deriving all took ~0.1 s of every insertion). For one canvas
+// only: clear() it when the canvas changes.
+class SeedClaimCache {
+ public:
+  SeedClaimCache();
+  ~SeedClaimCache();
+  SeedClaimCache(SeedClaimCache&&) noexcept;
+  SeedClaimCache& operator=(SeedClaimCache&&) noexcept;
+  void clear();
+
+ private:
+  friend std::vector<SeedClaim> foreign_seed_claims(const Canvas&, const std::vector<Vec3>&,
+                                                    std::size_t, SeedClaimCache&);
+  struct Derived;
+  std::unique_ptr<Derived> derived_;
+};
+
+// foreign_seed_claims with the seeds' derived data from `cache`, which it updates.
+std::vector<SeedClaim> foreign_seed_claims(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                                           std::size_t first_new, SeedClaimCache& cache);
+
+// How many leading seeds `a` and `b` share, coordinate for coordinate.
+std::size_t shared_seed_prefix(const std::vector<Vec3>& a, const std::vector<Vec3>& b);
 
 }  // namespace rvor

@@ -20,8 +20,10 @@ void write_xyz(const std::string& path, const std::vector<Vec3>& points, int dim
 // Throws rvor::Error "seed N at (x, y, z) is outside the domain" when a seed's containing voxel
 // is not an active canvas voxel, or its coordinates are not finite; on an empty seed list, and on
 // more seeds than active voxels.
-// A 2D canvas ignores z (read_xyz with a dimension checks files).
-void validate_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds);
+// A 2D canvas ignores z (read_xyz with a dimension checks files). Seeds before `first_unchecked`
+// are taken as checked already (an insertion's solved seeds); the count is always checked.
+void validate_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                    std::size_t first_unchecked = 0);
 
 // `count` points: distinct active voxels drawn uniformly, then in each a point within 0.49 voxel
 // of its centre along each axis, so the seed's containing voxel is that active voxel;
