@@ -194,5 +194,42 @@ TEST(SeedClaims, AnExactTieGoesToTheSmallerIndex) {
   EXPECT_EQ(listed_claims(canvas, owner_first), brute_force_claims(canvas, owner_first));
 }
 
+// Claims as a comparable list.
+std::vector<std::tuple<int, int, int, int>> claim_tuples(const std::vector<SeedClaim>& claims) {
+  std::vector<std::tuple<int, int, int, int>> tuples;
+  for (const SeedClaim& c : claims) tuples.emplace_back(c.voxel.i, c.voxel.j, c.voxel.k, c.label);
+  return tuples;
+}
+
+// A SeedClaimCache carried through a solve, insertions one by one (past a rebuild of its grids:
+// more than 256 seeds added), a changed earlier seed and a shorter list gives what calls without
+// one give.
+TEST(SeedClaims, ACacheListsWhatFreshCallsList) {
+  for (const int dimension : {2, 3}) {
+    SCOPED_TRACE(std::to_string(dimension) + "D");
+    const auto metric = [&](const Vec3& p) { return scale_varying_metric(p, dimension); };
+    const Canvas canvas = dimension == 3
+                              ? make_box_canvas(3, Vec3(-1, -1, -1), Vec3(1, 1, 1), 24, metric)
+                              : make_box_canvas(2, Vec3(-1, -1, 0), Vec3(1, 1, 0), 64, metric);
+    std::vector<Vec3> seeds = random_seeds(canvas, 620, 5);
+    SeedClaimCache cache;
+    const auto expect_same = [&](const std::vector<Vec3>& listed, std::size_t first_new) {
+      EXPECT_EQ(claim_tuples(foreign_seed_claims(canvas, listed, first_new, cache)),
+                claim_tuples(foreign_seed_claims(canvas, listed, first_new)))
+          << listed.size() << " seeds, first new " << first_new;
+    };
+    std::vector<Vec3> growing(seeds.begin(), seeds.begin() + 300);
+    expect_same(growing, 0);
+    for (std::size_t n = 300; n < seeds.size(); ++n) {
+      growing.push_back(seeds[n]);
+      expect_same(growing, n);
+    }
+    std::swap(growing[10], growing[600]);  // an earlier seed changes
+    expect_same(growing, 615);
+    growing.resize(500);  // fewer seeds than the grids hold
+    expect_same(growing, 499);
+  }
+}
+
 }  // namespace
 }  // namespace rvor::test
