@@ -392,12 +392,70 @@ void claim_all_blocks(const Canvas& canvas, const std::vector<IndexSeed>& seeds,
     claims.insert(claims.end(), part.begin(), part.end());
 }
 
+// Lowers the voxels a new seed holds in `owner`'s block (best) by every seed that may beat it,
+// and drops those an old seed wins (their claims hold in the field already).
+void read_old_seeds(const Canvas& canvas, const std::vector<IndexSeed>& seeds, std::size_t owner,
+                    std::size_t first_new, const ClaimantSource& source,
+                    std::vector<LeastPair>& best) {
+  if (std::none_of(best.begin(), best.end(), [](const LeastPair& b) { return b.second >= 0; }))
+    return;
+  const double largest = largest_value(best);
+  Claimants near =
+      claimants_below(seeds, owner, source.listed(largest * kBoundMargin, seeds[owner].voxel),
+                      largest * largest * kBoundMargin, canvas.dimension);
+  lower_pairs(canvas, seeds, owner, near.begin(), near.end(), best);
+  for (LeastPair& b : best)
+    if (static_cast<std::size_t>(b.second) < first_new) b.second = -1;  // an old seed's, as before
+}
+
+// The least u0 over the solved seeds at a block voxel, in index units, read from the solved
+// field's distances; NaN where there is none.
+struct SolvedLeast {
+  const Canvas& canvas;
+  const std::vector<float>* distance = nullptr;
+
+  double at(const VoxelIndex& x) const {
+    const std::int64_t slot = distance ? canvas.slot_of(x) : -1;
+    if (slot < 0) return std::numeric_limits<double>::quiet_NaN();
+    return static_cast<double>((*distance)[static_cast<std::size_t>(slot)]) / canvas.voxel_size;
+  }
+};
+
+// The field's float values against a new seed's u0: beyond this relative margin the comparison is
+// decided; within it the old seeds are read.
+constexpr double kSolvedMargin = 1e-4;
+
+// Settles the voxels of `owner`'s block that a new seed holds by the solved field: kept where the
+// new seed is clearly nearer than the least old seed, dropped where clearly farther. Returns
+// whether any voxel is left undecided.
+bool settle_by_solved_field(const Canvas& canvas, std::size_t owner,
+                            const std::vector<IndexSeed>& seeds, const SolvedLeast& solved,
+                            std::vector<LeastPair>& best, std::vector<bool>& decided) {
+  bool undecided = false;
+  std::size_t n = 0;
+  for_each_seed_block_voxel(seeds[owner].voxel, canvas.dimension, [&](const VoxelIndex& x) {
+    LeastPair& b = best[n];
+    decided[n++] = false;
+    if (b.second < 0) return;
+    const double old = solved.at(x);
+    if (b.first < old * (1 - kSolvedMargin)) {
+      decided[n - 1] = true;
+    } else if (b.first > old * (1 + kSolvedMargin)) {
+      b.second = -1;
+    } else {
+      undecided = true;
+    }
+  });
+  return undecided;
+}
+
 // The claims of new seeds (seeds[first_new..]) in the block of an old seed: only voxels where a
-// new seed is nearer than the owner can change, and only there are the other seeds read.
+// new seed is nearer than the owner can change, and only there are the other seeds read, unless
+// the solved field decides (an old block of a field whose scale varies may list most seeds).
 void claim_for_new_seeds(const Canvas& canvas, const std::vector<IndexSeed>& seeds,
                          std::size_t owner, std::size_t first_new,
                          const std::vector<std::int32_t>& new_seeds, const ClaimantSource& source,
-                         std::vector<SeedClaim>& claims) {
+                         const SolvedLeast& solved, std::vector<SeedClaim>& claims) {
   std::vector<LeastPair> best = owner_pairs(canvas, seeds, owner);
   Claimants near =
       claimants_below(seeds, owner, new_seeds, squared_block_limit(seeds[owner]), canvas.dimension);
@@ -406,12 +464,18 @@ void claim_for_new_seeds(const Canvas& canvas, const std::vector<IndexSeed>& see
     if (static_cast<std::size_t>(b.second) == owner) b.second = -1;  // no new seed is nearer
   if (std::none_of(best.begin(), best.end(), [](const LeastPair& b) { return b.second >= 0; }))
     return;
-  const double largest = largest_value(best);
-  near = claimants_below(seeds, owner, source.listed(largest * kBoundMargin, seeds[owner].voxel),
-                         largest * largest * kBoundMargin, canvas.dimension);
-  lower_pairs(canvas, seeds, owner, near.begin(), near.end(), best);
-  for (LeastPair& b : best)
-    if (static_cast<std::size_t>(b.second) < first_new) b.second = -1;  // an old seed's, as before
+  std::vector<bool> decided(best.size(), false);
+  if (solved.distance && !settle_by_solved_field(canvas, owner, seeds, solved, best, decided)) {
+    report_claims(canvas, seeds, owner, best, claims);
+    return;
+  }
+  // The decided voxels stay out of the reading, and come back to be reported.
+  const std::vector<LeastPair> kept(best);
+  for (std::size_t n = 0; n < best.size(); ++n)
+    if (decided[n]) best[n].second = -1;
+  read_old_seeds(canvas, seeds, owner, first_new, source, best);
+  for (std::size_t n = 0; n < best.size(); ++n)
+    if (decided[n]) best[n] = kept[n];
   report_claims(canvas, seeds, owner, best, claims);
 }
 
@@ -419,7 +483,7 @@ void claim_for_new_seeds(const Canvas& canvas, const std::vector<IndexSeed>& see
 // seed may claim.
 void claim_new_blocks(const Canvas& canvas, const std::vector<IndexSeed>& seeds,
                       std::size_t first_new, const SeedGridLevels* grids, std::size_t gridded,
-                      std::vector<SeedClaim>& claims) {
+                      const SolvedLeast& solved, std::vector<SeedClaim>& claims) {
   std::vector<std::int32_t> all(seeds.size());
   for (std::size_t t = 0; t < seeds.size(); ++t) all[t] = static_cast<std::int32_t>(t);
   const std::vector<std::int32_t> new_seeds(all.begin() + static_cast<std::ptrdiff_t>(first_new),
@@ -435,7 +499,8 @@ void claim_new_blocks(const Canvas& canvas, const std::vector<IndexSeed>& seeds,
     bool affected = false;
     for (std::size_t n = first_new; n < seeds.size() && !affected; ++n)
       affected = may_claim(seeds[n], seeds[s], canvas.dimension);
-    if (affected) claim_for_new_seeds(canvas, seeds, s, first_new, new_seeds, source, claims);
+    if (affected)
+      claim_for_new_seeds(canvas, seeds, s, first_new, new_seeds, source, solved, claims);
   }
 }
 
@@ -484,7 +549,8 @@ std::vector<SeedClaim> foreign_seed_claims(const Canvas& canvas, const std::vect
 }
 
 std::vector<SeedClaim> foreign_seed_claims(const Canvas& canvas, const std::vector<Vec3>& seeds,
-                                           std::size_t first_new, SeedClaimCache& cache) {
+                                           std::size_t first_new, SeedClaimCache& cache,
+                                           const std::vector<float>* solved_distance) {
   if (!cache.derived_) cache.derived_ = std::make_unique<SeedClaimCache::Derived>();
   SeedClaimCache::Derived& derived = *cache.derived_;
   const std::size_t known = shared_seed_prefix(derived.positions, seeds);
@@ -500,7 +566,8 @@ std::vector<SeedClaim> foreign_seed_claims(const Canvas& canvas, const std::vect
   if (first_new == 0)
     claim_all_blocks(canvas, index, grids, claims);
   else
-    claim_new_blocks(canvas, index, first_new, &grids, derived.gridded, claims);
+    claim_new_blocks(canvas, index, first_new, &grids, derived.gridded,
+                     SolvedLeast{canvas, solved_distance}, claims);
   const auto key = [](const SeedClaim& c) { return std::tie(c.voxel.k, c.voxel.j, c.voxel.i); };
   std::sort(claims.begin(), claims.end(),
             [&](const SeedClaim& a, const SeedClaim& b) { return key(a) < key(b); });

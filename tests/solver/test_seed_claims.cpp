@@ -85,6 +85,25 @@ void expect_brute_force_claims(const Canvas& canvas, std::size_t seed_count) {
 // An insertion of seeds[first_new..] lists every claim that a new seed changes (on a new seed's
 // block, or by a new seed) and nothing that a solve with all the seeds would not list.
 // `all` holds brute_force_claims(canvas, seeds).
+// The distances of a field solved for seeds[0..first_new) where the claims may read them, on those
+// seeds' blocks (h times the least u0, in float as a field holds it); 0 elsewhere, which no claim
+// decision may read.
+std::vector<float> solved_block_distances(const Canvas& canvas,
+                                          const std::vector<BruteForceSeed>& seeds,
+                                          std::size_t first_new) {
+  std::vector<float> distance(canvas.slot_count(), 0.0f);
+  for (std::size_t owner = 0; owner < first_new; ++owner)
+    for_each_seed_block_voxel(seeds[owner].voxel, canvas.dimension, [&](const VoxelIndex& x) {
+      const std::int64_t slot = canvas.slot_of(x);
+      if (slot < 0) return;
+      double least = INFINITY;
+      for (std::size_t t = 0; t < first_new; ++t)
+        least = std::min(least, metric_length(seeds[t].G, Vec3(x.i, x.j, x.k) - seeds[t].centre));
+      distance[static_cast<std::size_t>(slot)] = static_cast<float>(canvas.voxel_size * least);
+    });
+  return distance;
+}
+
 void expect_insertion_claims(const Canvas& canvas, const std::vector<Vec3>& seeds,
                              const std::map<VoxelKey, int>& all, std::size_t first_new) {
   const std::vector<BruteForceSeed> index = brute_force_seeds(canvas, seeds);
@@ -96,16 +115,23 @@ void expect_insertion_claims(const Canvas& canvas, const std::vector<Vec3>& seed
       on_new_block = on_new_block || in_block(index[n].voxel, x);
     if (on_new_block || static_cast<std::size_t>(label) >= first_new) required[key] = label;
   }
-  std::map<VoxelKey, int> listed;
-  for (const SeedClaim& c : foreign_seed_claims(canvas, seeds, first_new))
-    listed[{c.voxel.i, c.voxel.j, c.voxel.k}] = c.label;
-  for (const auto& [key, label] : required) {
-    ASSERT_EQ(listed.count(key), 1u) << "a claim the insertion changes is missing";
-    EXPECT_EQ(listed.at(key), label);
-  }
-  for (const auto& [key, label] : listed) {
-    ASSERT_EQ(all.count(key), 1u) << "a claim that a solve would not list";
-    EXPECT_EQ(all.at(key), label);
+  // Without the solved field, and with it deciding where it can.
+  const std::vector<float> solved = solved_block_distances(canvas, index, first_new);
+  for (const std::vector<float>* solved_distance :
+       {static_cast<const std::vector<float>*>(nullptr), &solved}) {
+    SCOPED_TRACE(solved_distance ? "with the solved field" : "without a field");
+    SeedClaimCache cache;
+    std::map<VoxelKey, int> listed;
+    for (const SeedClaim& c : foreign_seed_claims(canvas, seeds, first_new, cache, solved_distance))
+      listed[{c.voxel.i, c.voxel.j, c.voxel.k}] = c.label;
+    for (const auto& [key, label] : required) {
+      ASSERT_EQ(listed.count(key), 1u) << "a claim the insertion changes is missing";
+      EXPECT_EQ(listed.at(key), label);
+    }
+    for (const auto& [key, label] : listed) {
+      ASSERT_EQ(all.count(key), 1u) << "a claim that a solve would not list";
+      EXPECT_EQ(all.at(key), label);
+    }
   }
 }
 

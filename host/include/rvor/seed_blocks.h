@@ -51,14 +51,19 @@ class SeedClaimCache {
 
  private:
   friend std::vector<SeedClaim> foreign_seed_claims(const Canvas&, const std::vector<Vec3>&,
-                                                    std::size_t, SeedClaimCache&);
+                                                    std::size_t, SeedClaimCache&,
+                                                    const std::vector<float>*);
   struct Derived;
   std::unique_ptr<Derived> derived_;
 };
 
-// foreign_seed_claims with the seeds' derived data from `cache`, which it updates.
+// foreign_seed_claims with the seeds' derived data from `cache`, which it updates. An insertion
+// may pass `solved_distance`, the distances (world units, one per slot) of the field solved for
+// seeds[0..first_new): their seed blocks hold the least u0 over those seeds, which then decides
+// where a new seed wins unless the two lie within 1e-4 relative (else the old seeds are read).
 std::vector<SeedClaim> foreign_seed_claims(const Canvas& canvas, const std::vector<Vec3>& seeds,
-                                           std::size_t first_new, SeedClaimCache& cache);
+                                           std::size_t first_new, SeedClaimCache& cache,
+                                           const std::vector<float>* solved_distance = nullptr);
 
 // How many leading seeds `a` and `b` share, coordinate for coordinate.
 std::size_t shared_seed_prefix(const std::vector<Vec3>& a, const std::vector<Vec3>& b);

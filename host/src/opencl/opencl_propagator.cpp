@@ -126,7 +126,7 @@ class OpenCLPropagator final : public Propagator {
       const auto start = std::chrono::steady_clock::now();
       require_field_for(canvas, field, "insert()");
       if (first_new > seeds.size()) throw Error("insert(): first_new is past the last seed");
-      const std::vector<cl_int4> claims = prepare(canvas, seeds, first_new);
+      const std::vector<cl_int4> claims = prepare(canvas, seeds, first_new, &field);
       step_ = 0.0f;  // an insertion changes a region around its seeds: no stepping
       const std::optional<HeldField> held_field = hold_field(field);
       device_field_.reset();
@@ -177,8 +177,9 @@ class OpenCLPropagator final : public Propagator {
 
   // Uploads the seeds; returns the claims that seeds[first_new..] can change (all of a solve's;
   // rvor/seed_blocks.h).
+  // `solved`: an insertion's field (the claims read its seed blocks' values).
   std::vector<cl_int4> prepare(const Canvas& canvas, const std::vector<Vec3>& seeds,
-                               std::size_t first_new) {
+                               std::size_t first_new, const VoronoiField* solved = nullptr) {
     // Labels leave TENTATIVE_LABEL (kernels/state_word.clh) free for front stepping.
     if (seeds.size() > kMostOpenCLSeeds)
       throw Error("too many seeds: " + std::to_string(seeds.size()) + " (the OpenCL engine takes " +
@@ -202,7 +203,8 @@ class OpenCLPropagator final : public Propagator {
                               held_records_.data() + offset);
     held_seeds_ = seeds;
     std::vector<cl_int4> claims;
-    for (const SeedClaim& claim : foreign_seed_claims(canvas, seeds, first_new, claim_cache_))
+    for (const SeedClaim& claim : foreign_seed_claims(canvas, seeds, first_new, claim_cache_,
+                                                      solved ? &solved->distance : nullptr))
       claims.push_back({{claim.voxel.i, claim.voxel.j, claim.voxel.k, claim.label}});
     return claims;
   }
