@@ -565,7 +565,7 @@ inline ulong phase_update(int l, size_t brick_slot, int3 origin, __local const u
                                stride, brick_slot, changed, dims, grid, table)))
     return current;
   evaluated[brick_slot + l] = stamp;
-  const int3 v = origin + local_coordinates(l);
+  const int3 v = origin + c;
   ulong nb[2 * STENCIL_TERMS];
   gather_for_phases(v, origin, offset, terms, values, state, dims, grid, table, nb);
   ++*updates;
@@ -596,6 +596,9 @@ __kernel __attribute__((reqd_work_group_size(PHASE_VOXELS, 1, 1))) void relax_vo
   // changed_in[it % 3]: iteration `it` changed a value significantly. Iteration `it` resets the
   // flag of iteration it + 2: nobody reads it any more, and nobody sets it before a barrier.
   __local int changed_in[3];
+  // Any value written, significant or not: committed (FLAG_WRITTEN), so that the evaluation
+  // stamps describe `state`, as after a brick sweep.
+  __local int written;
   __local uint brick_updates;
   const int position = get_group_id(0);
   const int w = get_local_id(0);
@@ -609,14 +612,17 @@ __kernel __attribute__((reqd_work_group_size(PHASE_VOXELS, 1, 1))) void relax_vo
     changed_box[w] = EDGE;
     changed_box[3 + w] = -1;
   }
-  if (w == 0) brick_updates = 0;
+  if (w == 0) {
+    brick_updates = 0;
+    written = 0;
+  }
   if (w < PHASE_MASK_WORDS) {  // iteration 0 reads masks 0 and 2 (none changed before it)
     changed_voxels[0][w] = 0;
     changed_voxels[2][w] = 0;
   }
   barrier(CLK_LOCAL_MEM_FENCE);
   uint updates = 0;
-  bool changed_ever = false, changed_last = false;
+  bool changed_ever = false, changed_last = false, wrote = false;
   int3 changed_lo = (int3)(EDGE, EDGE, EDGE), changed_hi = (int3)(-1, -1, -1);
   for (int it = 0; it < iterations; ++it) {
     __local uint* changed_now = changed_voxels[it % 3];
@@ -633,11 +639,13 @@ __kernel __attribute__((reqd_work_group_size(PHASE_VOXELS, 1, 1))) void relax_vo
                        stamp, round_base, stride, &updates, &tolerance);
       if (best != values[l]) {
         atomic_or(&changed_now[l / 32], 1u << (l % 32));
+        wrote = true;
         if (significant_change(values[l], best, tolerance)) {
+          const int3 c = local_coordinates(l);
           changed[brick_slot + l] = stamp;
           changed_in[it % 3] = 1;
-          changed_lo = min(changed_lo, local_coordinates(l));
-          changed_hi = max(changed_hi, local_coordinates(l));
+          changed_lo = min(changed_lo, c);
+          changed_hi = max(changed_hi, c);
         }
         values[l] = best;
       }
@@ -651,6 +659,7 @@ __kernel __attribute__((reqd_work_group_size(PHASE_VOXELS, 1, 1))) void relax_vo
   for (int p = 0; p < PHASES; ++p)
     scratch[(size_t)position * BRICK_VOLUME + phase_voxel(w, p)] = values[phase_voxel(w, p)];
   atomic_add(&brick_updates, updates);
+  if (wrote) written = 1;
   if (changed_lo.x <= changed_hi.x) {
     atomic_min(&changed_box[0], changed_lo.x);
     atomic_min(&changed_box[1], changed_lo.y);
@@ -661,8 +670,8 @@ __kernel __attribute__((reqd_work_group_size(PHASE_VOXELS, 1, 1))) void relax_vo
   }
   barrier(CLK_LOCAL_MEM_FENCE);
   if (w == 0) {
-    flags[brick] =
-        (uchar)((changed_ever ? FLAG_CHANGED : 0u) | (changed_last ? FLAG_UNCONVERGED : 0u));
+    flags[brick] = (uchar)((changed_ever ? FLAG_CHANGED : 0u) |
+                           (changed_last ? FLAG_UNCONVERGED : 0u) | (written ? FLAG_WRITTEN : 0u));
     news[brick] =
         brick_news((int3)(changed_box[0], changed_box[1], changed_box[2]),
                    (int3)(changed_box[3], changed_box[4], changed_box[5]), reader_reach[brick]);
