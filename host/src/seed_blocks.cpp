@@ -417,7 +417,7 @@ struct SolvedLeast {
   const Canvas& canvas;
   const std::vector<float>* distance = nullptr;
 
-  double at(const VoxelIndex& x) const {
+  double at(const VoxelIndex& x) const {  // without a field: NaN, which decides nothing
     const std::int64_t slot = distance ? canvas.slot_of(x) : -1;
     if (slot < 0) return std::numeric_limits<double>::quiet_NaN();
     return static_cast<double>((*distance)[static_cast<std::size_t>(slot)]) / canvas.voxel_size;
@@ -428,17 +428,16 @@ struct SolvedLeast {
 // decided; within it the old seeds are read.
 constexpr double kSolvedMargin = 1e-4;
 
-// Settles the voxels of `owner`'s block that a new seed holds by the solved field: kept where the
-// new seed is clearly nearer than the least old seed, dropped where clearly farther. Returns
-// whether any voxel is left undecided.
+// Settles the voxels of `owner`'s block that a new seed holds by the solved field: kept (decided)
+// where the new seed is clearly nearer than the least old seed, dropped where clearly farther.
+// Returns whether any voxel is left undecided.
 bool settle_by_solved_field(const Canvas& canvas, std::size_t owner,
                             const std::vector<IndexSeed>& seeds, const SolvedLeast& solved,
                             std::vector<LeastPair>& best, std::vector<bool>& decided) {
   bool undecided = false;
   std::size_t n = 0;
   for_each_seed_block_voxel(seeds[owner].voxel, canvas.dimension, [&](const VoxelIndex& x) {
-    LeastPair& b = best[n];
-    decided[n++] = false;
+    LeastPair& b = best[n++];
     if (b.second < 0) return;
     const double old = solved.at(x);
     if (b.first < old * (1 - kSolvedMargin)) {
@@ -468,7 +467,7 @@ void claim_for_new_seeds(const Canvas& canvas, const std::vector<IndexSeed>& see
   if (std::none_of(best.begin(), best.end(), [](const LeastPair& b) { return b.second >= 0; }))
     return;
   std::vector<bool> decided(best.size(), false);
-  if (solved.distance && !settle_by_solved_field(canvas, owner, seeds, solved, best, decided)) {
+  if (!settle_by_solved_field(canvas, owner, seeds, solved, best, decided)) {
     report_claims(canvas, seeds, owner, best, claims);
     return;
   }
@@ -538,10 +537,12 @@ void SeedClaimCache::clear() {
   derived_.reset();
 }
 
-std::size_t shared_seed_prefix(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
-  const std::size_t most = std::min(a.size(), b.size());
+std::size_t SeedClaimCache::known_prefix(const std::vector<Vec3>& seeds) const {
+  if (!derived_) return 0;
+  const std::vector<Vec3>& last = derived_->positions;
+  const std::size_t most = std::min(last.size(), seeds.size());
   std::size_t n = 0;
-  while (n < most && a[n] == b[n]) ++n;
+  while (n < most && last[n] == seeds[n]) ++n;
   return n;
 }
 
@@ -555,8 +556,8 @@ std::vector<SeedClaim> foreign_seed_claims(const Canvas& canvas, const std::vect
                                            std::size_t first_new, SeedClaimCache& cache,
                                            const std::vector<float>* solved_distance) {
   if (!cache.derived_) cache.derived_ = std::make_unique<SeedClaimCache::Derived>();
+  const std::size_t known = cache.known_prefix(seeds);
   SeedClaimCache::Derived& derived = *cache.derived_;
-  const std::size_t known = shared_seed_prefix(derived.positions, seeds);
   derived.index.resize(known);
   index_seeds(canvas, seeds, known, derived.index);
   derived.positions.resize(known);

@@ -48,6 +48,8 @@ class SeedClaimCache {
   SeedClaimCache(SeedClaimCache&&) noexcept;
   SeedClaimCache& operator=(SeedClaimCache&&) noexcept;
   void clear();
+  // How many leading seeds of `seeds` are those of the last call, coordinate for coordinate.
+  std::size_t known_prefix(const std::vector<Vec3>& seeds) const;
 
  private:
   friend std::vector<SeedClaim> foreign_seed_claims(const Canvas&, const std::vector<Vec3>&,
@@ -64,8 +66,5 @@ class SeedClaimCache {
 std::vector<SeedClaim> foreign_seed_claims(const Canvas& canvas, const std::vector<Vec3>& seeds,
                                            std::size_t first_new, SeedClaimCache& cache,
                                            const std::vector<float>* solved_distance = nullptr);
-
-// How many leading seeds `a` and `b` share, coordinate for coordinate.
-std::size_t shared_seed_prefix(const std::vector<Vec3>& a, const std::vector<Vec3>& b);
 
 }  // namespace rvor

@@ -185,28 +185,40 @@ class OpenCLPropagator final : public Propagator {
       throw Error("too many seeds: " + std::to_string(seeds.size()) + " (the OpenCL engine takes " +
                   std::to_string(kMostOpenCLSeeds) + " at most)");
     hold_canvas(canvas);
-    // Seeds the last call held already (an insertion's solved seeds, as the caller passes them
-    // again) are neither checked, derived nor uploaded again: with 100 000 seeds that was ~0.15 s
-    // of every insertion.
-    std::size_t known = shared_seed_prefix(held_seeds_, seeds);
+    // Seeds of the last call (an insertion's solved seeds, as the caller passes them again) are
+    // neither checked, derived nor uploaded again: with 100 000 seeds that was ~0.15 s of every
+    // insertion. The claim cache knows them; held_records_ are their records.
+    const std::size_t known = claim_cache_.known_prefix(seeds);
     validate_seeds(canvas, seeds, known);  // the reference's checks and messages
+    try {
+      upload_seed_records(canvas, seeds, known);
+      std::vector<cl_int4> claims;
+      for (const SeedClaim& claim : foreign_seed_claims(canvas, seeds, first_new, claim_cache_,
+                                                        solved ? &solved->distance : nullptr))
+        claims.push_back({{claim.voxel.i, claim.voxel.j, claim.voxel.k, claim.label}});
+      return claims;
+    } catch (...) {  // the records and the cache may no longer describe the same seeds
+      held_records_.clear();
+      claim_cache_.clear();
+      throw;
+    }
+  }
+
+  // The device records of `seeds`, those before `known` as held_records_ holds them already.
+  void upload_seed_records(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                           std::size_t known) {
     seed_records(canvas, seeds, known, canvas_->length_unit, held_records_);
+    std::size_t first_upload = known;
     if (canvas_->seed_capacity < seeds.size()) {
       canvas_->seed_capacity = std::max<std::size_t>(seeds.size(), 2 * canvas_->seed_capacity);
       canvas_->seeds = cl::Buffer(context_, CL_MEM_READ_ONLY,
                                   canvas_->seed_capacity * kSeedRecord * sizeof(float));
-      known = 0;  // a new buffer
+      first_upload = 0;  // a new buffer
     }
-    const std::size_t offset = known * kSeedRecord;
+    const std::size_t offset = first_upload * kSeedRecord;
     queue_.enqueueWriteBuffer(canvas_->seeds, CL_TRUE, offset * sizeof(float),
                               (held_records_.size() - offset) * sizeof(float),
                               held_records_.data() + offset);
-    held_seeds_ = seeds;
-    std::vector<cl_int4> claims;
-    for (const SeedClaim& claim : foreign_seed_claims(canvas, seeds, first_new, claim_cache_,
-                                                      solved ? &solved->distance : nullptr))
-      claims.push_back({{claim.voxel.i, claim.voxel.j, claim.voxel.k, claim.label}});
-    return claims;
   }
 
   // Uploads the canvas unless the device holds it already.
@@ -224,8 +236,7 @@ class OpenCLPropagator final : public Propagator {
               ? exact_start_reach(canvas, canvas_->uniform_stencil && canvas_->uniform_diagonal)
               : ExactStartReach::none;
       device_field_.reset();
-      held_seeds_.clear();  // what prepare() derived from them was for the other canvas
-      held_records_.clear();
+      held_records_.clear();  // what prepare() derived from the seeds was for the other canvas
       claim_cache_.clear();
       build_kernels(canvas);
     }
@@ -482,7 +493,7 @@ class OpenCLPropagator final : public Propagator {
                                 cl::NDRange(kBookkeepingGroup));
   }
 
-  // Forgets every evaluation (brick_sweep work avoidance): the next one recomputes all voxels.
+  // Forgets every evaluation (work avoidance, every variant): the next one recomputes all voxels.
   void reset_stamps() {
     // A power of two above the evaluations of one relaxation, so rounds are stamp bit masks.
     const cl_uint ticks =
@@ -641,14 +652,13 @@ class OpenCLPropagator final : public Propagator {
   ExactStartReach exact_start_reach_ = ExactStartReach::none;  // on the canvas held
   std::size_t brick_volume_ = 512;
   static constexpr std::uint64_t kMaxStamp = 0xFFFFFFFFu;  // stamps are cl_uint on the device
-  cl_uint stamp_stride_ = 1, round_base_ = 0;              // brick_sweep evaluation stamps
+  cl_uint stamp_stride_ = 1, round_base_ = 0;              // evaluation stamps
   // The field the device state holds, while it holds one bit for bit.
   std::optional<HeldField> device_field_;
-  // The seeds of the last solve or insertion on this canvas (checked, in the device's seed
-  // buffer), their device records, and what the claims derived from them.
-  std::vector<Vec3> held_seeds_;
-  std::vector<float> held_records_;
+  // What the claims derived from the seeds of the last solve or insertion on this canvas (which
+  // were checked, and are in the device's seed buffer), and their device records.
   SeedClaimCache claim_cache_;
+  std::vector<float> held_records_;
   cl::Kernel freeze_, init_, start_, claim_, relax_, commit_, gather_, activate_, compact_, spread_,
       flag_multi_label_;
   cl::Kernel least_of_, pend_below_, relax_stepping_;
