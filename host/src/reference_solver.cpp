@@ -517,7 +517,8 @@ class ReferencePropagator final : public Propagator {
   PropagationStats insert(const Canvas& canvas, const std::vector<Vec3>& seeds,
                           std::size_t first_new, VoronoiField& field) override {
     validate_seeds(canvas, seeds);
-    require_field_for(canvas, field, "insert");
+    if (first_new > seeds.size()) throw Error("insert(): first_new is past the last seed");
+    require_insertable_field(canvas, field, first_new, "insert()");
     ReferenceSolver& solver = solver_for(canvas);
     if (!is_last_output(field)) import_field(field);
     const PropagationStats stats = solver.insert(canvas, seeds, first_new, last_);

@@ -15,6 +15,7 @@
 #include "rvor/opencl_propagator.h"
 #include "rvor/propagation.h"
 #include "rvor/seeds.h"
+#include "support/bad_fields.h"
 #include "support/box_canvas.h"
 #include "support/close_seeds.h"
 
@@ -447,6 +448,52 @@ TEST(OpenCLInsertion, IntoAFieldTheEngineDidNotReturn) {
   engine->insert(canvas, all_but_last, first.size(), field);
   test::expect_same_field(canvas, expected_all_but_last, field);
   EXPECT_NE(field.label, all.label);
+}
+
+// The engine inserts into the field it holds while the host checks that the caller passed that
+// field back. Another field solved for the same seeds (the reference's: not the same bits) must
+// be inserted into instead, where the insertion writes nothing too.
+TEST(OpenCLInsertion, IntoAnotherFieldOfTheSameSeeds) {
+  REQUIRE_ENGINE(RelaxationVariant::automatic);
+  const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 32, rotated_metric(3, 4.0));
+  const std::vector<Vec3> seeds = test::random_points(kLo, kHi, 3, 12, 21);
+  const std::vector<Vec3> old_seeds(seeds.begin(), seeds.end() - 1);
+  VoronoiField all, held, given;
+  engine->solve(canvas, seeds, all);
+  engine->solve(canvas, old_seeds, held);  // the device holds `held`
+  make_reference_propagator()->solve(canvas, old_seeds, given);
+  VoronoiField field = given;
+  engine->insert(canvas, seeds, old_seeds.size(), field);
+  test::expect_same_field(canvas, all, field);
+  std::size_t differ = 0, kept_given = 0, kept_held = 0;
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
+    if (given.distance[slot] == held.distance[slot]) continue;
+    ++differ;
+    kept_given += field.distance[slot] == given.distance[slot];
+    kept_held += field.distance[slot] == held.distance[slot];
+  }
+  ASSERT_GT(differ, canvas.slot_count() / 10);
+  EXPECT_GT(kept_given, differ / 2) << kept_held << " kept the held field's value";
+}
+
+// A field no solve for the old seeds returns is refused with the slot named, whether or not the
+// device holds the field it was copied from; then the engine inserts into the solved field.
+TEST(OpenCLInsertion, RefusesAFieldNotSolvedForTheOldSeeds) {
+  REQUIRE_ENGINE(RelaxationVariant::automatic);
+  const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 16, rotated_metric(3, 4.0));
+  const std::vector<Vec3> seeds = test::random_points(kLo, kHi, 3, 6, 11);
+  const std::vector<Vec3> old_seeds(seeds.begin(), seeds.end() - 1);
+  VoronoiField all, solved;
+  engine->solve(canvas, seeds, all);
+  for (const bool held : {true, false}) {
+    SCOPED_TRACE(held ? "the device holds the solved field" : "the device holds another");
+    engine->solve(canvas, old_seeds, solved);
+    if (!held) engine->solve(canvas, seeds, all);
+    test::expect_corrupted_fields_refused(*engine, canvas, seeds, old_seeds.size(), solved);
+  }
+  VoronoiField field = solved;
+  engine->insert(canvas, seeds, old_seeds.size(), field);
+  test::expect_same_field(canvas, all, field);
 }
 
 // Both variants a device chooses by default (brick_lanes on CPUs, voxel_phases on GPUs).

@@ -7,6 +7,7 @@
 
 #include "rvor/seeds.h"
 #include "solver_fixtures.h"
+#include "support/bad_fields.h"
 #include "support/close_seeds.h"
 
 namespace rvor::test {
@@ -247,6 +248,26 @@ TEST_P(SeedsByDimension, PublicInsertKeepsDoublePrecision) {
     ASSERT_EQ(field.distance[slot], static_cast<float>(exact.distance[slot]));
     ASSERT_EQ(field.label[slot], exact.label[slot]);
   }
+}
+
+// insert() starts from the caller's field: one that no solve for the old seeds returns is refused
+// with the slot named (a label of an unknown seed indexed past the seeds), and the propagator
+// still inserts into a solved field afterwards.
+TEST_P(SeedsByDimension, InsertRefusesAFieldNotSolvedForTheOldSeeds) {
+  const int dimension = GetParam();
+  const Canvas canvas =
+      make_uniform_box_canvas(dimension, Vec3(-1, -1, -1), Vec3(1, 1, 1), dimension == 3 ? 16 : 48,
+                              rotated_metric(dimension, 4));
+  const std::vector<Vec3> seeds = random_seeds(canvas, 6, 11);
+  const std::vector<Vec3> old_seeds(seeds.begin(), seeds.end() - 1);
+  auto propagator = make_reference_propagator();
+  VoronoiField solved, all, field;
+  propagator->solve(canvas, seeds, all);
+  propagator->solve(canvas, old_seeds, solved);
+  expect_corrupted_fields_refused(*propagator, canvas, seeds, old_seeds.size(), solved);
+  field = solved;
+  propagator->insert(canvas, seeds, old_seeds.size(), field);
+  EXPECT_EQ(field.label, all.label);
 }
 
 INSTANTIATE_TEST_SUITE_P(Reference, SeedsByDimension, ::testing::Values(2, 3),

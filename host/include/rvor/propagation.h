@@ -34,6 +34,17 @@ inline void require_field_for(const Canvas& canvas, const VoronoiField& field,
               std::to_string(canvas.slot_count()) + " slots; solve on this canvas first)");
 }
 
+// Why a slot holding (distance, label) cannot belong to a field solved for `solved_seeds` seeds
+// (a label outside -1..solved_seeds-1, a NaN or negative distance, a label without a finite
+// distance or a finite distance without a label), or "" when it can.
+std::string insertable_slot_fault(float distance, std::int32_t label, std::size_t solved_seeds);
+
+// Throws rvor::Error "WHAT: the field is not one solved for the first N seeds: slot S (voxel i, j,
+// k) has ..." at the first slot with a fault (insertable_slot_fault), after require_field_for:
+// insert() starts from the field, and a label of an unknown seed would index past the seeds.
+void require_insertable_field(const Canvas& canvas, const VoronoiField& field,
+                              std::size_t solved_seeds, const std::string& what);
+
 struct PropagationStats {
   // Outer iterations (reference: queue pops; OpenCL: active-list rounds).
   std::uint64_t iterations = 0;

@@ -1,6 +1,8 @@
 #include "field_transfer.h"
 
+#include <algorithm>
 #include <cstring>
+#include <limits>
 #include <vector>
 
 #include "../slot_ranges.h"
@@ -79,19 +81,46 @@ class MappedStates {
 #ifndef RVOR_CLONED_FOR_AVX2
 #define RVOR_CLONED_FOR_AVX2
 #endif
-RVOR_CLONED_FOR_AVX2 std::uint64_t hash_slots(const float* distance, const std::int32_t* label,
-                                              std::size_t begin, std::size_t end) {
+// With the hash, the count of slots with an insertable_slot_fault (rvor/propagation.h) for
+// `solved_seeds` seeds, branch-free so that the loop stays vectorised.
+RVOR_CLONED_FOR_AVX2 FieldDigest digest_slots(const float* distance, const std::int32_t* label,
+                                              std::uint32_t solved_seeds, std::size_t begin,
+                                              std::size_t end) {
   std::uint64_t sum = 0;
-  for (std::size_t slot = begin; slot < end; ++slot) sum += slot_hash(slot, distance, label);
-  return sum;
+  std::uint32_t faults = 0;
+  for (std::size_t slot = begin; slot < end; ++slot) {
+    sum += slot_hash(slot, distance, label);
+    const float d = distance[slot];
+    const bool labelled = label[slot] >= 0;
+    const bool finite = d < std::numeric_limits<float>::infinity();  // false for NaN
+    faults += (static_cast<std::uint32_t>(label[slot]) + 1u > solved_seeds) | !(d >= 0.0f) |
+              (labelled != finite);
+  }
+  return {sum, faults != 0};
 }
 
 }  // namespace
 
+FieldDigest digest_field(const VoronoiField& field, std::size_t solved_seeds) {
+  const unsigned threads = slot_threads();
+  std::vector<FieldDigest> partial(threads);
+  // Labels are int32: more seeds than that count as that many.
+  const auto seeds = static_cast<std::uint32_t>(
+      std::min<std::size_t>(solved_seeds, std::numeric_limits<std::int32_t>::max()));
+  for_slot_ranges(
+      field.distance.size(), threads, [&](unsigned t, std::size_t begin, std::size_t end) {
+        partial[t] = digest_slots(field.distance.data(), field.label.data(), seeds, begin, end);
+      });
+  FieldDigest total;
+  for (const FieldDigest& p : partial) {
+    total.hash += p.hash;
+    total.faulty = total.faulty || p.faulty;
+  }
+  return total;
+}
+
 std::uint64_t field_hash(const VoronoiField& field) {
-  return sum_over_slot_ranges(field.distance.size(), [&](std::size_t begin, std::size_t end) {
-    return hash_slots(field.distance.data(), field.label.data(), begin, end);
-  });
+  return digest_field(field, 0).hash;
 }
 
 void upload_field(const cl::CommandQueue& queue, const cl::Buffer& state, const VoronoiField& field,

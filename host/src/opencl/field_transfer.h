@@ -18,6 +18,15 @@ constexpr cl_ulong kInfiniteState = 0x7F8000007FFFFFFFull;  // +inf, no label (s
 // proportional to them.
 std::uint64_t field_hash(const VoronoiField& field);
 
+// field_hash and, in the same pass, whether some slot cannot belong to a field solved for
+// `solved_seeds` seeds (insertable_slot_fault, rvor/propagation.h: require_insertable_field names
+// it).
+struct FieldDigest {
+  std::uint64_t hash = 0;
+  bool faulty = false;
+};
+FieldDigest digest_field(const VoronoiField& field, std::size_t solved_seeds);
+
 // The device holds distances in units of length_unit (DeviceCanvas), a power of two: the
 // conversions are exact.
 void upload_field(const cl::CommandQueue& queue, const cl::Buffer& state, const VoronoiField& field,

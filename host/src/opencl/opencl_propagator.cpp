@@ -7,9 +7,11 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <future>
 #include <limits>
 #include <memory>
 #include <optional>
+#include <utility>
 
 #include "device_canvas.h"
 #include "field_transfer.h"
@@ -82,7 +84,10 @@ void seed_records(const Canvas& canvas, const std::vector<Vec3>& seeds, std::siz
 struct HeldField {
   std::uint64_t hash = 0;
   bool frozen_marks = false;
+  // The seeds it was solved for (kUnknownSeeds: an upload's).
+  std::size_t seeds = 0;
 };
+constexpr std::size_t kUnknownSeeds = std::numeric_limits<std::size_t>::max();
 
 class OpenCLPropagator final : public Propagator {
  public:
@@ -115,8 +120,10 @@ class OpenCLPropagator final : public Propagator {
       const std::optional<BrickSeedLists> nearest =
           exact_start ? std::optional(exact_start_lists(canvas, seeds, exact_start_reach_))
                       : std::nullopt;
-      return finish(canvas, 0, seeds.size(), claims, field, start, std::nullopt,
-                    nearest ? &*nearest : nullptr);
+      PropagationStats stats =
+          propagate(canvas, 0, seeds.size(), claims, false, nearest ? &*nearest : nullptr);
+      read_back(std::nullopt, seeds.size(), field, start, stats);
+      return stats;
     });
   }
 
@@ -126,11 +133,14 @@ class OpenCLPropagator final : public Propagator {
       const auto start = std::chrono::steady_clock::now();
       require_field_for(canvas, field, "insert()");
       if (first_new > seeds.size()) throw Error("insert(): first_new is past the last seed");
-      const std::vector<cl_int4> claims = prepare(canvas, seeds, first_new, &field);
+      std::size_t known_seeds = 0;
+      const std::vector<cl_int4> claims = prepare(canvas, seeds, first_new, &field, &known_seeds);
       step_ = 0.0f;  // an insertion changes a region around its seeds: no stepping
-      const std::optional<HeldField> held_field = hold_field(field);
-      device_field_.reset();
-      return finish(canvas, first_new, seeds.size(), claims, field, start, held_field);
+      std::optional<HeldField> held = std::exchange(device_field_, std::nullopt);
+      PropagationStats stats =
+          propagate_insertion(canvas, seeds.size(), first_new, known_seeds, claims, field, held);
+      read_back(held, seeds.size(), field, start, stats);
+      return stats;
     });
   }
 
@@ -175,11 +185,37 @@ class OpenCLPropagator final : public Propagator {
     return device_.info.is_gpu ? RelaxationVariant::voxel_phases : RelaxationVariant::brick_lanes;
   }
 
+  // Propagates seeds[first_new, seed_count) from the caller's `field`, once checked
+  // (require_insertable_field). `held`: the field the device state held, reset unless `field` is
+  // that field bit for bit. The caller almost always passes back the field returned last, but
+  // making sure reads every slot (16.8M at 256^3, milliseconds even on 8 threads): so when the
+  // held field was solved for the same old seeds (`known_seeds` of them are the last call's), the
+  // insertion runs on it while the host checks, and runs again from `field` if that differs.
+  PropagationStats propagate_insertion(const Canvas& canvas, std::size_t seed_count,
+                                       std::size_t first_new, std::size_t known_seeds,
+                                       const std::vector<cl_int4>& claims,
+                                       const VoronoiField& field, std::optional<HeldField>& held) {
+    const bool speculate = held && held->seeds == first_new && known_seeds >= first_new;
+    std::future<opencl::FieldDigest> digest =
+        std::async(speculate ? std::launch::async : std::launch::deferred,
+                   [&field, first_new] { return opencl::digest_field(field, first_new); });
+    PropagationStats stats;
+    if (speculate) stats = propagate(canvas, first_new, seed_count, claims, held->frozen_marks);
+    const opencl::FieldDigest caller = digest.get();
+    if (caller.faulty) require_insertable_field(canvas, field, first_new, "insert()");
+    if (held && caller.hash != held->hash) held.reset();
+    if (speculate && held) return stats;
+    if (!held) upload_field(field);
+    return propagate(canvas, first_new, seed_count, claims, held && held->frozen_marks);
+  }
+
   // Uploads the seeds; returns the claims that seeds[first_new..] can change (all of a solve's;
   // rvor/seed_blocks.h).
-  // `solved`: an insertion's field (the claims read its seed blocks' values).
+  // `solved`: an insertion's field (the claims read its seed blocks' values). `known_seeds`: set to
+  // how many leading seeds are those of the last call.
   std::vector<cl_int4> prepare(const Canvas& canvas, const std::vector<Vec3>& seeds,
-                               std::size_t first_new, const VoronoiField* solved = nullptr) {
+                               std::size_t first_new, const VoronoiField* solved = nullptr,
+                               std::size_t* known_seeds = nullptr) {
     // Labels leave TENTATIVE_LABEL (kernels/state_word.clh) free for front stepping.
     if (seeds.size() > kMostOpenCLSeeds)
       throw Error("too many seeds: " + std::to_string(seeds.size()) + " (the OpenCL engine takes " +
@@ -189,6 +225,7 @@ class OpenCLPropagator final : public Propagator {
     // neither checked, derived nor uploaded again: with 100 000 seeds that was ~0.15 s of every
     // insertion. The claim cache knows them; held_records_ are their records.
     const std::size_t known = claim_cache_.known_prefix(seeds);
+    if (known_seeds) *known_seeds = known;
     validate_seeds(canvas, seeds, known);  // the reference's checks and messages
     try {
       upload_seed_records(canvas, seeds, known);
@@ -243,16 +280,19 @@ class OpenCLPropagator final : public Propagator {
   }
 
   // Makes the device state hold `field`: unless it is the field returned last (the device still
-  // holds it, with stamps that describe it), upload it and forget the evaluations. Returns the
-  // field when the device held it already, bit for bit (an upload turns unlabelled slots into
-  // +inf, so only then may a read-back skip the bricks nothing wrote).
-  std::optional<HeldField> hold_field(const VoronoiField& field) {
+  // holds it, with stamps that describe it), upload it and forget the evaluations.
+  void hold_field(const VoronoiField& field) {
     const std::uint64_t hash = opencl::field_hash(field);
-    if (device_field_ && device_field_->hash == hash) return device_field_;
+    if (device_field_ && device_field_->hash == hash) return;
+    upload_field(field);
+    device_field_ = HeldField{hash, false, kUnknownSeeds};
+  }
+
+  // The device state becomes `field` (no frozen marks), its evaluations forgotten.
+  void upload_field(const VoronoiField& field) {
+    device_field_.reset();
     opencl::upload_field(queue_, canvas_->state, field, canvas_->length_unit);
     reset_stamps();
-    device_field_ = HeldField{hash, false};
-    return std::nullopt;
   }
 
   std::vector<std::uint8_t> flag_multi_label_bricks(int dimension) {
@@ -356,13 +396,11 @@ class OpenCLPropagator final : public Propagator {
     flag_multi_label_ = cl::Kernel();  // built when first used (only the nerve needs it)
   }
 
-  // held_field: the device state was `field` bit for bit (an insertion into a field the device
-  // holds); then only the bricks the propagation touched are read back.
-  PropagationStats finish(const Canvas& canvas, std::size_t first_seed, std::size_t seed_count,
-                          const std::vector<cl_int4>& claims, VoronoiField& field,
-                          std::chrono::steady_clock::time_point start,
-                          std::optional<HeldField> held_field,
-                          const BrickSeedLists* exact_start = nullptr) {
+  // Propagates seeds[first_seed, seed_count) from the device state. frozen_marks_held: the state
+  // is that of a completed propagation, whose seeds' blocks are frozen already.
+  PropagationStats propagate(const Canvas& canvas, std::size_t first_seed, std::size_t seed_count,
+                             const std::vector<cl_int4>& claims, bool frozen_marks_held,
+                             const BrickSeedLists* exact_start = nullptr) {
     queue_.enqueueFillBuffer(canvas_->update_counter, cl_ulong{0}, 0, sizeof(cl_ulong));
     queue_.enqueueFillBuffer(canvas_->touched, cl_uchar{0}, 0, canvas_->bricks);
     queue_.enqueueFillBuffer(canvas_->flags, cl_uchar{0}, 0, canvas_->bricks);
@@ -378,7 +416,6 @@ class OpenCLPropagator final : public Propagator {
     // The solved seeds' blocks are frozen already where the device's own solve or insertion left
     // the field it holds; an uploaded field carries no frozen marks. (Re-freezing 20000 seeds'
     // blocks was ~45% of an insertion's samples at 128^3.)
-    const bool frozen_marks_held = held_field && held_field->frozen_marks;
     if (first_seed > 0 && !frozen_marks_held) prepare_seed_blocks(0, first_seed, true, seed_stamp);
     prepare_seed_blocks(first_seed, seed_count, false, seed_stamp);
     initialise_seeds(first_seed, seed_count, seed_stamp);
@@ -410,6 +447,15 @@ class OpenCLPropagator final : public Propagator {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - rounds_start).count();
     stats.device_bytes = canvas_->bytes;
     stats.visits_per_relaxation = static_cast<std::uint64_t>(visits_per_relaxation());
+    return stats;
+  }
+
+  // The propagated state into `field`. held_field: the state was `field` bit for bit before the
+  // propagation (an insertion into the field the device held; an upload turns unlabelled slots
+  // into +inf, so only then may the read-back skip the bricks nothing wrote).
+  void read_back(const std::optional<HeldField>& held_field, std::size_t seed_count,
+                 VoronoiField& field, std::chrono::steady_clock::time_point start,
+                 PropagationStats& stats) {
     const std::uint64_t hash = held_field
                                    ? opencl::download_touched_bricks(
                                          queue_, canvas_->state, canvas_->touched, canvas_->bricks,
@@ -420,9 +466,8 @@ class OpenCLPropagator final : public Propagator {
                                          field)
                                    : opencl::download_field(queue_, canvas_->state, canvas_->slots,
                                                             canvas_->length_unit, field);
-    device_field_ = HeldField{hash, true};
+    device_field_ = HeldField{hash, true, seed_count};
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return stats;
   }
 
   std::size_t seed_block_items(std::size_t first_seed, std::size_t seed_count) const {

@@ -1,0 +1,18 @@
+#pragma once
+// Fields that no solve returns, for checking that insert() refuses them with a clear error.
+#include <cstddef>
+#include <vector>
+
+#include "rvor/propagation.h"
+
+namespace rvor::test {
+
+// Expects engine.insert(canvas, seeds, first_new, f) to throw an rvor::Error naming the slot, for
+// copies f of `solved` (solved for seeds[0..first_new), first_new >= 1) with one labelled slot
+// corrupted in turn: a label of a new seed, a label far past the seeds, label -2, a NaN distance,
+// a negative distance, no label under a finite distance, a label under +inf.
+void expect_corrupted_fields_refused(Propagator& engine, const Canvas& canvas,
+                                     const std::vector<Vec3>& seeds, std::size_t first_new,
+                                     const VoronoiField& solved);
+
+}  // namespace rvor::test
