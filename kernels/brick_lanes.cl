@@ -1042,15 +1042,18 @@ inline void clear_lane(int k, LaneTile* tile, LaneFrame* frame, LaneBricks* bric
 }
 
 // Writes lane k's results: the relaxed brick to scratch (when anything was written), its
-// evaluation stamps and, when a value changed significantly, its change stamps.
-// Returns the least tentative distance of the brick (+inf without one).
+// evaluation stamps and, when a value changed significantly, its change stamps to scratch_stamps
+// (commit_bricks publishes them). Returns the least tentative distance of the brick (+inf without
+// one).
 inline float store_lane(int k, int brick, int position, int corner, uint brick_flags,
-                        const LaneTile* tile, __global ulong* scratch, __global uint* evaluated,
-                        __global uint* changed, __global const uint* activity) {
+                        const LaneTile* tile, __global ulong* scratch,
+                        __global uint* scratch_stamps, __global uint* evaluated,
+                        __global const uint* activity) {
   float least_tentative = INFINITY;
   const int fx = corner & 1, fy = (corner >> 1) & 1, fz = (corner >> 2) & 1;
   const size_t brick_slot = (size_t)brick * BRICK_VOLUME;
   __global ulong* relaxed = scratch + (size_t)position * BRICK_VOLUME;
+  __global uint* stamps = scratch_stamps + (size_t)position * BRICK_VOLUME;
   for (int z = 0; z < EDGE_Z; ++z)
     for (int y = 0; y < EDGE; ++y) {  // a row in real order, its frame positions l and p
       const int row = EDGE * (y + EDGE * z);
@@ -1074,7 +1077,7 @@ inline float store_lane(int k, int brick, int position, int corner, uint brick_f
           vstore4((convert_ulong4(d.hi) << 32) | convert_ulong4(w.hi), 1, relaxed + row);
         }
         vstore8(vload8(0, evaluation), 0, evaluated + brick_slot + row);
-        if (brick_flags & FLAG_CHANGED) vstore8(vload8(0, stamp), 0, changed + brick_slot + row);
+        if (brick_flags & FLAG_CHANGED) vstore8(vload8(0, stamp), 0, stamps + row);
         continue;
       }
       for (int x = 0; x < EDGE; ++x) {
@@ -1082,6 +1085,7 @@ inline float store_lane(int k, int brick, int position, int corner, uint brick_f
         const int l = l_row + fxx, p = p_row + fxx;
         if (!((active >> x) & 1u)) {
           if (brick_flags != 0) relaxed[real] = INF_STATE;
+          if (brick_flags & FLAG_CHANGED) stamps[real] = 0u;
           continue;
         }
         if (FRONT_STEPPING && TENTATIVE(LANE_UINT(tile->word, p, k) & LABEL_NONE))
@@ -1090,7 +1094,7 @@ inline float store_lane(int k, int brick, int position, int corner, uint brick_f
           relaxed[real] = ((ulong)as_uint(LANE_FLOAT(tile->distance, p, k)) << 32) |
                           (ulong)LANE_UINT(tile->word, p, k);
         evaluated[brick_slot + real] = LANE_UINT(tile->evaluated, l, k);
-        if (brick_flags & FLAG_CHANGED) changed[brick_slot + real] = LANE_UINT(tile->stamp, p, k);
+        if (brick_flags & FLAG_CHANGED) stamps[real] = LANE_UINT(tile->stamp, p, k);
       }
     }
   return least_tentative;
@@ -1230,7 +1234,7 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
   for (int k = 0; k < LANES; ++k) {
     if (brick[k] < 0) continue;
     const float least = store_lane(k, brick[k], first + k, corner[k], lane_flags[k], tile, scratch,
-                                   evaluated, changed, activity);
+                                   scratch_stamps, evaluated, activity);
     if (FRONT_STEPPING) least_tentative[brick[k]] = least;
     flags[brick[k]] = (uchar)lane_flags[k];
     news[brick[k]] = lane_news(k, corner[k], lo, hi, reader_reach[brick[k]]);

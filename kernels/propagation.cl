@@ -1,7 +1,8 @@
 // Block Fast Iterative Method on packed 8^3 bricks (8x8x1 in 2D) for the scheme of
 // docs/scheme.md. One round: list the pending bricks of the round's colour, relax each into
-// `scratch` reading other bricks from the `state` snapshot (so results do not depend on
-// scheduling), commit, and mark the bricks within stencil reach of a changed brick pending.
+// `scratch` (its change stamps into `scratch_stamps`) reading other bricks from the `state` and
+// `changed` snapshots (so results do not depend on scheduling), commit, and mark the bricks within
+// stencil reach of a changed brick pending.
 // The host loops while any brick is pending. Build options: -DDIM=2|3; eikonal_scheme.clh and
 // brick_layout.clh are prepended by the host.
 
@@ -354,14 +355,14 @@ inline bool gather_far(const ulong* tile, const uint* tile_stamp, int p, int3 c,
 // The arguments of the brick-sweeping kernels (this one and relax_brick_lanes, brick_lanes.cl),
 // which the host sets alike; threshold and least_tentative serve front stepping, which only
 // relax_brick_lanes does.
-#define BRICK_SWEEP_ARGUMENTS                                                                 \
-  __global const int *list, int count, __global const ulong *state, __global ulong *scratch,  \
-      __global const float *stencils, __global const char *shapes, __global const int *table, \
-      __global const int4 *brick_origins, int4 dims, int4 grid, __global const float *seeds,  \
-      __global uchar *flags, __global ulong *update_counter, int max_sweeps,                  \
-      __global uint *evaluated, __global uint *changed, uint round_base, uint stride,         \
-      __global const uint *activity, __global const uint *reader_reach, __global uint *news,  \
-      float threshold, __global float *least_tentative
+#define BRICK_SWEEP_ARGUMENTS                                                                     \
+  __global const int *list, int count, __global const ulong *state, __global ulong *scratch,      \
+      __global uint *scratch_stamps, __global const float *stencils, __global const char *shapes, \
+      __global const int *table, __global const int4 *brick_origins, int4 dims, int4 grid,        \
+      __global const float *seeds, __global uchar *flags, __global ulong *update_counter,         \
+      int max_sweeps, __global uint *evaluated, __global uint *changed, uint round_base,          \
+      uint stride, __global const uint *activity, __global const uint *reader_reach,              \
+      __global uint *news, float threshold, __global float *least_tentative
 
 __kernel void relax_brick_sweep(BRICK_SWEEP_ARGUMENTS) {
   const int position = get_global_id(0);
@@ -431,7 +432,6 @@ __kernel void relax_brick_sweep(BRICK_SWEEP_ARGUMENTS) {
         tile[p] = best;
         brick_flags |= FLAG_WRITTEN;
         if (significant_change(current, best, change_tolerance(weight, terms))) {
-          changed[slot] = stamp;
           tile_stamp[p] = stamp;
           sweep_changed = true;
           changed_lo = min(changed_lo, c);
@@ -448,7 +448,11 @@ __kernel void relax_brick_sweep(BRICK_SWEEP_ARGUMENTS) {
   }
   if (brick_flags != 0) {  // commit_bricks copies it back
     __global ulong* relaxed = scratch + (size_t)position * BRICK_VOLUME;
-    for (int l = 0; l < BRICK_VOLUME; ++l) relaxed[l] = tile[tile_index(local_coordinates(l))];
+    __global uint* stamps = scratch_stamps + (size_t)position * BRICK_VOLUME;
+    for (int l = 0; l < BRICK_VOLUME; ++l) {
+      relaxed[l] = tile[tile_index(local_coordinates(l))];
+      stamps[l] = tile_stamp[tile_index(local_coordinates(l))];
+    }
   }
   flags[brick] = (uchar)brick_flags;
   news[brick] = brick_news(changed_lo, changed_hi, reader_reach[brick]);
@@ -605,8 +609,11 @@ __kernel __attribute__((reqd_work_group_size(PHASE_VOXELS, 1, 1))) void relax_vo
   const int brick = list[position];
   const size_t brick_slot = (size_t)brick * BRICK_VOLUME;
   const int3 origin = brick_origins[brick].xyz;
-  for (int p = 0; p < PHASES; ++p)
+  __global uint* stamps = scratch_stamps + (size_t)position * BRICK_VOLUME;
+  for (int p = 0; p < PHASES; ++p) {
     values[phase_voxel(w, p)] = state[brick_slot + phase_voxel(w, p)];
+    stamps[phase_voxel(w, p)] = 0u;  // commit_bricks: no new change stamp
+  }
   if (w < 3) {
     changed_in[w] = 0;
     changed_box[w] = EDGE;
@@ -642,7 +649,7 @@ __kernel __attribute__((reqd_work_group_size(PHASE_VOXELS, 1, 1))) void relax_vo
         wrote = true;
         if (significant_change(values[l], best, tolerance)) {
           const int3 c = local_coordinates(l);
-          changed[brick_slot + l] = stamp;
+          stamps[l] = stamp;
           changed_in[it % 3] = 1;
           changed_lo = min(changed_lo, c);
           changed_hi = max(changed_hi, c);
@@ -682,18 +689,25 @@ __kernel __attribute__((reqd_work_group_size(PHASE_VOXELS, 1, 1))) void relax_vo
 // ---------------------------------------------------------------------------------------------
 // Round bookkeeping.
 
-// Copies relaxed bricks back into the state (a work-item per voxel of the listed bricks) and marks
-// them touched.
+// Copies relaxed bricks back into the state and their new change stamps (0: none) into `changed`
+// (a work-item per voxel of the listed bricks), and marks them touched. The relaxations left
+// `changed` as it was, so what they read of their neighbours' stamps did not depend on how far
+// those had got (an insertion relaxes neighbouring bricks in the same round).
 __kernel void commit_bricks(__global const int* list, int count, __global const ulong* scratch,
-                            __global ulong* state, __global const uchar* flags,
+                            __global const uint* scratch_stamps, __global ulong* state,
+                            __global uint* changed, __global const uchar* flags,
                             __global uchar* touched) {
   const size_t item = get_global_id(0);
   const int position = item / BRICK_VOLUME;
   if (position >= count) return;
   const int brick = list[position];
-  if (flags[brick] == 0) return;
+  const uchar brick_flags = flags[brick];
+  if (brick_flags == 0) return;
   if (item % BRICK_VOLUME == 0) touched[brick] = 1;
-  state[(size_t)brick * BRICK_VOLUME + item % BRICK_VOLUME] = scratch[item];
+  const size_t slot = (size_t)brick * BRICK_VOLUME + item % BRICK_VOLUME;
+  state[slot] = scratch[item];
+  if ((brick_flags & FLAG_CHANGED) && scratch_stamps[item] != 0u)
+    changed[slot] = scratch_stamps[item];
 }
 
 // The listed bricks' states one after another in scratch (a work-item per voxel), so that an
@@ -766,17 +780,28 @@ inline int brick_colour(int3 b) {
 }
 
 // Lists the pending bricks of the round's colour (order is irrelevant: a brick's result depends
-// only on the snapshot); any_pending tells whether any brick of any colour was pending.
+// only on the snapshot), at most `capacity` of them (the scratch's bricks: a round of every colour
+// can find more pending; those stay pending for the next round, and `count` counts them too);
+// any_pending tells whether any brick of any colour was pending.
 __kernel void compact_active(int brick_count, __global uchar* pending,
                              __global const int4* brick_origins, int colours, int colour,
-                             __global int* list, __global int* count, __global int* any_pending) {
+                             int capacity, __global int* list, __global int* count,
+                             __global int* any_pending) {
   const int brick = get_global_id(0);
   if (brick >= brick_count) return;
   if (!pending[brick]) return;
   any_pending[0] = 1;
   if (colours > 1 && brick_colour(brick_of_voxel(brick_origins[brick].xyz)) != colour) return;
+  const int position = atomic_inc(count);
+  if (position >= capacity) return;
   pending[brick] = 0;
-  list[atomic_inc(count)] = brick;
+  list[position] = brick;
+}
+
+// The first `count` listed bricks become pending again (a list the host does not relax).
+__kernel void pend_listed(__global const int* list, int count, __global uchar* pending) {
+  const int position = get_global_id(0);
+  if (position < count) pending[list[position]] = 1;
 }
 
 // Front stepping (brick_lanes, docs/scheme.md): the least tentative distance over all bricks, as

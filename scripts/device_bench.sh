@@ -104,7 +104,7 @@ run() {
       --domain "${domains[$metric]}" \
       --resolution "$resolution" --no-reference --insert 3 --repeat 2 --json \
       >"$out/$name.json" 2>"$out/$name.log" || echo "rc $?: $(tail -1 "$out/$name.log")"
-    grep -E '"(seconds|voxels_per_second|updates_per_voxel|bytes_per_voxel|fastsweeping_ratio|insert_fraction|insert_mean_seconds|insert_mean_round_seconds)"' \
+    grep -E '"(seconds|voxels_per_second|updates_per_voxel|bytes_per_voxel|fastsweeping_ratio|insert_fraction|insert_mean_seconds|insert_mean_round_seconds|insert_mean_rounds)"' \
       "$out/$name.json" | tr -d ' \n' || true
     echo
     save_results

@@ -116,6 +116,8 @@ TEST(RunBenchmarkCase, SmallCaseGivesConsistentPositiveNumbers) {
   ASSERT_TRUE(r.insert_mean_round_seconds);
   EXPECT_GT(*r.insert_mean_round_seconds, 0);
   EXPECT_LT(*r.insert_mean_round_seconds, *r.insert_mean_seconds);
+  ASSERT_TRUE(r.insert_mean_rounds);
+  EXPECT_GE(*r.insert_mean_rounds, 1.0);
   ASSERT_TRUE(r.fastsweeping_voxels_per_second && r.fastsweeping_ratio);
   EXPECT_GT(*r.fastsweeping_voxels_per_second, 0);
   EXPECT_NEAR(*r.fastsweeping_ratio, r.voxels_per_second / *r.fastsweeping_voxels_per_second,
@@ -185,6 +187,7 @@ TEST(BenchCommand, JsonHasTheRequiredKeysPerCase) {
     EXPECT_EQ(c.at("inserted_seeds"), 1);
     EXPECT_GT(c.at("insert_fraction").get<double>(), 0);
     EXPECT_GT(c.at("insert_mean_round_seconds").get<double>(), 0);
+    EXPECT_GE(c.at("insert_mean_rounds").get<double>(), 1.0);
   }
   EXPECT_EQ(report["cases"][1].at("metric"), "radial_shock_3d");
   EXPECT_GE(report["cases"][1].at("max_anisotropy").get<double>(), 10.0);

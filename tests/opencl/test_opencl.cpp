@@ -496,6 +496,38 @@ TEST(OpenCLInsertion, RefusesAFieldNotSolvedForTheOldSeeds) {
   test::expect_same_field(canvas, all, field);
 }
 
+// Insertions relax neighbouring bricks in the same round (every pending brick each round), which
+// read each other's state from the round's snapshot: what a relaxation evaluates must not depend
+// on how far its neighbours got meanwhile. Two engines, the same insertions: the same evaluations
+// and the same field, bit for bit, for both default variants and a stencil reaching past the
+// next brick.
+TEST(OpenCLInsertion, IsRepeatable) {
+  for (const RelaxationVariant variant :
+       {RelaxationVariant::brick_lanes, RelaxationVariant::voxel_phases}) {
+    for (const double anisotropy : {4.0, 40.0}) {
+      SCOPED_TRACE(std::to_string(static_cast<int>(variant)) + ", anisotropy " +
+                   std::to_string(anisotropy));
+      REQUIRE_ENGINE(variant);
+      const std::unique_ptr<Propagator> again =
+          make_opencl_propagator(test::engine_device(), test::with_variant(variant));
+      const Canvas canvas =
+          test::make_uniform_box_canvas(3, kLo, kHi, 40, rotated_metric(3, anisotropy));
+      const std::vector<Vec3> seeds = test::random_points(kLo, kHi, 3, 26, 17);
+      VoronoiField first, second;
+      engine->solve(canvas, {seeds.begin(), seeds.begin() + 20}, first);
+      again->solve(canvas, {seeds.begin(), seeds.begin() + 20}, second);
+      for (std::size_t n = 20; n < seeds.size(); ++n) {
+        const std::vector<Vec3> so_far(seeds.begin(), seeds.begin() + n + 1);
+        const PropagationStats a = engine->insert(canvas, so_far, n, first);
+        const PropagationStats b = again->insert(canvas, so_far, n, second);
+        ASSERT_EQ(a.voxel_updates, b.voxel_updates) << "insertion " << n;
+      }
+      EXPECT_EQ(first.label, second.label);
+      EXPECT_EQ(first.distance, second.distance);
+    }
+  }
+}
+
 // Both variants a device chooses by default (brick_lanes on CPUs, voxel_phases on GPUs).
 TEST(OpenCLInsertion, TouchesLessThanASolve) {
   for (const RelaxationVariant variant :

@@ -62,6 +62,8 @@ struct BenchResult {
   // Of the mean insertion, the seconds in its rounds of relaxations (PropagationStats::
   // round_seconds); the rest is the seeds' and the field's preparation and the read-back.
   std::optional<double> insert_mean_round_seconds;
+  // Rounds per insertion (PropagationStats::iterations): on a GPU each waits for the device.
+  std::optional<double> insert_mean_rounds;
 
   // OpenVDB FastSweeping: only sweep() is timed (initExt separately), 1 iteration of 8 sweeps.
   std::optional<double> fastsweeping_seconds, fastsweeping_init_seconds;

@@ -26,11 +26,15 @@ void report(const std::function<void(const std::string&)>& progress, const std::
   if (progress) progress(line);
 }
 
-std::string seconds_text(double seconds) {
+std::string fixed_text(double value, int digits) {
   std::ostringstream out;
-  out.precision(3);
-  out << std::fixed << seconds << " s";
+  out.precision(digits);
+  out << std::fixed << value;
   return out.str();
+}
+
+std::string seconds_text(double seconds) {
+  return fixed_text(seconds, 3) + " s";
 }
 
 double per_second(std::size_t voxels, double seconds) {
@@ -66,17 +70,19 @@ void time_insertion(Propagator& engine, const Canvas& canvas, const std::vector<
                     VoronoiField& field, BenchResult& r) {
   const std::size_t solved = r.bench_case.seeds;
   if (all_seeds.size() <= solved) return;
-  double total = 0.0, largest = 0.0, in_rounds = 0.0;
+  double total = 0.0, largest = 0.0, in_rounds = 0.0, rounds = 0.0;
   for (std::size_t next = solved; next < all_seeds.size(); ++next) {
     const std::vector<Vec3> seeds(all_seeds.begin(), all_seeds.begin() + next + 1);
     const PropagationStats stats = engine.insert(canvas, seeds, next, field);
     total += stats.seconds;
     in_rounds += stats.round_seconds;
+    rounds += static_cast<double>(stats.iterations);
     largest = std::max(largest, stats.seconds);
   }
   const double insertions = static_cast<double>(all_seeds.size() - solved);
   r.insert_mean_seconds = total / insertions;
   r.insert_mean_round_seconds = in_rounds / insertions;
+  r.insert_mean_rounds = rounds / insertions;
   r.insert_max_seconds = largest;
   r.insert_fraction = *r.insert_mean_seconds / r.seconds;
 }
@@ -188,7 +194,8 @@ BenchResult run_benchmark_case(const BenchCase& c,
   if (r.insert_mean_seconds)
     report(progress, "insert " + std::to_string(c.inserted_seeds) + " seeds one by one: mean " +
                          seconds_text(*r.insert_mean_seconds) + " (" +
-                         seconds_text(*r.insert_mean_round_seconds) + " in rounds), largest " +
+                         seconds_text(*r.insert_mean_round_seconds) + " in " +
+                         fixed_text(*r.insert_mean_rounds, 1) + " rounds), largest " +
                          seconds_text(*r.insert_max_seconds));
   if (c.fastsweeping && canvas.dimension == 3) {
     time_fastsweeping(canvas, seeds, field, r);

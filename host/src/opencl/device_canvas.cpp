@@ -292,6 +292,8 @@ DeviceCanvas upload_canvas(const cl::Context& context, const Canvas& canvas, int
   d.scratch_bricks = largest_colour_class(canvas, colours);
   d.scratch =
       make_scratch(context, d.scratch_bricks * canvas.brick_volume() * sizeof(cl_ulong), d.bytes);
+  d.scratch_stamps =
+      make_scratch(context, d.scratch_bricks * canvas.brick_volume() * sizeof(cl_uint), d.bytes);
   d.evaluated = make_scratch(context, d.slots * sizeof(cl_uint), d.bytes);
   d.changed = make_scratch(context, d.slots * sizeof(cl_uint), d.bytes);
   d.flags = make_scratch(context, d.bricks, d.bytes);

@@ -3,8 +3,8 @@
 // label), two 32-bit evaluation stamps, the Selling stencil precomputed on the host (6 float
 // weights rho_i / h^2 and the index of its int8 offsets in a table of the canvas's distinct
 // offset sets; one stencil for the whole canvas when the metric is uniform) and an activity bit.
-// A scratch copy of each brick being relaxed: one colour class of bricks at a time. Per brick:
-// origin, flags, activation, list, a touched mark.
+// A scratch copy of each brick being relaxed, states and change stamps: one colour class of bricks
+// at a time. Per brick: origin, flags, activation, list, a touched mark.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -53,7 +53,8 @@ struct DeviceCanvas {
   cl_int4 dims{}, grid{}, brick_reach{};  // brick_reach: bricks within stencil reach per axis
   cl::Buffer state, scratch, stencils, shapes, table, origins;  // stencils, shapes: PackedStencils
   std::size_t scratch_bricks = 0;                               // the bricks the scratch holds
-  cl::Buffer activity;  // a bit per slot (bit s % 32 of word s / 32): active
+  cl::Buffer scratch_stamps;  // the change stamps of the scratch's bricks (commit_bricks)
+  cl::Buffer activity;        // a bit per slot (bit s % 32 of word s / 32): active
   // One stencil for the whole canvas (every active voxel has the same metric): the kernels must
   // be built with UNIFORM_METRIC.
   bool uniform_stencil = false;

@@ -390,6 +390,7 @@ class OpenCLPropagator final : public Propagator {
     gather_ = cl::Kernel(program, "gather_bricks");
     activate_ = cl::Kernel(program, "activate_bricks");
     compact_ = cl::Kernel(program, "compact_active");
+    pend_listed_ = cl::Kernel(program, "pend_listed");
     spread_ = cl::Kernel(program, "spread_activation");
     least_of_ = cl::Kernel(program, "least_tentative_of");
     pend_below_ = cl::Kernel(program, "pend_below_threshold");
@@ -425,13 +426,23 @@ class OpenCLPropagator final : public Propagator {
     const auto rounds_start = std::chrono::steady_clock::now();
     PropagationStats stats;
     stats.exact_start = exact_start != nullptr;
-    const int colour_count = colours(canvas);
+    // An insertion relaxes every pending brick each round while they fit the scratch: its front
+    // crosses few bricks, and taking them a colour at a time made 5x the rounds, each a wait for
+    // the device (docs/scheme.md, "Insertion on the device").
+    int colour_count = first_seed > 0 ? 1 : colours(canvas);
     int colour = 0;
     do {
       for (int count = 0; next_active_list(colour_count, colour, count);
            colour = (colour + 1) % colour_count) {
         if (colour == 0 && step_ > 0.0f) raise_threshold();
         if (count == 0) continue;
+        if (static_cast<std::size_t>(count) > canvas_->scratch_bricks) {
+          // Which bricks the list took depends on timing: none this round, by colours from now.
+          pend_listed();
+          colour_count = colours(canvas);
+          colour = colour_count - 1;  // the loop moves on to colour 0
+          continue;
+        }
         relax(count);
         stats.brick_relaxations += static_cast<std::uint64_t>(count);
         if (++stats.iterations > kMaxRounds)
@@ -569,14 +580,16 @@ class OpenCLPropagator final : public Propagator {
     queue_.enqueueFillBuffer(d.flags, cl_uchar{0}, 0, d.bricks);
   }
 
-  // Lists the pending bricks of the given colour (`count`); returns whether any brick is pending.
+  // Lists the pending bricks of the given colour, as many as the scratch holds; `count`: how many
+  // were pending. Returns whether any brick is pending.
   bool next_active_list(int colours, int colour, int& count) {
     const DeviceCanvasRef d = *canvas_;
     queue_.enqueueFillBuffer(d.any_pending, cl_int{0}, 0, sizeof(cl_int));
     queue_.enqueueFillBuffer(d.list_count, cl_int{0}, 0, sizeof(cl_int));
+    const auto capacity = static_cast<cl_int>(d.scratch_bricks);
     set_args(compact_, static_cast<cl_int>(d.bricks), d.pending, d.origins,
-             static_cast<cl_int>(colours), static_cast<cl_int>(colour), d.list, d.list_count,
-             d.any_pending);
+             static_cast<cl_int>(colours), static_cast<cl_int>(colour), capacity, d.list,
+             d.list_count, d.any_pending);
     queue_.enqueueNDRangeKernel(compact_, cl::NullRange,
                                 cl::NDRange(round_up(d.bricks, kBookkeepingGroup)),
                                 cl::NDRange(kBookkeepingGroup));
@@ -586,6 +599,16 @@ class OpenCLPropagator final : public Propagator {
     queue_.enqueueReadBuffer(d.any_pending, CL_TRUE, 0, sizeof(cl_int), &any_pending);
     count = listed;
     return any_pending != 0;
+  }
+
+  // Makes the bricks the last list took pending again (it took as many as the scratch holds).
+  void pend_listed() {
+    const DeviceCanvasRef d = *canvas_;
+    const auto listed = static_cast<cl_int>(d.scratch_bricks);
+    set_args(pend_listed_, d.list, listed, d.pending);
+    queue_.enqueueNDRangeKernel(pend_listed_, cl::NullRange,
+                                cl::NDRange(round_up(d.scratch_bricks, kBookkeepingGroup)),
+                                cl::NDRange(kBookkeepingGroup));
   }
 
   // Front stepping, once per colour cycle and when nothing is pending: the threshold moves to the
@@ -653,9 +676,9 @@ class OpenCLPropagator final : public Propagator {
     const bool sweep = sweeps_bricks();
     cl::Kernel& kernel = step_ > 0.0f ? relax_stepping_ : relax_;
     // Every variant takes BRICK_SWEEP_ARGUMENTS (kernels/propagation.cl).
-    set_args(kernel, d.list, static_cast<cl_int>(count), d.state, d.scratch, d.stencils, d.shapes,
-             d.table, d.origins, d.dims, d.grid, d.seeds, d.flags, d.update_counter,
-             static_cast<cl_int>(visits_per_relaxation()), d.evaluated, d.changed,
+    set_args(kernel, d.list, static_cast<cl_int>(count), d.state, d.scratch, d.scratch_stamps,
+             d.stencils, d.shapes, d.table, d.origins, d.dims, d.grid, d.seeds, d.flags,
+             d.update_counter, static_cast<cl_int>(visits_per_relaxation()), d.evaluated, d.changed,
              next_round_base(), stamp_stride_, d.activity, d.reader_reach, d.news, threshold_,
              d.least_tentative);
     const std::size_t voxels = static_cast<std::size_t>(count) * brick_volume_;
@@ -668,7 +691,8 @@ class OpenCLPropagator final : public Propagator {
       queue_.enqueueNDRangeKernel(kernel, cl::NullRange,
                                   cl::NDRange(static_cast<std::size_t>(count) * phase_group_size()),
                                   cl::NDRange(phase_group_size()));
-    set_args(commit_, d.list, static_cast<cl_int>(count), d.scratch, d.state, d.flags, d.touched);
+    set_args(commit_, d.list, static_cast<cl_int>(count), d.scratch, d.scratch_stamps, d.state,
+             d.changed, d.flags, d.touched);
     queue_.enqueueNDRangeKernel(commit_, cl::NullRange, cl::NDRange(voxels),
                                 cl::NDRange(kBookkeepingGroup));
     set_args(spread_, d.list, static_cast<cl_int>(count), d.origins, d.table, d.grid, d.brick_reach,
@@ -706,7 +730,7 @@ class OpenCLPropagator final : public Propagator {
   std::vector<float> held_records_;
   cl::Kernel freeze_, init_, start_, claim_, relax_, commit_, gather_, activate_, compact_, spread_,
       flag_multi_label_;
-  cl::Kernel least_of_, pend_below_, relax_stepping_;
+  cl::Kernel least_of_, pend_below_, relax_stepping_, pend_listed_;
   std::string build_options_;  // of the program the kernels above come from
   // Front stepping: evaluations above the threshold stay tentative (kernels/state_word.clh);
   // +inf: off. step_: how far the threshold moves past the least tentative distance.
