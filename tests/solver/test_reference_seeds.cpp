@@ -17,6 +17,12 @@ Mat3 rotated_metric(int dimension, double anisotropy) {
   return uniform_anisotropic_metric(dimension == 3 ? Vec3(1, 1, 1) : Vec3(1, 1, 0), anisotropy);
 }
 
+// The box [-1,1]^d at `resolution` under the uniform metric of anisotropy 4 along its diagonal.
+Canvas rotated_box(int dimension, int resolution) {
+  return make_uniform_box_canvas(dimension, Vec3(-1, -1, -1), Vec3(1, 1, 1), resolution,
+                                 rotated_metric(dimension, 4));
+}
+
 // Longest voxel diagonal measured in the metric.
 double diagonal_length(const Canvas& canvas, const Mat3& F) {
   double longest = 0;
@@ -158,9 +164,7 @@ TEST_P(SeedsByDimension, TwoSeedsLabelTheNearerSeed) {
 
 TEST_P(SeedsByDimension, InsertingOneByOneEqualsSolvingAll) {
   const int dimension = GetParam();
-  const Canvas canvas =
-      make_uniform_box_canvas(dimension, Vec3(-1, -1, -1), Vec3(1, 1, 1), dimension == 3 ? 64 : 256,
-                              rotated_metric(dimension, 4));
+  const Canvas canvas = rotated_box(dimension, dimension == 3 ? 64 : 256);
   const std::vector<Vec3> seeds = random_seeds(canvas, 100, 42);
   detail::ReferenceSolver solver(canvas);
   detail::ExactField all;
@@ -188,9 +192,7 @@ TEST_P(SeedsByDimension, InsertingOneByOneEqualsSolvingAll) {
 
 TEST_P(SeedsByDimension, SeedOrderDoesNotMatter) {
   const int dimension = GetParam();
-  const Canvas canvas =
-      make_uniform_box_canvas(dimension, Vec3(-1, -1, -1), Vec3(1, 1, 1), dimension == 3 ? 64 : 256,
-                              rotated_metric(dimension, 4));
+  const Canvas canvas = rotated_box(dimension, dimension == 3 ? 64 : 256);
   const std::vector<Vec3> seeds = random_seeds(canvas, 100, 7);
   const std::vector<Vec3> reversed(seeds.rbegin(), seeds.rend());
   const detail::ExactField forward = solve_exact(canvas, seeds);
@@ -228,9 +230,7 @@ TEST_P(SeedsByDimension, BlockVoxelsNearerToAnotherSeedTakeThatSeed) {
 // gives exactly the float image of the double-precision chain.
 TEST_P(SeedsByDimension, PublicInsertKeepsDoublePrecision) {
   const int dimension = GetParam();
-  const Canvas canvas =
-      make_uniform_box_canvas(dimension, Vec3(-1, -1, -1), Vec3(1, 1, 1), dimension == 3 ? 32 : 128,
-                              rotated_metric(dimension, 4));
+  const Canvas canvas = rotated_box(dimension, dimension == 3 ? 32 : 128);
   const std::vector<Vec3> seeds = random_seeds(canvas, 20, 3);
   auto propagator = make_reference_propagator();
   detail::ReferenceSolver solver(canvas);
@@ -255,9 +255,7 @@ TEST_P(SeedsByDimension, PublicInsertKeepsDoublePrecision) {
 // still inserts into a solved field afterwards.
 TEST_P(SeedsByDimension, InsertRefusesAFieldNotSolvedForTheOldSeeds) {
   const int dimension = GetParam();
-  const Canvas canvas =
-      make_uniform_box_canvas(dimension, Vec3(-1, -1, -1), Vec3(1, 1, 1), dimension == 3 ? 16 : 48,
-                              rotated_metric(dimension, 4));
+  const Canvas canvas = rotated_box(dimension, dimension == 3 ? 16 : 48);
   const std::vector<Vec3> seeds = random_seeds(canvas, 6, 11);
   const std::vector<Vec3> old_seeds(seeds.begin(), seeds.end() - 1);
   auto propagator = make_reference_propagator();
