@@ -781,18 +781,17 @@ inline int brick_colour(int3 b) {
 
 // Lists the pending bricks of the round's colour (order is irrelevant: a brick's result depends
 // only on the snapshot), at most `capacity` of them (the scratch's bricks: a round of every colour
-// can find more pending; those stay pending for the next round, and `count` counts them too);
-// any_pending tells whether any brick of any colour was pending.
+// can find more pending; those stay pending for the next round, and counts[0] counts them too);
+// counts[1] tells whether any brick of any colour was pending.
 __kernel void compact_active(int brick_count, __global uchar* pending,
                              __global const int4* brick_origins, int colours, int colour,
-                             int capacity, __global int* list, __global int* count,
-                             __global int* any_pending) {
+                             int capacity, __global int* list, __global int* counts) {
   const int brick = get_global_id(0);
   if (brick >= brick_count) return;
   if (!pending[brick]) return;
-  any_pending[0] = 1;
+  counts[1] = 1;
   if (colours > 1 && brick_colour(brick_of_voxel(brick_origins[brick].xyz)) != colour) return;
-  const int position = atomic_inc(count);
+  const int position = atomic_inc(&counts[0]);
   if (position >= capacity) return;
   pending[brick] = 0;
   list[position] = brick;

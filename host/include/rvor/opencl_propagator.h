@@ -34,10 +34,11 @@ struct OpenCLOptions {
   // make_opencl_propagator throws outside [0, 64].
   int max_sweeps = 0;
   int phase_iterations = 8;  // voxel_phases: most iterations (all phases) per round (at least 1)
-  // Relax one brick colour (parities of the brick coordinates, 2^d colours) per round, so that a
-  // brick reads its neighbours' fresh values. `rvor bench --resolution 96 --seeds 1000 --repeat 2`,
-  // without -> with: euclidean 12.49 -> 10.13 updates per voxel, radial_shock_3d 20.32 -> 13.53
-  // (and 1.6 -> 1.2-1.5 s, 5.7-6.4 -> 4.1-4.2 s).
+  // Solves relax one brick colour (parities of the brick coordinates, 2^d colours) per round, so
+  // that a brick reads its neighbours' fresh values (insertions relax every pending brick each
+  // round while they fit the scratch, docs/scheme.md, "Insertion on the device"). `rvor bench
+  // --resolution 96 --seeds 1000 --repeat 2`, without -> with: euclidean 12.49 -> 10.13 updates per
+  // voxel, radial_shock_3d 20.32 -> 13.53 (and 1.6 -> 1.2-1.5 s, 5.7-6.4 -> 4.1-4.2 s).
   bool brick_colouring = true;
   // brick_lanes with per-voxel stencils, on a device that compiles with AVX2 (PoCL on x86): the
   // lanes whose neighbours lie in their tiles take their stencils and neighbours by x86 gathers

@@ -306,9 +306,8 @@ DeviceCanvas upload_canvas(const cl::Context& context, const Canvas& canvas, int
   d.least_tentative = make_scratch(context, d.bricks * sizeof(cl_float), d.bytes);
   d.least_bits = make_scratch(context, sizeof(cl_uint), d.bytes);
   d.pending = make_scratch(context, d.bricks, d.bytes);
-  d.any_pending = make_scratch(context, sizeof(cl_int), d.bytes);
+  d.round_counts = make_scratch(context, 2 * sizeof(cl_int), d.bytes);
   d.list = make_scratch(context, d.bricks * sizeof(cl_int), d.bytes);
-  d.list_count = make_scratch(context, sizeof(cl_int), d.bytes);
   d.update_counter = make_scratch(context, sizeof(cl_ulong), d.bytes);
   return d;
 }

@@ -62,9 +62,11 @@ struct DeviceCanvas {
   std::vector<int> uniform_offsets;
   // The uniform metric has no off-diagonal entries (brick_lanes' axis form relies on it).
   bool uniform_diagonal = false;
-  cl::Buffer flags, list, list_count, update_counter, seeds;
-  // Per brick: waiting for its colour's round (kernels/propagation.cl); whether any brick waits.
-  cl::Buffer pending, any_pending;
+  cl::Buffer flags, list, update_counter, seeds;
+  // Per brick: waiting for its colour's round (kernels/propagation.cl). round_counts: two ints,
+  // how many bricks the round's list found and whether any brick waits (one fill and one read
+  // per round: on a GPU each command is a few microseconds of a round).
+  cl::Buffer pending, round_counts;
   // brick_sweep work avoidance: per slot, stamps of the last evaluation and the last change.
   cl::Buffer evaluated, changed;
   // Per brick: written since the solve or insertion began (only those are read back after an

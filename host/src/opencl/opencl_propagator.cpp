@@ -584,21 +584,18 @@ class OpenCLPropagator final : public Propagator {
   // were pending. Returns whether any brick is pending.
   bool next_active_list(int colours, int colour, int& count) {
     const DeviceCanvasRef d = *canvas_;
-    queue_.enqueueFillBuffer(d.any_pending, cl_int{0}, 0, sizeof(cl_int));
-    queue_.enqueueFillBuffer(d.list_count, cl_int{0}, 0, sizeof(cl_int));
+    queue_.enqueueFillBuffer(d.round_counts, cl_int{0}, 0, 2 * sizeof(cl_int));
     const auto capacity = static_cast<cl_int>(d.scratch_bricks);
     set_args(compact_, static_cast<cl_int>(d.bricks), d.pending, d.origins,
              static_cast<cl_int>(colours), static_cast<cl_int>(colour), capacity, d.list,
-             d.list_count, d.any_pending);
+             d.round_counts);
     queue_.enqueueNDRangeKernel(compact_, cl::NullRange,
                                 cl::NDRange(round_up(d.bricks, kBookkeepingGroup)),
                                 cl::NDRange(kBookkeepingGroup));
-    cl_int listed = 0;
-    cl_int any_pending = 0;
-    queue_.enqueueReadBuffer(d.list_count, CL_FALSE, 0, sizeof(cl_int), &listed);
-    queue_.enqueueReadBuffer(d.any_pending, CL_TRUE, 0, sizeof(cl_int), &any_pending);
-    count = listed;
-    return any_pending != 0;
+    cl_int counts[2] = {0, 0};  // listed, any pending
+    queue_.enqueueReadBuffer(d.round_counts, CL_TRUE, 0, sizeof counts, counts);
+    count = counts[0];
+    return counts[1] != 0;
   }
 
   // Makes the bricks the last list took pending again (it took as many as the scratch holds).
