@@ -70,6 +70,13 @@ struct PropagationStats {
   double round_seconds = 0.0;
 };
 
+// A propagator keeps what it derived from the last canvas it was given (stencils; the OpenCL
+// engine, the canvas uploaded to the device and the field it returned) and reuses it while the
+// canvas looks the same: the reference compares its whole contents, the OpenCL engine its address,
+// geometry and the tensors of ~4096 evenly spread slots (reading all 16.8M at 256^3 would cost an
+// insertion more than its propagation). A canvas changed in place at other slots between calls is
+// taken for the one uploaded: give a changed metric a new Canvas (CanvasBuilder), or a new
+// propagator.
 class Propagator {
  public:
   virtual ~Propagator() = default;
