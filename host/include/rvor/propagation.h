@@ -74,9 +74,9 @@ struct PropagationStats {
 // engine, the canvas uploaded to the device and the field it returned) and reuses it while the
 // canvas looks the same: the reference compares its whole contents, the OpenCL engine its address,
 // geometry and the tensors of ~4096 evenly spread slots (reading all 16.8M at 256^3 would cost an
-// insertion more than its propagation). A canvas changed in place at other slots between calls is
-// taken for the one uploaded: give a changed metric a new Canvas (CanvasBuilder), or a new
-// propagator.
+// insertion more than its propagation). A canvas changed in place, or another canvas built at the
+// same address, that differs from the uploaded one only at other slots is taken for it: use a new
+// propagator for it.
 class Propagator {
  public:
   virtual ~Propagator() = default;
