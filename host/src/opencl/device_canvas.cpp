@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
+#include <string>
 #include <unordered_map>
+#include <vector>
 
 #include <Eigen/LU>
 
@@ -202,11 +205,26 @@ cl::Buffer make_buffer(const cl::Context& context, const std::vector<T>& data,
                     const_cast<T*>(data.data()));
 }
 
+// For tests (RVOR_POISON_DEVICE_BUFFERS=1): new working buffers hold a byte pattern rather than
+// the zeros PoCL's fresh host pages give, as a GPU's new buffers hold what was there before, so
+// that a kernel reading what no command wrote shows up on PoCL too.
+bool poison_new_buffers() {
+  const char* value = std::getenv("RVOR_POISON_DEVICE_BUFFERS");
+  return value != nullptr && std::string(value) == "1";
+}
+
 cl::Buffer make_scratch(const cl::Context& context, std::size_t size, std::uint64_t& bytes) {
   bytes += size;
+  size = std::max<std::size_t>(size, 8);
+  std::vector<unsigned char> poison;
+  if (poison_new_buffers()) poison.assign(size, 0xA5);
+  const void* initial = poison.empty() ? nullptr : poison.data();
   if (size >= kHugePageBufferBytes && device_uses_host_memory(context))
-    return huge_page_buffer(context, CL_MEM_READ_WRITE, size, nullptr);
-  return cl::Buffer(context, CL_MEM_READ_WRITE, std::max<std::size_t>(size, 8));
+    return huge_page_buffer(context, CL_MEM_READ_WRITE, size, initial);
+  if (initial)
+    return cl::Buffer(context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, size,
+                      const_cast<void*>(initial));
+  return cl::Buffer(context, CL_MEM_READ_WRITE, size);
 }
 
 }  // namespace
