@@ -5,10 +5,12 @@
 #include <unistd.h>
 
 #include <cstdint>
+#include <cstdlib>
 #include <fstream>
 #include <numeric>
 #include <vector>
 
+#include "device_canvas.h"
 #include "host_pages.h"
 #include "opencl/opencl_test_support.h"
 #include "opencl_runtime.h"
@@ -62,6 +64,35 @@ TEST(HugePageBuffers, EnginesOnThemMatchTheReference) {
   const Canvas varying = test::domain_canvas("box:1,1,1,11,11,11", "radial_shock_3d", 64);
   ASSERT_GE(varying.slot_count() * 6 * sizeof(float), std::size_t{4} << 20);
   test::expect_matches_reference(*engine, varying, test::seeds_in(varying, 40, 5));
+}
+
+// RVOR_POISON_DEVICE_BUFFERS=1 (test_opencl_poisoned_buffers) fills new working buffers, small
+// and on huge pages alike, with 0xA5 bytes; the buffers uploaded from the canvas keep its data.
+TEST(PoisonedBuffers, NewWorkingBuffersHoldThePattern) {
+  opencl::Device device;
+  try {
+    device = opencl::select_device("pocl");
+  } catch (const Error& e) {
+    GTEST_SKIP() << "no usable OpenCL device: " << e.what();
+  }
+  const cl::Context context = opencl::context_for(device);
+  cl::CommandQueue queue(context, device.device);
+  const Canvas canvas = test::domain_canvas("box:-1,-1,-1,1,1,1", "euclidean", 84);
+  ASSERT_EQ(setenv("RVOR_POISON_DEVICE_BUFFERS", "1", 1), 0);
+  const opencl::DeviceCanvas d = opencl::upload_canvas(context, canvas, 8);
+  unsetenv("RVOR_POISON_DEVICE_BUFFERS");
+  ASSERT_GE(canvas.slot_count() * sizeof(cl_ulong), std::size_t{4} << 20);  // on huge pages
+  std::vector<cl_ulong> state(canvas.slot_count());
+  std::vector<cl_uint> changed(canvas.slot_count()), counts(2);
+  queue.enqueueReadBuffer(d.state, CL_TRUE, 0, state.size() * sizeof(cl_ulong), state.data());
+  queue.enqueueReadBuffer(d.changed, CL_TRUE, 0, changed.size() * sizeof(cl_uint), changed.data());
+  queue.enqueueReadBuffer(d.round_counts, CL_TRUE, 0, 2 * sizeof(cl_uint), counts.data());
+  EXPECT_EQ(state, std::vector<cl_ulong>(state.size(), 0xA5A5A5A5A5A5A5A5ull));
+  EXPECT_EQ(changed, std::vector<cl_uint>(changed.size(), 0xA5A5A5A5u));
+  EXPECT_EQ(counts, std::vector<cl_uint>(2, 0xA5A5A5A5u));
+  std::vector<cl_uint> activity(1);
+  queue.enqueueReadBuffer(d.activity, CL_TRUE, 0, sizeof(cl_uint), activity.data());
+  EXPECT_EQ(activity[0], 0xFFFFFFFFu);  // the canvas's first 32 slots, all active
 }
 
 }  // namespace
