@@ -8,6 +8,8 @@
 #include <cstdlib>
 #include <fstream>
 #include <numeric>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "device_canvas.h"
@@ -25,16 +27,23 @@ long resident_bytes() {
   return resident * sysconf(_SC_PAGESIZE);
 }
 
-TEST(HugePageBuffers, HoldTheirDataTakeDeviceWritesAndReleaseTheirPages) {
-  opencl::Device device;
+// The PoCL device, or none and why.
+std::optional<opencl::Device> pocl_device(std::string& why) {
   try {
-    device = opencl::select_device("pocl");
+    return opencl::select_device("pocl");
   } catch (const Error& e) {
-    GTEST_SKIP() << "no usable OpenCL device: " << e.what();
+    why = e.what();
+    return std::nullopt;
   }
-  const cl::Context context = opencl::context_for(device);
+}
+
+TEST(HugePageBuffers, HoldTheirDataTakeDeviceWritesAndReleaseTheirPages) {
+  std::string why;
+  const std::optional<opencl::Device> device = pocl_device(why);
+  if (!device) GTEST_SKIP() << "no usable OpenCL device: " << why;
+  const cl::Context context = opencl::context_for(*device);
   ASSERT_TRUE(opencl::device_uses_host_memory(context));
-  cl::CommandQueue queue(context, device.device);
+  cl::CommandQueue queue(context, device->device);
   const std::size_t count = (std::size_t{32} << 20) / sizeof(cl_uint);
   const std::size_t bytes = count * sizeof(cl_uint);
   std::vector<cl_uint> data(count), back(count);
@@ -69,14 +78,11 @@ TEST(HugePageBuffers, EnginesOnThemMatchTheReference) {
 // RVOR_POISON_DEVICE_BUFFERS=1 (test_opencl_poisoned_buffers) fills new working buffers, small
 // and on huge pages alike, with 0xA5 bytes; the buffers uploaded from the canvas keep its data.
 TEST(PoisonedBuffers, NewWorkingBuffersHoldThePattern) {
-  opencl::Device device;
-  try {
-    device = opencl::select_device("pocl");
-  } catch (const Error& e) {
-    GTEST_SKIP() << "no usable OpenCL device: " << e.what();
-  }
-  const cl::Context context = opencl::context_for(device);
-  cl::CommandQueue queue(context, device.device);
+  std::string why;
+  const std::optional<opencl::Device> device = pocl_device(why);
+  if (!device) GTEST_SKIP() << "no usable OpenCL device: " << why;
+  const cl::Context context = opencl::context_for(*device);
+  cl::CommandQueue queue(context, device->device);
   const Canvas canvas = test::domain_canvas("box:-1,-1,-1,1,1,1", "euclidean", 84);
   ASSERT_EQ(setenv("RVOR_POISON_DEVICE_BUFFERS", "1", 1), 0);
   const opencl::DeviceCanvas d = opencl::upload_canvas(context, canvas, 8);
