@@ -410,12 +410,6 @@ __attribute__((always_inline)) inline lane_float lane_solve_for_label(
   return lane_solve_sorted(w, rho);
 }
 
-// Whether the voxel at `slot`, beyond a lane's tile, changed in or after the round of `last` (the
-// tile's stamps are finer, but only the tile has them).
-inline bool far_changed(__global const uint* changed, long slot, uint last, uint stride) {
-  return changed[slot] >= (last & ~(stride - 1));
-}
-
 // Neighbour j of lane k's voxel at real position `position`, the voxel `slot` at offset e beyond
 // the lane's tile: its state, and its seed distance under its own label (computed, as the tile
 // holds none for it).

@@ -323,13 +323,19 @@ inline bool gather_near(const ulong* tile, const uint* tile_stamp, int p, const 
   return dirty;
 }
 
-// Longer offsets: the tile where they land in it, else the state (read from this round's
-// snapshot, so it was seen iff it changed in an earlier round than x's last evaluation).
+// Whether the voxel at `slot` of another brick changed in or after the round of `last`: its value
+// is read from the round's snapshot, so an evaluation saw it iff it changed in an earlier round
+// (the tile's stamps are finer, but only the tile has them). No stamp of this round is in
+// `changed` yet (commit_bricks publishes them).
+inline bool far_changed(__global const uint* changed, long slot, uint last, uint stride) {
+  return changed[slot] >= (last & ~(stride - 1));
+}
+
+// Longer offsets: the tile where they land in it, else the state (far_changed).
 inline bool gather_far(const ulong* tile, const uint* tile_stamp, int p, int3 c, const int3* offset,
                        const int* flat, int terms, uint last, __global const ulong* state,
                        __global const uint* changed, int3 origin, int4 dims, int4 grid,
                        __global const int* table, const int* near, uint stride, ulong* nb) {
-  const uint last_round = last & ~(stride - 1);
   bool dirty = last == 0;
   for (int i = 0; i < terms; ++i) {
     for (int s = 0; s < 2; ++s) {
@@ -343,7 +349,7 @@ inline bool gather_far(const ulong* tile, const uint* tile_stamp, int p, int3 c,
         const long other = neighbour_slot(origin + c + e, origin, dims, grid, table, near);
         if (other >= 0) {
           value = state[other];
-          dirty = dirty || changed[other] >= last_round;
+          dirty = dirty || far_changed(changed, other, last, stride);
         }
       }
       nb[2 * i + s] = value;
@@ -446,12 +452,12 @@ __kernel void relax_brick_sweep(BRICK_SWEEP_ARGUMENTS) {
       break;
     }
   }
-  if (brick_flags != 0) {  // commit_bricks copies it back
+  if (brick_flags != 0) {  // commit_bricks copies it back, the stamps when one changed
     __global ulong* relaxed = scratch + (size_t)position * BRICK_VOLUME;
     __global uint* stamps = scratch_stamps + (size_t)position * BRICK_VOLUME;
     for (int l = 0; l < BRICK_VOLUME; ++l) {
       relaxed[l] = tile[tile_index(local_coordinates(l))];
-      stamps[l] = tile_stamp[tile_index(local_coordinates(l))];
+      if (brick_flags & FLAG_CHANGED) stamps[l] = tile_stamp[tile_index(local_coordinates(l))];
     }
   }
   flags[brick] = (uchar)brick_flags;
@@ -519,16 +525,11 @@ inline bool neighbour_marked(int3 c, const int3* offset, int terms, __local cons
 
 // Whether a stencil neighbour changed significantly since `last`, voxel c's last evaluation in an
 // earlier relaxation (0: never evaluated), by the stamps of the brick sweeps: exact inside the
-// brick; outside it from the round of `last` on, since the round's other bricks change the state
-// only after it (relax_brick_sweep's gather_far), and before this round: a change this round is
-// not in the state yet, and its stamp may or may not be written, which would make the outcome
-// depend on the timing of the work-groups.
+// brick, far_changed outside it.
 inline bool changed_since(int3 c, int3 origin, const int3* offset, int terms, uint last,
-                          uint round_base, uint stride, size_t brick_slot,
-                          __global const uint* changed, int4 dims, int4 grid,
-                          __global const int* table) {
+                          uint stride, size_t brick_slot, __global const uint* changed, int4 dims,
+                          int4 grid, __global const int* table) {
   if (last == 0) return true;
-  const uint last_round = last & ~(stride - 1);
   for (int i = 0; i < terms; ++i)
     for (int s = 0; s < 2; ++s) {
       const int3 y = s == 0 ? c + offset[i] : c - offset[i];
@@ -536,9 +537,7 @@ inline bool changed_since(int3 c, int3 origin, const int3* offset, int terms, ui
         if (changed[brick_slot + local_index(y)] > last) return true;
       } else {
         const long slot = slot_at(origin + y, dims, grid, table);
-        if (slot < 0) continue;
-        const uint when = changed[slot];
-        if (when >= last_round && when < round_base) return true;
+        if (slot >= 0 && far_changed(changed, slot, last, stride)) return true;
       }
     }
   return false;
@@ -556,7 +555,7 @@ inline ulong phase_update(int l, size_t brick_slot, int3 origin, __local const u
                           int4 grid, __global const int* table, __global const float* seeds,
                           bool first, __local const uint* mask, __local const uint* other_mask,
                           __global uint* evaluated, __global const uint* changed, uint stamp,
-                          uint round_base, uint stride, uint* updates, float* tolerance) {
+                          uint stride, uint* updates, float* tolerance) {
   const ulong current = values[l];
   if (state_frozen(current) || !slot_active(activity, brick_slot + l)) return current;
   float weight[STENCIL_TERMS];
@@ -565,8 +564,8 @@ inline ulong phase_update(int l, size_t brick_slot, int3 origin, __local const u
   if (terms == 0) return current;
   const int3 c = local_coordinates(l);
   if (!neighbour_marked(c, offset, terms, mask, other_mask) &&
-      !(first && changed_since(c, origin, offset, terms, evaluated[brick_slot + l], round_base,
-                               stride, brick_slot, changed, dims, grid, table)))
+      !(first && changed_since(c, origin, offset, terms, evaluated[brick_slot + l], stride,
+                               brick_slot, changed, dims, grid, table)))
     return current;
   evaluated[brick_slot + l] = stamp;
   const int3 v = origin + c;
@@ -643,7 +642,7 @@ __kernel __attribute__((reqd_work_group_size(PHASE_VOXELS, 1, 1))) void relax_vo
       const ulong best =
           phase_update(l, brick_slot, origin, values, state, stencils, shapes, activity, dims, grid,
                        table, seeds, it == 0, changed_now, changed_before, evaluated, changed,
-                       stamp, round_base, stride, &updates, &tolerance);
+                       stamp, stride, &updates, &tolerance);
       if (best != values[l]) {
         atomic_or(&changed_now[l / 32], 1u << (l % 32));
         wrote = true;
@@ -780,24 +779,22 @@ inline int brick_colour(int3 b) {
 }
 
 // Lists the pending bricks of the round's colour (order is irrelevant: a brick's result depends
-// only on the snapshot), at most `capacity` of them (the scratch's bricks: a round of every colour
-// can find more pending; those stay pending for the next round, and counts[0] counts them too);
-// counts[1] tells whether any brick of any colour was pending.
+// only on the snapshot) and counts them in counts[0]; counts[1] tells whether any brick of any
+// colour was pending.
 __kernel void compact_active(int brick_count, __global uchar* pending,
                              __global const int4* brick_origins, int colours, int colour,
-                             int capacity, __global int* list, __global int* counts) {
+                             __global int* list, __global int* counts) {
   const int brick = get_global_id(0);
   if (brick >= brick_count) return;
   if (!pending[brick]) return;
   counts[1] = 1;
   if (colours > 1 && brick_colour(brick_of_voxel(brick_origins[brick].xyz)) != colour) return;
-  const int position = atomic_inc(&counts[0]);
-  if (position >= capacity) return;
   pending[brick] = 0;
-  list[position] = brick;
+  list[atomic_inc(&counts[0])] = brick;
 }
 
-// The first `count` listed bricks become pending again (a list the host does not relax).
+// The first `count` listed bricks become pending again (a list the host does not relax: more
+// bricks than the scratch holds).
 __kernel void pend_listed(__global const int* list, int count, __global uchar* pending) {
   const int position = get_global_id(0);
   if (position < count) pending[list[position]] = 1;

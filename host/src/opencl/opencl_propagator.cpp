@@ -437,8 +437,9 @@ class OpenCLPropagator final : public Propagator {
         if (colour == 0 && step_ > 0.0f) raise_threshold();
         if (count == 0) continue;
         if (static_cast<std::size_t>(count) > canvas_->scratch_bricks) {
-          // Which bricks the list took depends on timing: none this round, by colours from now.
-          pend_listed();
+          // More than the scratch holds (every colour at once): none this round, by colours from
+          // now (a subset taken by the list would depend on the work-items' timing).
+          pend_listed(count);
           colour_count = colours(canvas);
           colour = colour_count - 1;  // the loop moves on to colour 0
           continue;
@@ -580,15 +581,12 @@ class OpenCLPropagator final : public Propagator {
     queue_.enqueueFillBuffer(d.flags, cl_uchar{0}, 0, d.bricks);
   }
 
-  // Lists the pending bricks of the given colour, as many as the scratch holds; `count`: how many
-  // were pending. Returns whether any brick is pending.
+  // Lists the pending bricks of the given colour (`count`); returns whether any brick is pending.
   bool next_active_list(int colours, int colour, int& count) {
     const DeviceCanvasRef d = *canvas_;
     queue_.enqueueFillBuffer(d.round_counts, cl_int{0}, 0, 2 * sizeof(cl_int));
-    const auto capacity = static_cast<cl_int>(d.scratch_bricks);
     set_args(compact_, static_cast<cl_int>(d.bricks), d.pending, d.origins,
-             static_cast<cl_int>(colours), static_cast<cl_int>(colour), capacity, d.list,
-             d.round_counts);
+             static_cast<cl_int>(colours), static_cast<cl_int>(colour), d.list, d.round_counts);
     queue_.enqueueNDRangeKernel(compact_, cl::NullRange,
                                 cl::NDRange(round_up(d.bricks, kBookkeepingGroup)),
                                 cl::NDRange(kBookkeepingGroup));
@@ -598,14 +596,14 @@ class OpenCLPropagator final : public Propagator {
     return counts[1] != 0;
   }
 
-  // Makes the bricks the last list took pending again (it took as many as the scratch holds).
-  void pend_listed() {
+  // Makes the `count` bricks of the last list pending again.
+  void pend_listed(int count) {
     const DeviceCanvasRef d = *canvas_;
-    const auto listed = static_cast<cl_int>(d.scratch_bricks);
-    set_args(pend_listed_, d.list, listed, d.pending);
-    queue_.enqueueNDRangeKernel(pend_listed_, cl::NullRange,
-                                cl::NDRange(round_up(d.scratch_bricks, kBookkeepingGroup)),
-                                cl::NDRange(kBookkeepingGroup));
+    set_args(pend_listed_, d.list, static_cast<cl_int>(count), d.pending);
+    queue_.enqueueNDRangeKernel(
+        pend_listed_, cl::NullRange,
+        cl::NDRange(round_up(static_cast<std::size_t>(count), kBookkeepingGroup)),
+        cl::NDRange(kBookkeepingGroup));
   }
 
   // Front stepping, once per colour cycle and when nothing is pending: the threshold moves to the
