@@ -14,27 +14,25 @@ std::string label_range(std::size_t solved_seeds) {
                            : "-1 to " + std::to_string(solved_seeds - 1);
 }
 
-}  // namespace
-
-std::string insertable_slot_fault(float distance, std::int32_t label, std::size_t solved_seeds) {
+// What makes a slot fail insertable_slot.
+std::string slot_fault(float distance, std::int32_t label, std::size_t solved_seeds) {
   if (label < -1 || (label >= 0 && static_cast<std::size_t>(label) >= solved_seeds))
     return "label " + std::to_string(label) + " (labels " + label_range(solved_seeds) + ")";
   if (std::isnan(distance)) return "distance NaN";
   if (distance < 0.0f) return "distance " + std::to_string(distance) + " (below 0)";
   if (label < 0 && std::isfinite(distance))
     return "distance " + std::to_string(distance) + " without a label";
-  if (label >= 0 && std::isinf(distance))
-    return "label " + std::to_string(label) + " without a distance";
-  return "";
+  return "label " + std::to_string(label) + " without a distance";
 }
+
+}  // namespace
 
 void require_insertable_field(const Canvas& canvas, const VoronoiField& field,
                               std::size_t solved_seeds, const std::string& what) {
   require_field_for(canvas, field, what);
   for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
-    const std::string fault =
-        insertable_slot_fault(field.distance[slot], field.label[slot], solved_seeds);
-    if (fault.empty()) continue;
+    if (insertable_slot(field.distance[slot], field.label[slot], solved_seeds)) continue;
+    const std::string fault = slot_fault(field.distance[slot], field.label[slot], solved_seeds);
     const VoxelIndex v = canvas.voxel_of(slot);
     throw Error(what + ": the field is not one solved for the first " +
                 std::to_string(solved_seeds) + " seeds: slot " + std::to_string(slot) + " (voxel " +

@@ -34,17 +34,24 @@ void for_slot_ranges(std::size_t slots, unsigned threads, Work&& work) {
     if (e) std::rethrow_exception(e);
 }
 
+// range_result(begin, end) over contiguous ranges covering [0, slots), one per slot_threads()
+// thread, in range order.
+template <typename RangeResult>
+auto over_slot_ranges(std::size_t slots, RangeResult&& range_result) {
+  const unsigned threads = slot_threads();
+  std::vector<decltype(range_result(std::size_t{0}, std::size_t{0}))> partial(threads);
+  for_slot_ranges(slots, threads, [&](unsigned t, std::size_t begin, std::size_t end) {
+    partial[t] = range_result(begin, end);
+  });
+  return partial;
+}
+
 // The sum, wrapping, of range_sum(begin, end) over contiguous ranges covering [0, slots), on
 // slot_threads() threads.
 template <typename RangeSum>
 std::uint64_t sum_over_slot_ranges(std::size_t slots, RangeSum&& range_sum) {
-  const unsigned threads = slot_threads();
-  std::vector<std::uint64_t> partial(threads, 0);
-  for_slot_ranges(slots, threads, [&](unsigned t, std::size_t begin, std::size_t end) {
-    partial[t] = range_sum(begin, end);
-  });
   std::uint64_t total = 0;
-  for (std::uint64_t p : partial) total += p;
+  for (std::uint64_t p : over_slot_ranges(slots, range_sum)) total += p;
   return total;
 }
 

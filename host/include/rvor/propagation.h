@@ -4,6 +4,7 @@
 // per-label updates, exact initialisation, additive source factorization) is specified in
 // docs/scheme.md; every Propagator iterates the same update operator to its fixed point, so
 // implementations agree up to floating-point rounding, whatever their schedule.
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -34,14 +35,21 @@ inline void require_field_for(const Canvas& canvas, const VoronoiField& field,
               std::to_string(canvas.slot_count()) + " slots; solve on this canvas first)");
 }
 
-// Why a slot holding (distance, label) cannot belong to a field solved for `solved_seeds` seeds
-// (a label outside -1..solved_seeds-1, a NaN or negative distance, a label without a finite
-// distance or a finite distance without a label), or "" when it can.
-std::string insertable_slot_fault(float distance, std::int32_t label, std::size_t solved_seeds);
+// Whether a slot holding (distance, label) can belong to a field solved for `solved_seeds` seeds:
+// a label in -1..solved_seeds-1, and a distance that is +inf without a label, finite and at least
+// 0 with one (NaN never). Branch-free, so that loops over all slots vectorise.
+inline bool insertable_slot(float distance, std::int32_t label, std::size_t solved_seeds) {
+  const auto seeds = static_cast<std::uint32_t>(
+      std::min<std::size_t>(solved_seeds, std::numeric_limits<std::int32_t>::max()));
+  const bool labelled = label >= 0;
+  const bool finite = distance < std::numeric_limits<float>::infinity();  // false for NaN
+  return (static_cast<std::uint32_t>(label) + 1u <= seeds) & (distance >= 0.0f) &
+         (labelled == finite);
+}
 
 // Throws rvor::Error "WHAT: the field is not one solved for the first N seeds: slot S (voxel i, j,
-// k) has ..." at the first slot with a fault (insertable_slot_fault), after require_field_for:
-// insert() starts from the field, and a label of an unknown seed would index past the seeds.
+// k) has ..." at the first slot that fails insertable_slot, after require_field_for: insert()
+// starts from the field, and a label of an unknown seed would index past the seeds.
 void require_insertable_field(const Canvas& canvas, const VoronoiField& field,
                               std::size_t solved_seeds, const std::string& what);
 

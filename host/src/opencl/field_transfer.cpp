@@ -1,8 +1,6 @@
 #include "field_transfer.h"
 
-#include <algorithm>
 #include <cstring>
-#include <limits>
 #include <vector>
 
 #include "../slot_ranges.h"
@@ -81,38 +79,27 @@ class MappedStates {
 #ifndef RVOR_CLONED_FOR_AVX2
 #define RVOR_CLONED_FOR_AVX2
 #endif
-// With the hash, the count of slots with an insertable_slot_fault (rvor/propagation.h) for
-// `solved_seeds` seeds, branch-free so that the loop stays vectorised.
+// With the hash, whether a slot fails insertable_slot (rvor/propagation.h) for `solved_seeds`.
 RVOR_CLONED_FOR_AVX2 FieldDigest digest_slots(const float* distance, const std::int32_t* label,
-                                              std::uint32_t solved_seeds, std::size_t begin,
+                                              std::size_t solved_seeds, std::size_t begin,
                                               std::size_t end) {
   std::uint64_t sum = 0;
-  std::uint32_t faults = 0;
+  std::uint32_t insertable = 1;
   for (std::size_t slot = begin; slot < end; ++slot) {
     sum += slot_hash(slot, distance, label);
-    const float d = distance[slot];
-    const bool labelled = label[slot] >= 0;
-    const bool finite = d < std::numeric_limits<float>::infinity();  // false for NaN
-    faults += (static_cast<std::uint32_t>(label[slot]) + 1u > solved_seeds) | !(d >= 0.0f) |
-              (labelled != finite);
+    insertable &= insertable_slot(distance[slot], label[slot], solved_seeds);
   }
-  return {sum, faults != 0};
+  return {sum, insertable == 0};
 }
 
 }  // namespace
 
 FieldDigest digest_field(const VoronoiField& field, std::size_t solved_seeds) {
-  const unsigned threads = slot_threads();
-  std::vector<FieldDigest> partial(threads);
-  // Labels are int32: more seeds than that count as that many.
-  const auto seeds = static_cast<std::uint32_t>(
-      std::min<std::size_t>(solved_seeds, std::numeric_limits<std::int32_t>::max()));
-  for_slot_ranges(
-      field.distance.size(), threads, [&](unsigned t, std::size_t begin, std::size_t end) {
-        partial[t] = digest_slots(field.distance.data(), field.label.data(), seeds, begin, end);
-      });
   FieldDigest total;
-  for (const FieldDigest& p : partial) {
+  for (const FieldDigest& p :
+       over_slot_ranges(field.distance.size(), [&](std::size_t begin, std::size_t end) {
+         return digest_slots(field.distance.data(), field.label.data(), solved_seeds, begin, end);
+       })) {
     total.hash += p.hash;
     total.faulty = total.faulty || p.faulty;
   }

@@ -18,9 +18,8 @@ constexpr cl_ulong kInfiniteState = 0x7F8000007FFFFFFFull;  // +inf, no label (s
 // proportional to them.
 std::uint64_t field_hash(const VoronoiField& field);
 
-// field_hash and, in the same pass, whether some slot cannot belong to a field solved for
-// `solved_seeds` seeds (insertable_slot_fault, rvor/propagation.h: require_insertable_field names
-// it).
+// field_hash and, in the same pass, whether some slot fails insertable_slot (rvor/propagation.h)
+// for `solved_seeds` seeds (require_insertable_field then names it).
 struct FieldDigest {
   std::uint64_t hash = 0;
   bool faulty = false;

@@ -79,15 +79,13 @@ void seed_records(const Canvas& canvas, const std::vector<Vec3>& seeds, std::siz
   }
 }
 
-// The field the device state holds bit for bit: its field_hash, and whether the state is that of
-// a completed propagation (its seeds' blocks frozen) rather than an upload (no frozen marks).
+// The field the device state holds bit for bit: its field_hash, and how many seeds the propagation
+// that left it there solved (their blocks are frozen in the state); none after an upload, which
+// carries no frozen marks.
 struct HeldField {
   std::uint64_t hash = 0;
-  bool frozen_marks = false;
-  // The seeds it was solved for (kUnknownSeeds: an upload's).
-  std::size_t seeds = 0;
+  std::optional<std::size_t> solved_seeds;
 };
-constexpr std::size_t kUnknownSeeds = std::numeric_limits<std::size_t>::max();
 
 class OpenCLPropagator final : public Propagator {
  public:
@@ -195,18 +193,18 @@ class OpenCLPropagator final : public Propagator {
                                        std::size_t first_new, std::size_t known_seeds,
                                        const std::vector<cl_int4>& claims,
                                        const VoronoiField& field, std::optional<HeldField>& held) {
-    const bool speculate = held && held->seeds == first_new && known_seeds >= first_new;
+    const bool speculate = held && held->solved_seeds == first_new && known_seeds >= first_new;
     std::future<opencl::FieldDigest> digest =
         std::async(speculate ? std::launch::async : std::launch::deferred,
                    [&field, first_new] { return opencl::digest_field(field, first_new); });
     PropagationStats stats;
-    if (speculate) stats = propagate(canvas, first_new, seed_count, claims, held->frozen_marks);
+    if (speculate) stats = propagate(canvas, first_new, seed_count, claims, true);
     const opencl::FieldDigest caller = digest.get();
     if (caller.faulty) require_insertable_field(canvas, field, first_new, "insert()");
     if (held && caller.hash != held->hash) held.reset();
     if (speculate && held) return stats;
     if (!held) upload_field(field);
-    return propagate(canvas, first_new, seed_count, claims, held && held->frozen_marks);
+    return propagate(canvas, first_new, seed_count, claims, held && held->solved_seeds.has_value());
   }
 
   // Uploads the seeds; returns the claims that seeds[first_new..] can change (all of a solve's;
@@ -285,7 +283,7 @@ class OpenCLPropagator final : public Propagator {
     const std::uint64_t hash = opencl::field_hash(field);
     if (device_field_ && device_field_->hash == hash) return;
     upload_field(field);
-    device_field_ = HeldField{hash, false, kUnknownSeeds};
+    device_field_ = HeldField{hash, std::nullopt};
   }
 
   // The device state becomes `field` (no frozen marks), its evaluations forgotten.
@@ -478,7 +476,7 @@ class OpenCLPropagator final : public Propagator {
                                          field)
                                    : opencl::download_field(queue_, canvas_->state, canvas_->slots,
                                                             canvas_->length_unit, field);
-    device_field_ = HeldField{hash, true, seed_count};
+    device_field_ = HeldField{hash, seed_count};
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
 
