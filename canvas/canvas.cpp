@@ -1,7 +1,11 @@
 #include "rvor/canvas.h"
 
 #include <cmath>
+#include <cstring>
+#include <string>
 
+#include "../host/src/slot_hash.h"
+#include "../host/src/slot_ranges.h"
 #include "rvor/error.h"
 
 namespace rvor {
@@ -9,6 +13,41 @@ namespace rvor {
 namespace {
 int floor_div(int a, int b) {
   return a >= 0 ? a / b : -((-a + b - 1) / b);
+}
+
+std::uint64_t bits_of(double value) {
+  std::uint64_t bits;
+  std::memcpy(&bits, &value, sizeof bits);
+  return bits;
+}
+
+// Each slot as four words (its activity and its six floats in pairs) at indices 4 slot + n.
+RVOR_CLONED_FOR_AVX2 std::uint64_t hash_slots(const std::uint8_t* active, const float* metric,
+                                              std::size_t begin, std::size_t end) {
+  std::uint64_t sum = 0;
+  for (std::size_t slot = begin; slot < end; ++slot) {
+    std::uint64_t pairs[3];
+    std::memcpy(pairs, metric + 6 * slot, sizeof pairs);
+    sum += indexed_word_hash(4 * slot, active[slot]);
+    for (int n = 0; n < 3; ++n) sum += indexed_word_hash(4 * slot + 1 + n, pairs[n]);
+  }
+  return sum;
+}
+
+// The geometry's words, at indices above every slot's.
+std::uint64_t hash_geometry(const Canvas& canvas) {
+  std::uint64_t index = std::uint64_t{1} << 62, sum = 0;
+  auto add = [&](std::uint64_t word) { sum += indexed_word_hash(index++, word); };
+  add(static_cast<std::uint64_t>(canvas.dimension));
+  add(bits_of(canvas.voxel_size));
+  for (int a = 0; a < 3; ++a) add(bits_of(canvas.origin[a]));
+  for (int a = 0; a < 3; ++a) add(static_cast<std::uint64_t>(canvas.dims[a]));
+  for (const VoxelIndex& o : canvas.brick_origins) {
+    add(static_cast<std::uint32_t>(o.i) |
+        static_cast<std::uint64_t>(static_cast<std::uint32_t>(o.j)) << 32);
+    add(static_cast<std::uint32_t>(o.k));
+  }
+  return sum;
 }
 }  // namespace
 
@@ -100,9 +139,11 @@ void Canvas::allocate(int dim, double h, const Vec3& world_origin,
   active.assign(slot_count(), 0);
   metric.assign(6 * slot_count(), 0.0f);
   active_voxel_count = 0;
+  content_hash_.reset();
 }
 
 void Canvas::set_active(std::size_t slot, const Mat3& G) {
+  content_hash_.reset();
   active[slot] = 1;
   const SolTensor c = tensor_to_sol(stored_metric(G, dimension));
   for (int n = 0; n < 6; ++n) metric[6 * slot + n] = static_cast<float>(c[n]);
@@ -111,6 +152,14 @@ void Canvas::set_active(std::size_t slot, const Mat3& G) {
 void Canvas::finalize() {
   active_voxel_count = 0;
   for (uint8_t a : active) active_voxel_count += a;
+  if (active.size() != slot_count() || metric.size() != 6 * slot_count())
+    throw Error("canvas: " + std::to_string(active.size()) + " activity flags and " +
+                std::to_string(metric.size()) + " metric floats for " +
+                std::to_string(slot_count()) + " slots (6 floats each)");
+  content_hash_ = hash_geometry(*this) +
+                  sum_over_slot_ranges(slot_count(), [&](std::size_t begin, std::size_t end) {
+                    return hash_slots(active.data(), metric.data(), begin, end);
+                  });
 }
 
 }  // namespace rvor

@@ -7,6 +7,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -67,8 +68,18 @@ class Canvas {
   // with another zz entry made the engines weigh the source factorization differently: the
   // reference judged the fit with it and the kernels without, and their fields differed by 10%.)
   void set_active(std::size_t slot, const Mat3& G);
-  // Recounts active voxels (after set_active calls).
+  // Recounts active voxels and records the content hash (after set_active calls, or after writing
+  // `active` or `metric` directly).
   void finalize();
+  // A hash of what the propagators read: the geometry (h, origin, dims, bricks) and every slot's
+  // activity and tensor; two canvases that differ in one of them hash differently (but for a
+  // 2^-64 chance). Recorded by finalize(); none after allocate() or set_active() until finalize()
+  // runs again. A propagator keeps what it derived from a canvas only while this hash stays the
+  // same (rvor/propagation.h), so a change made without finalize() may go unseen.
+  std::optional<std::uint64_t> content_hash() const { return content_hash_; }
+
+ private:
+  std::optional<std::uint64_t> content_hash_;
 };
 
 }  // namespace rvor

@@ -165,9 +165,11 @@ PackedStencils pack_stencils(const Canvas& canvas, double length_unit) {
   return out;
 }
 
-std::uint64_t canvas_fingerprint(const Canvas& canvas) {
+std::optional<std::uint64_t> canvas_fingerprint(const Canvas& canvas) {
+  if (!canvas.content_hash()) return std::nullopt;
   std::uint64_t hash = kFnvBasis;
   auto mix = [&hash](std::uint64_t value) { fnv_mix(hash, value); };
+  mix(*canvas.content_hash());
   mix(canvas.slot_count());
   mix(canvas.active_voxel_count);
   mix(canvas.convex_domain ? 1 : 0);  // the exact start's rule reads it

@@ -3,6 +3,7 @@
 #include <cstring>
 #include <vector>
 
+#include "../slot_hash.h"
 #include "../slot_ranges.h"
 
 namespace rvor::opencl {
@@ -16,16 +17,8 @@ std::uint64_t state_word(float distance, int32_t label) {
   return (std::uint64_t{bits} << 32) | static_cast<std::uint32_t>(label);
 }
 
-// For a fixed slot a bijection of the word: an xor with a slot key, then splitmix64's finaliser.
-std::uint64_t slot_hash(std::size_t slot, std::uint64_t word) {
-  std::uint64_t x = word ^ (static_cast<std::uint64_t>(slot) * 0x9E3779B97F4A7C15ull);
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
-
 std::uint64_t slot_hash(std::size_t slot, const float* distance, const std::int32_t* label) {
-  return slot_hash(slot, state_word(distance[slot], label[slot]));
+  return indexed_word_hash(slot, state_word(distance[slot], label[slot]));
 }
 
 std::uint64_t field_slot_hash(const VoronoiField& field, std::size_t slot) {
@@ -68,17 +61,8 @@ class MappedStates {
 };
 
 // The sum of the slot hashes of [begin, end). An insertion hashes the caller's whole field (16.8M
-// slots at 256^3), so on x86-64 this loop is cloned for AVX2, where it vectorises the 64-bit
-// multiplies: 48 ms -> 22 ms for 16.8M slots on one core here (a stand-alone copy of the loop,
-// g++ -O3). Elsewhere, or where the compiler has no target_clones, it is one plain function.
-#if defined(__x86_64__) && defined(__has_attribute)
-#if __has_attribute(target_clones)
-#define RVOR_CLONED_FOR_AVX2 __attribute__((target_clones("avx2", "default")))
-#endif
-#endif
-#ifndef RVOR_CLONED_FOR_AVX2
-#define RVOR_CLONED_FOR_AVX2
-#endif
+// slots at 256^3), so this loop is cloned for AVX2 (slot_hash.h): 48 ms -> 22 ms for 16.8M slots
+// on one core here (a stand-alone copy of the loop, g++ -O3).
 // With the hash, whether a slot fails insertable_slot (rvor/propagation.h) for `solved_seeds`.
 RVOR_CLONED_FOR_AVX2 FieldDigest digest_slots(const float* distance, const std::int32_t* label,
                                               std::size_t solved_seeds, std::size_t begin,

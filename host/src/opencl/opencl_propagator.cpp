@@ -258,8 +258,8 @@ class OpenCLPropagator final : public Propagator {
 
   // Uploads the canvas unless the device holds it already.
   void hold_canvas(const Canvas& canvas) {
-    const std::uint64_t fingerprint = opencl::canvas_fingerprint(canvas);
-    if (!canvas_ || canvas_identity_ != &canvas || fingerprint_ != fingerprint) {
+    const std::optional<std::uint64_t> fingerprint = opencl::canvas_fingerprint(canvas);
+    if (!canvas_ || canvas_identity_ != &canvas || !fingerprint || fingerprint_ != fingerprint) {
       canvas_.reset();
       canvas_ = std::make_unique<opencl::DeviceCanvas>(
           opencl::upload_canvas(context_, canvas, colours(canvas)));
@@ -710,7 +710,7 @@ class OpenCLPropagator final : public Propagator {
   cl::CommandQueue queue_;
   std::unique_ptr<opencl::DeviceCanvas> canvas_;
   const Canvas* canvas_identity_ = nullptr;
-  std::uint64_t fingerprint_ = 0;
+  std::optional<std::uint64_t> fingerprint_;
   ExactStartReach exact_start_reach_ = ExactStartReach::none;  // on the canvas held
   std::size_t brick_volume_ = 512;
   static constexpr std::uint64_t kMaxStamp = 0xFFFFFFFFu;  // stamps are cl_uint on the device
