@@ -1,9 +1,11 @@
 #include "rvor/canvas.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <string>
 
+#include "../host/src/canvas_identity.h"
 #include "../host/src/slot_hash.h"
 #include "../host/src/slot_ranges.h"
 #include "rvor/error.h"
@@ -34,18 +36,26 @@ RVOR_CLONED_FOR_AVX2 std::uint64_t hash_slots(const std::uint8_t* active, const 
   return sum;
 }
 
-// The geometry's words, at indices above every slot's.
-std::uint64_t hash_geometry(const Canvas& canvas) {
-  std::uint64_t index = std::uint64_t{1} << 62, sum = 0;
+// The geometry's scalars, at indices from `first` on, above every slot's.
+std::uint64_t hash_scalars(const Canvas& canvas, std::uint64_t first) {
+  std::uint64_t index = first, sum = 0;
   auto add = [&](std::uint64_t word) { sum += indexed_word_hash(index++, word); };
   add(static_cast<std::uint64_t>(canvas.dimension));
   add(bits_of(canvas.voxel_size));
   for (int a = 0; a < 3; ++a) add(bits_of(canvas.origin[a]));
   for (int a = 0; a < 3; ++a) add(static_cast<std::uint64_t>(canvas.dims[a]));
+  return sum;
+}
+
+// The scalars and the bricks' origins.
+std::uint64_t hash_geometry(const Canvas& canvas) {
+  std::uint64_t index = std::uint64_t{1} << 62;
+  std::uint64_t sum = hash_scalars(canvas, index - 16);
   for (const VoxelIndex& o : canvas.brick_origins) {
-    add(static_cast<std::uint32_t>(o.i) |
-        static_cast<std::uint64_t>(static_cast<std::uint32_t>(o.j)) << 32);
-    add(static_cast<std::uint32_t>(o.k));
+    sum += indexed_word_hash(index++,
+                             static_cast<std::uint32_t>(o.i) |
+                                 static_cast<std::uint64_t>(static_cast<std::uint32_t>(o.j)) << 32);
+    sum += indexed_word_hash(index++, static_cast<std::uint32_t>(o.k));
   }
   return sum;
 }
@@ -160,6 +170,28 @@ void Canvas::finalize() {
                   sum_over_slot_ranges(slot_count(), [&](std::size_t begin, std::size_t end) {
                     return hash_slots(active.data(), metric.data(), begin, end);
                   });
+}
+
+std::optional<std::uint64_t> canvas_identity(const Canvas& canvas) {
+  if (!canvas.content_hash()) return std::nullopt;
+  // Indices above the content hash's: the scalars as they are now (not the bricks: 65 536 words
+  // at 256^3, a tenth of a millisecond each call, and only allocate() sets them).
+  std::uint64_t index = std::uint64_t{3} << 62;
+  std::uint64_t sum = *canvas.content_hash() + hash_scalars(canvas, index);
+  index += 16;
+  auto add = [&](std::uint64_t word) { sum += indexed_word_hash(index++, word); };
+  add(canvas.convex_domain ? 1 : 0);
+  add(canvas.slot_count());
+  add(canvas.active_voxel_count);
+  // Whole tensors of sampled slots: a stride over the floats that is a multiple of 6 (96 at 256^2)
+  // read one component only, so canvases differing in m22 or m33 alone looked the same.
+  const std::size_t step = std::max<std::size_t>(1, canvas.slot_count() / 4096);
+  for (std::size_t slot = 0; slot < canvas.slot_count(); slot += step) {
+    if (slot >= canvas.active.size() || 6 * slot + 6 > canvas.metric.size()) break;
+    add(canvas.active[slot]);
+    for (int n = 0; n < 6; ++n) add(bits_of(canvas.metric[6 * slot + n]));
+  }
+  return sum;
 }
 
 }  // namespace rvor

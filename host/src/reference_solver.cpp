@@ -10,9 +10,11 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <optional>
 
 #include <Eigen/LU>
 
+#include "canvas_identity.h"
 #include "rvor/error.h"
 #include "rvor/nearest_seeds.h"
 #include "rvor/seeds.h"
@@ -466,38 +468,6 @@ double ReferenceSolver::local_solve(int32_t voxel, int32_t label, const int32_t*
 
 namespace {
 
-// Identifies a canvas by content, so that insert() can reuse the stencils of the previous call.
-uint64_t fingerprint(const Canvas& canvas) {
-  uint64_t hash = 1469598103934665603ull;
-  auto mix = [&hash](uint64_t word) {
-    hash ^= word;
-    hash *= 1099511628211ull;
-    hash ^= hash >> 29;
-  };
-  auto mix_double = [&mix](double x) {
-    uint64_t bits;
-    std::memcpy(&bits, &x, sizeof bits);
-    mix(bits);
-  };
-  mix(static_cast<uint64_t>(canvas.dimension));
-  mix(canvas.convex_domain ? 1 : 0);  // the exact start's rule reads it
-  for (int a = 0; a < 3; ++a) {
-    mix(static_cast<uint64_t>(canvas.dims[a]));
-    mix_double(canvas.origin[a]);
-  }
-  mix_double(canvas.voxel_size);
-  for (const VoxelIndex& o : canvas.brick_origins)
-    mix((static_cast<uint64_t>(o.i) << 42) ^ (static_cast<uint64_t>(o.j) << 21) ^
-        static_cast<uint64_t>(o.k));
-  for (uint8_t a : canvas.active) mix(a);
-  for (float m : canvas.metric) {
-    uint32_t bits;
-    std::memcpy(&bits, &m, sizeof bits);
-    mix(bits);
-  }
-  return hash;
-}
-
 // The public Propagator: float fields outside, double inside. It remembers the double field of
 // its last call, so that a chain of insert() calls keeps full precision.
 class ReferencePropagator final : public Propagator {
@@ -528,8 +498,8 @@ class ReferencePropagator final : public Propagator {
 
  private:
   ReferenceSolver& solver_for(const Canvas& canvas) {
-    const uint64_t id = fingerprint(canvas);
-    if (!solver_ || id != canvas_id_) {
+    const std::optional<uint64_t> id = canvas_identity(canvas);
+    if (!solver_ || !id || id != canvas_id_) {
       solver_.reset();  // free the old stencils before building new ones
       solver_ = std::make_unique<ReferenceSolver>(canvas);
       solver_->set_exact_start(exact_start_);
@@ -560,7 +530,7 @@ class ReferencePropagator final : public Propagator {
 
   bool exact_start_;
   std::unique_ptr<ReferenceSolver> solver_;
-  uint64_t canvas_id_ = 0;
+  std::optional<uint64_t> canvas_id_;
   ExactField last_;
 };
 

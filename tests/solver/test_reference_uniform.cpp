@@ -77,6 +77,26 @@ TEST(ReferencePropagator, PublicInterfaceMatchesExactSolver) {
   }
 }
 
+// The propagator keeps its stencils for the canvas it saw last; a canvas changed in place between
+// the slots it samples, then finalized, is solved on its new metric (Canvas::content_hash).
+TEST(ReferencePropagator, SolvesACanvasChangedInPlaceOnItsNewMetric) {
+  Canvas canvas = make_uniform_box_canvas(2, Vec3(-1, -1, 0), Vec3(1, 1, 0), 256, Mat3::Identity());
+  const std::vector<Vec3> seeds = {Vec3(0.1, -0.05, 0), Vec3(-0.5, 0.4, 0)};
+  auto propagator = make_reference_propagator();
+  VoronoiField before, after;
+  propagator->solve(canvas, seeds, before);
+  const std::size_t sample_step = canvas.slot_count() / 4096, brick = canvas.brick_count() / 2;
+  for (std::size_t slot = brick * canvas.brick_volume(); slot < (brick + 1) * canvas.brick_volume();
+       ++slot)
+    if (slot % sample_step != 0) canvas.set_active(slot, 25.0 * Mat3::Identity());
+  canvas.finalize();
+  propagator->solve(canvas, seeds, after);
+  const detail::ExactField exact = solve_exact(canvas, seeds);
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot)
+    ASSERT_EQ(after.distance[slot], static_cast<float>(exact.distance[slot])) << "slot " << slot;
+  EXPECT_NE(after.distance, before.distance);
+}
+
 // A one-seed reference solve's voxel updates per active voxel.
 // From +inf: the exact start would begin a diagonal metric at the answer and settle nothing.
 double reference_updates_per_voxel(const Canvas& canvas, const Vec3& seed) {

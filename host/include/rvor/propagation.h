@@ -80,12 +80,12 @@ struct PropagationStats {
 
 // A propagator keeps what it derived from the last canvas it was given (stencils; the OpenCL
 // engine, the canvas uploaded to the device and the field it returned) and reuses it while the
-// canvas is the same: the reference compares its whole contents, the OpenCL engine its address and
-// content hash (Canvas::content_hash, which finalize() records once per build rather than every
-// call: reading all 16.8M slots at 256^3 would cost an insertion more than its propagation), with
-// its geometry and the tensors of ~4096 evenly spread slots as they are at the call. Call
-// finalize() after changing a canvas in place: a direct write to `active` or `metric` without it
-// is seen only where it touches one of those slots.
+// canvas is the same: same content hash (Canvas::content_hash, which finalize() records once per
+// build rather than every call: reading all 16.8M slots at 256^3 would cost an insertion more than
+// its propagation), geometry and tensors of ~4096 evenly spread slots as they are at the call,
+// and for the OpenCL engine the same address. Call finalize() after changing a canvas in place: a
+// direct write to `active` or `metric` without it is seen only where it touches one of those
+// slots.
 class Propagator {
  public:
   virtual ~Propagator() = default;

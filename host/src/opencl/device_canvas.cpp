@@ -21,7 +21,7 @@ namespace rvor::opencl {
 
 namespace {
 
-// FNV-1a: the shape table's hash and the canvas fingerprint.
+// FNV-1a: the shape table's hash.
 constexpr std::uint64_t kFnvBasis = 1469598103934665603ull;
 void fnv_mix(std::uint64_t& hash, std::uint64_t value) {
   hash = (hash ^ value) * 1099511628211ull;
@@ -163,32 +163,6 @@ PackedStencils pack_stencils(const Canvas& canvas, double length_unit) {
   for (const StencilPacker& p : packers)
     for (int a = 0; a < 3; ++a) out.reach[a] = std::max(out.reach[a], p.reach[a]);
   return out;
-}
-
-std::optional<std::uint64_t> canvas_fingerprint(const Canvas& canvas) {
-  if (!canvas.content_hash()) return std::nullopt;
-  std::uint64_t hash = kFnvBasis;
-  auto mix = [&hash](std::uint64_t value) { fnv_mix(hash, value); };
-  mix(*canvas.content_hash());
-  mix(canvas.slot_count());
-  mix(canvas.active_voxel_count);
-  mix(canvas.convex_domain ? 1 : 0);  // the exact start's rule reads it
-  std::uint64_t bits;
-  std::memcpy(&bits, &canvas.voxel_size, sizeof bits);
-  mix(bits);
-  for (int a = 0; a < 3; ++a) mix(static_cast<std::uint64_t>(canvas.dims[a]));
-  // Whole tensors of sampled slots: a stride over the floats that is a multiple of 6 (96 at 256^2)
-  // read one component only, so canvases differing in m22 or m33 alone looked the same.
-  const std::size_t step = std::max<std::size_t>(1, canvas.slot_count() / 4096);
-  for (std::size_t slot = 0; slot < canvas.slot_count(); slot += step) {
-    mix(canvas.active[slot]);
-    for (int n = 0; n < 6; ++n) {
-      std::uint32_t word;
-      std::memcpy(&word, &canvas.metric[6 * slot + n], sizeof word);
-      mix(word);
-    }
-  }
-  return hash;
 }
 
 namespace {

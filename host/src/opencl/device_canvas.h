@@ -92,11 +92,4 @@ int brick_colours(const Canvas& canvas, bool colouring);
 // colours: the brick colours relaxed in turn (1, 4 or 8); the scratch holds the largest class.
 DeviceCanvas upload_canvas(const cl::Context& context, const Canvas& canvas, int colours);
 
-// The identity of a canvas's contents, to reuse an uploaded canvas across calls: its content hash
-// (Canvas::content_hash, which finalize() records) with its geometry, convexity flag and the
-// activity and whole tensor of about 4096 evenly spread slots as they are now (a direct write not
-// followed by finalize() shows there if it touches one of them). None for a canvas without a
-// content hash: never taken for another.
-std::optional<std::uint64_t> canvas_fingerprint(const Canvas& canvas);
-
 }  // namespace rvor::opencl

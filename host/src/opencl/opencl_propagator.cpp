@@ -13,6 +13,7 @@
 #include <optional>
 #include <utility>
 
+#include "../canvas_identity.h"
 #include "device_canvas.h"
 #include "field_transfer.h"
 #include "front_step.h"
@@ -258,7 +259,7 @@ class OpenCLPropagator final : public Propagator {
 
   // Uploads the canvas unless the device holds it already.
   void hold_canvas(const Canvas& canvas) {
-    const std::optional<std::uint64_t> fingerprint = opencl::canvas_fingerprint(canvas);
+    const std::optional<std::uint64_t> fingerprint = canvas_identity(canvas);
     if (!canvas_ || canvas_identity_ != &canvas || !fingerprint || fingerprint_ != fingerprint) {
       canvas_.reset();
       canvas_ = std::make_unique<opencl::DeviceCanvas>(
