@@ -85,11 +85,7 @@ TEST(ReferencePropagator, SolvesACanvasChangedInPlaceOnItsNewMetric) {
   auto propagator = make_reference_propagator();
   VoronoiField before, after;
   propagator->solve(canvas, seeds, before);
-  const std::size_t sample_step = canvas.slot_count() / 4096, brick = canvas.brick_count() / 2;
-  for (std::size_t slot = brick * canvas.brick_volume(); slot < (brick + 1) * canvas.brick_volume();
-       ++slot)
-    if (slot % sample_step != 0) canvas.set_active(slot, 25.0 * Mat3::Identity());
-  canvas.finalize();
+  slow_down_a_brick_between_sampled_slots(canvas);
   propagator->solve(canvas, seeds, after);
   const detail::ExactField exact = solve_exact(canvas, seeds);
   for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot)

@@ -109,4 +109,12 @@ void expect_only_left_labelled(const BandCounts& counts) {
   EXPECT_GT(counts.right_voxels, 0u);
 }
 
+void slow_down_a_brick_between_sampled_slots(Canvas& canvas) {
+  const std::size_t sample_step = std::max<std::size_t>(1, canvas.slot_count() / 4096);
+  const std::size_t brick = canvas.brick_count() / 2, volume = canvas.brick_volume();
+  for (std::size_t slot = brick * volume; slot < (brick + 1) * volume; ++slot)
+    if (slot % sample_step != 0) canvas.set_active(slot, 25.0 * Mat3::Identity());
+  canvas.finalize();
+}
+
 }  // namespace rvor::test

@@ -31,6 +31,11 @@ std::vector<Vec3> left_band_seeds();
 Canvas split_inside_a_quarter(int dimension, int axis);
 std::vector<Vec3> lower_piece_seeds(int dimension, int axis);
 
+// Makes every slot of the canvas's middle brick 25 times slower but those a propagator samples to
+// recognise a canvas (every slot_count/4096-th, host/src/canvas_identity.h), then finalizes it: a
+// change in place that only the content hash shows.
+void slow_down_a_brick_between_sampled_slots(Canvas& canvas);
+
 // How many voxels of each piece `field` labels, and how many each piece has.
 struct BandCounts {
   std::size_t left_labelled = 0, left_voxels = 0, right_labelled = 0, right_voxels = 0;
