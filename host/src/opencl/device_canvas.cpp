@@ -11,6 +11,7 @@
 #include <Eigen/LU>
 
 #include "../slot_ranges.h"
+#include "device_memory.h"
 #include "host_pages.h"
 #include "reader_reach.h"
 #include "rvor/error.h"
@@ -170,17 +171,6 @@ namespace {
 // Buffers from this size on live on huge pages where the device uses host memory (host_pages.h).
 constexpr std::size_t kHugePageBufferBytes = std::size_t{4} << 20;
 
-template <typename T>
-cl::Buffer make_buffer(const cl::Context& context, const std::vector<T>& data,
-                       std::uint64_t& bytes) {
-  const std::size_t size = data.size() * sizeof(T);
-  bytes += size;
-  if (size >= kHugePageBufferBytes && device_uses_host_memory(context))
-    return huge_page_buffer(context, CL_MEM_READ_ONLY, size, data.data());
-  return cl::Buffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, size,
-                    const_cast<T*>(data.data()));
-}
-
 // For tests (RVOR_POISON_DEVICE_BUFFERS=1): new working buffers hold a byte pattern rather than
 // the zeros PoCL's fresh host pages give, as a GPU's new buffers hold what was there before, so
 // that a kernel reading what no command wrote shows up on PoCL too.
@@ -189,19 +179,52 @@ bool poison_new_buffers() {
   return value != nullptr && std::string(value) == "1";
 }
 
-cl::Buffer make_scratch(const cl::Context& context, std::size_t size, std::uint64_t& bytes) {
-  bytes += size;
-  size = std::max<std::size_t>(size, 8);
-  std::vector<unsigned char> poison;
-  if (poison_new_buffers()) poison.assign(size, 0xA5);
-  const void* initial = poison.empty() ? nullptr : poison.data();
-  if (size >= kHugePageBufferBytes && device_uses_host_memory(context))
-    return huge_page_buffer(context, CL_MEM_READ_WRITE, size, initial);
-  if (initial)
-    return cl::Buffer(context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, size,
-                      const_cast<void*>(initial));
-  return cl::Buffer(context, CL_MEM_READ_WRITE, size);
-}
+// Makes a canvas's buffers, each checked against the device's memory and counted in `bytes`.
+class BufferMaker {
+ public:
+  BufferMaker(const cl::Context& context, std::uint64_t& bytes)
+      : context_(context),
+        memory_(device_memory(context)),
+        host_memory_(device_uses_host_memory(context)),
+        bytes_(bytes) {}
+
+  // A read-only copy of `data`.
+  template <typename T>
+  cl::Buffer input(const std::vector<T>& data) {
+    const std::size_t size = data.size() * sizeof(T);
+    count(size);
+    if (size >= kHugePageBufferBytes && host_memory_)
+      return huge_page_buffer(context_, CL_MEM_READ_ONLY, size, data.data());
+    return cl::Buffer(context_, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, size,
+                      const_cast<T*>(data.data()));
+  }
+
+  // A working buffer of `size` bytes.
+  cl::Buffer scratch(std::size_t size) {
+    count(size);
+    size = std::max<std::size_t>(size, 8);
+    std::vector<unsigned char> poison;
+    if (poison_new_buffers()) poison.assign(size, 0xA5);
+    const void* initial = poison.empty() ? nullptr : poison.data();
+    if (size >= kHugePageBufferBytes && host_memory_)
+      return huge_page_buffer(context_, CL_MEM_READ_WRITE, size, initial);
+    if (initial)
+      return cl::Buffer(context_, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, size,
+                        const_cast<void*>(initial));
+    return cl::Buffer(context_, CL_MEM_READ_WRITE, size);
+  }
+
+ private:
+  void count(std::size_t size) {
+    require_room_for_buffer(memory_, bytes_, size);
+    bytes_ += size;
+  }
+
+  const cl::Context& context_;
+  const DeviceMemory memory_;
+  const bool host_memory_;
+  std::uint64_t& bytes_;
+};
 
 }  // namespace
 
@@ -256,6 +279,7 @@ DeviceCanvas upload_canvas(const cl::Context& context, const Canvas& canvas, int
   if (d.bricks == 0) throw Error("the canvas has no active voxels");
   d.length_unit = device_length_unit(canvas);
   const PackedStencils stencils = pack_stencils(canvas, d.length_unit);
+  BufferMaker make(context, d.bytes);
   const int edges[3] = {Canvas::kBrickEdge, Canvas::kBrickEdge, canvas.brick_edge_z()};
   for (int a = 0; a < 3; ++a) {
     d.dims.s[a] = canvas.dims[a];
@@ -275,34 +299,32 @@ DeviceCanvas upload_canvas(const cl::Context& context, const Canvas& canvas, int
         d.uniform_offsets.assign(stencils.shapes.begin(), stencils.shapes.begin() + 3 * (i + 1));
     d.uniform_diagonal = first_metric_is_diagonal(canvas);
   }
-  d.activity = make_buffer(context, activity_bits(canvas), d.bytes);
-  d.stencils = make_buffer(context, stencils.records, d.bytes);
-  d.shapes = make_buffer(context, stencils.shapes, d.bytes);
-  d.table = make_buffer(context, canvas.brick_table, d.bytes);
-  d.origins = make_buffer(context, origins, d.bytes);
-  d.state = make_scratch(context, d.slots * sizeof(cl_ulong), d.bytes);
+  d.activity = make.input(activity_bits(canvas));
+  d.stencils = make.input(stencils.records);
+  d.shapes = make.input(stencils.shapes);
+  d.table = make.input(canvas.brick_table);
+  d.origins = make.input(origins);
+  d.state = make.scratch(d.slots * sizeof(cl_ulong));
   // A round relaxes one colour class, so the scratch holds 1/8 of the bricks (1/4 in 2D): this
   // pays for 32-bit stamps, which never need restarting within a solve, under 64 B per voxel.
   d.scratch_bricks = largest_colour_class(canvas, colours);
-  d.scratch =
-      make_scratch(context, d.scratch_bricks * canvas.brick_volume() * sizeof(cl_ulong), d.bytes);
-  d.scratch_stamps =
-      make_scratch(context, d.scratch_bricks * canvas.brick_volume() * sizeof(cl_uint), d.bytes);
-  d.evaluated = make_scratch(context, d.slots * sizeof(cl_uint), d.bytes);
-  d.changed = make_scratch(context, d.slots * sizeof(cl_uint), d.bytes);
-  d.flags = make_scratch(context, d.bricks, d.bytes);
-  d.touched = make_scratch(context, d.bricks, d.bytes);
+  d.scratch = make.scratch(d.scratch_bricks * canvas.brick_volume() * sizeof(cl_ulong));
+  d.scratch_stamps = make.scratch(d.scratch_bricks * canvas.brick_volume() * sizeof(cl_uint));
+  d.evaluated = make.scratch(d.slots * sizeof(cl_uint));
+  d.changed = make.scratch(d.slots * sizeof(cl_uint));
+  d.flags = make.scratch(d.bricks);
+  d.touched = make.scratch(d.bricks);
   const std::vector<std::uint32_t> reaches = reader_reach(canvas, stencils);
   d.axis_readers = std::all_of(reaches.begin(), reaches.end(),
                                [](std::uint32_t r) { return (r & kAxisReaders) != 0; });
-  d.reader_reach = make_buffer(context, reaches, d.bytes);
-  d.news = make_scratch(context, d.bricks * sizeof(cl_uint), d.bytes);
-  d.least_tentative = make_scratch(context, d.bricks * sizeof(cl_float), d.bytes);
-  d.least_bits = make_scratch(context, sizeof(cl_uint), d.bytes);
-  d.pending = make_scratch(context, d.bricks, d.bytes);
-  d.round_counts = make_scratch(context, 2 * sizeof(cl_int), d.bytes);
-  d.list = make_scratch(context, d.bricks * sizeof(cl_int), d.bytes);
-  d.update_counter = make_scratch(context, sizeof(cl_ulong), d.bytes);
+  d.reader_reach = make.input(reaches);
+  d.news = make.scratch(d.bricks * sizeof(cl_uint));
+  d.least_tentative = make.scratch(d.bricks * sizeof(cl_float));
+  d.least_bits = make.scratch(sizeof(cl_uint));
+  d.pending = make.scratch(d.bricks);
+  d.round_counts = make.scratch(2 * sizeof(cl_int));
+  d.list = make.scratch(d.bricks * sizeof(cl_int));
+  d.update_counter = make.scratch(sizeof(cl_ulong));
   return d;
 }
 

@@ -1,0 +1,39 @@
+#include "device_memory.h"
+
+#include <cstdio>
+
+#include "rvor/error.h"
+
+namespace rvor::opencl {
+namespace {
+
+std::string gigabytes(std::uint64_t bytes) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f GB", static_cast<double>(bytes) / 1e9);
+  return text;
+}
+
+}  // namespace
+
+DeviceMemory device_memory(const cl::Context& context) {
+  const cl::Device device = context.getInfo<CL_CONTEXT_DEVICES>().at(0);
+  return {device.getInfo<CL_DEVICE_NAME>(), device.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>(),
+          device.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>()};
+}
+
+void require_room_for_buffer(const DeviceMemory& memory, std::uint64_t allocated,
+                             std::uint64_t size) {
+  const std::string advice =
+      ": use a coarser resolution, a smaller domain or a device with more "
+      "memory (`rvor devices` lists them)";
+  if (size > memory.largest_buffer_bytes)
+    throw Error("the canvas needs a device buffer of " + gigabytes(size) +
+                ", over the largest one OpenCL device '" + memory.device + "' allocates (" +
+                gigabytes(memory.largest_buffer_bytes) + ")" + advice);
+  if (allocated + size > memory.global_bytes)
+    throw Error("the canvas needs over " + gigabytes(allocated + size) +
+                " of device memory, more than OpenCL device '" + memory.device + "' has (" +
+                gigabytes(memory.global_bytes) + ")" + advice);
+}
+
+}  // namespace rvor::opencl
