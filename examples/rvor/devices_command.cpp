@@ -18,7 +18,8 @@ void print_devices() {
                   : d.is_cpu ? "CPU"
                              : "other")
               << ", " << d.compute_units << " compute units, " << (d.global_memory_bytes >> 20)
-              << " MiB] " << d.platform << ", " << d.version << ", driver " << d.driver;
+              << " MiB, buffers up to " << (d.largest_buffer_bytes >> 20) << " MiB] " << d.platform
+              << ", " << d.version << ", driver " << d.driver;
     if (!d.missing_requirement.empty()) std::cout << " (unusable: " << d.missing_requirement << ")";
     std::cout << "\n";
   }

@@ -10,7 +10,8 @@
 namespace rvor::opencl {
 namespace {
 
-const DeviceMemory kSmallGpu{"Small GPU", 8'000'000'000, 2'000'000'000};
+constexpr std::uint64_t kMiB = 1 << 20;
+const DeviceMemory kSmallGpu{"Small GPU", 8192 * kMiB, 2048 * kMiB};
 
 std::string refusal(std::uint64_t allocated, std::uint64_t size) {
   try {
@@ -22,20 +23,20 @@ std::string refusal(std::uint64_t allocated, std::uint64_t size) {
 }
 
 TEST(DeviceMemory, BuffersThatFitPass) {
-  EXPECT_EQ(refusal(0, 2'000'000'000), "");
-  EXPECT_EQ(refusal(6'000'000'000, 2'000'000'000), "");
+  EXPECT_EQ(refusal(0, 2048 * kMiB), "");
+  EXPECT_EQ(refusal(6144 * kMiB, 2048 * kMiB), "");
 }
 
 TEST(DeviceMemory, ABufferOverTheLargestAllocationIsRefusedWithItsSize) {
-  const std::string message = refusal(0, 3'700'000'000);
-  EXPECT_NE(message.find("a device buffer of 3.7 GB"), std::string::npos) << message;
-  EXPECT_NE(message.find("'Small GPU' allocates (2.0 GB)"), std::string::npos) << message;
+  const std::string message = refusal(0, 3529 * kMiB);
+  EXPECT_NE(message.find("a device buffer of 3529 MiB"), std::string::npos) << message;
+  EXPECT_NE(message.find("'Small GPU' allocates (2048 MiB)"), std::string::npos) << message;
 }
 
 TEST(DeviceMemory, BuffersOverTheGlobalMemoryAreRefusedWithTheTotal) {
-  const std::string message = refusal(7'000'000'000, 1'500'000'000);
-  EXPECT_NE(message.find("over 8.5 GB of device memory"), std::string::npos) << message;
-  EXPECT_NE(message.find("'Small GPU' has (8.0 GB)"), std::string::npos) << message;
+  const std::string message = refusal(7000 * kMiB, 1500 * kMiB);
+  EXPECT_NE(message.find("over 8500 MiB of device memory"), std::string::npos) << message;
+  EXPECT_NE(message.find("'Small GPU' has (8192 MiB)"), std::string::npos) << message;
 }
 
 }  // namespace

@@ -21,7 +21,8 @@ struct OpenCLDeviceInfo {
   bool is_cpu = false;
   unsigned compute_units = 0;
   std::uint64_t global_memory_bytes = 0;
-  std::string missing_requirement;  // empty when rvor's kernels can run on it
+  std::uint64_t largest_buffer_bytes = 0;  // CL_DEVICE_MAX_MEM_ALLOC_SIZE: one buffer at most
+  std::string missing_requirement;         // empty when rvor's kernels can run on it
 };
 
 // Every device of every OpenCL platform (empty when there is no OpenCL runtime or platform).

@@ -1,16 +1,13 @@
 #include "device_memory.h"
 
-#include <cstdio>
-
 #include "rvor/error.h"
 
 namespace rvor::opencl {
 namespace {
 
-std::string gigabytes(std::uint64_t bytes) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.1f GB", static_cast<double>(bytes) / 1e9);
-  return text;
+// In MiB, as `rvor devices` lists the devices' memory.
+std::string mebibytes(std::uint64_t bytes) {
+  return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB";
 }
 
 }  // namespace
@@ -27,13 +24,13 @@ void require_room_for_buffer(const DeviceMemory& memory, std::uint64_t allocated
       ": use a coarser resolution, a smaller domain or a device with more "
       "memory (`rvor devices` lists them)";
   if (size > memory.largest_buffer_bytes)
-    throw Error("the canvas needs a device buffer of " + gigabytes(size) +
+    throw Error("the canvas needs a device buffer of " + mebibytes(size) +
                 ", over the largest one OpenCL device '" + memory.device + "' allocates (" +
-                gigabytes(memory.largest_buffer_bytes) + ")" + advice);
+                mebibytes(memory.largest_buffer_bytes) + ")" + advice);
   if (allocated + size > memory.global_bytes)
-    throw Error("the canvas needs over " + gigabytes(allocated + size) +
+    throw Error("the canvas needs over " + mebibytes(allocated + size) +
                 " of device memory, more than OpenCL device '" + memory.device + "' has (" +
-                gigabytes(memory.global_bytes) + ")" + advice);
+                mebibytes(memory.global_bytes) + ")" + advice);
 }
 
 }  // namespace rvor::opencl

@@ -42,6 +42,7 @@ OpenCLDeviceInfo describe(const cl::Platform& platform, const cl::Device& device
   info.is_cpu = (type & CL_DEVICE_TYPE_CPU) != 0;
   info.compute_units = device.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
   info.global_memory_bytes = device.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
+  info.largest_buffer_bytes = device.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
   info.missing_requirement = missing_requirement(device);
   return info;
 }
