@@ -370,5 +370,25 @@ TEST_F(CliErrors, UnusablePoclCacheDirectoriesAreNamed) {
   }
 }
 
+// A canvas too big for the device is refused before the solve with the sizes, not a failure at a
+// later command. POCL_MEMORY_LIMIT=1 gives PoCL's device 1 GiB, buffers up to 256 MiB; the stencil
+// records of radial_shock_3d at 224^3 (28 B for each of 11.2M slots) need 300.1 MiB.
+TEST_F(CliErrors, CanvasTooBigForTheDeviceNamesTheSizes) {
+  bool pocl = false;
+  for (const OpenCLDeviceInfo& device : list_opencl_devices())
+    pocl = pocl || device.platform == "Portable Computing Language";
+  if (!pocl) GTEST_SKIP() << "no PoCL device";
+  const CommandResult result = run_command(
+      "POCL_MEMORY_LIMIT=1 " + voronoi("--device pocl --domain box:1,1,1,11,11,11 --metric "
+                                       "radial_shock_3d --resolution 224 --random-seeds 10"));
+  EXPECT_EQ(result.exit_code, 1) << "stderr: " << result.err;
+  EXPECT_NE(result.err.find("the canvas needs a device buffer of 301 MiB, over the largest one "
+                            "OpenCL device '"),
+            std::string::npos)
+      << result.err;
+  EXPECT_NE(result.err.find("allocates (256 MiB)"), std::string::npos) << result.err;
+  EXPECT_FALSE(std::filesystem::exists(out() + "/voronoi.vdb"));
+}
+
 }  // namespace
 }  // namespace rvor::test
