@@ -19,12 +19,14 @@
 
 namespace rvor {
 
-// For a fixed index a bijection of the word: an xor with an index key, then splitmix64's finaliser.
+// For a fixed index a bijection of the word: an xor with an index key, a multiplication by an odd
+// constant and a xorshift, each invertible. (splitmix64's finaliser, two multiplications and
+// xorshifts more, made an insertion's check of the caller's 16.8M slots 14.5 ms against 8.9 ms on
+// one core here, 7.5 against 4.4 ms on two, where only reading them takes 3.8 and 2.2 ms: a
+// stand-alone copy of the loop, g++ -O3 with the AVX2 clone.)
 inline std::uint64_t indexed_word_hash(std::uint64_t index, std::uint64_t word) {
-  std::uint64_t x = word ^ (index * 0x9E3779B97F4A7C15ull);
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
+  const std::uint64_t x = (word ^ (index * 0x9E3779B97F4A7C15ull)) * 0xBF58476D1CE4E5B9ull;
+  return x ^ (x >> 32);
 }
 
 }  // namespace rvor
