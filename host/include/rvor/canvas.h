@@ -72,10 +72,10 @@ class Canvas {
   // `active` or `metric` directly).
   void finalize();
   // A hash of what the propagators read: the geometry (h, origin, dims, bricks) and every slot's
-  // activity and tensor; two canvases that differ in one of them hash differently (but for a
-  // 2^-64 chance). Recorded by finalize(); none after allocate() or set_active() until finalize()
-  // runs again. A propagator keeps what it derived from a canvas only while this hash stays the
-  // same (rvor/propagation.h), so a change made without finalize() may go unseen.
+  // activity and tensor; a canvas changed in one of them always hashes differently, one changed in
+  // many by chance only. Recorded by finalize(); none after allocate() or set_active() until
+  // finalize() runs again. A propagator keeps what it derived from a canvas only while this hash
+  // stays the same (rvor/propagation.h), so a change made without finalize() may go unseen.
   std::optional<std::uint64_t> content_hash() const { return content_hash_; }
 
  private:
