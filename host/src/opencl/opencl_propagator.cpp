@@ -259,13 +259,13 @@ class OpenCLPropagator final : public Propagator {
 
   // Uploads the canvas unless the device holds it already.
   void hold_canvas(const Canvas& canvas) {
-    const std::optional<std::uint64_t> fingerprint = canvas_identity(canvas);
-    if (!canvas_ || canvas_identity_ != &canvas || !fingerprint || fingerprint_ != fingerprint) {
+    const std::optional<std::uint64_t> identity = canvas_identity(canvas);
+    if (!canvas_ || held_address_ != &canvas || !identity || held_identity_ != identity) {
       canvas_.reset();
       canvas_ = std::make_unique<opencl::DeviceCanvas>(
           opencl::upload_canvas(context_, canvas, colours(canvas)));
-      canvas_identity_ = &canvas;
-      fingerprint_ = fingerprint;
+      held_address_ = &canvas;
+      held_identity_ = identity;
       // The metric half of the exact start's rule, which the upload has just decided.
       exact_start_reach_ =
           options_.exact_start
@@ -710,8 +710,9 @@ class OpenCLPropagator final : public Propagator {
   cl::Context context_;
   cl::CommandQueue queue_;
   std::unique_ptr<opencl::DeviceCanvas> canvas_;
-  const Canvas* canvas_identity_ = nullptr;
-  std::optional<std::uint64_t> fingerprint_;
+  // The canvas canvas_ was uploaded from: its address and canvas_identity.
+  const Canvas* held_address_ = nullptr;
+  std::optional<std::uint64_t> held_identity_;
   ExactStartReach exact_start_reach_ = ExactStartReach::none;  // on the canvas held
   std::size_t brick_volume_ = 512;
   static constexpr std::uint64_t kMaxStamp = 0xFFFFFFFFu;  // stamps are cl_uint on the device
