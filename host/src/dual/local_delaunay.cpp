@@ -310,6 +310,19 @@ void for_each_face(const Top& top, int dimension, Visit&& visit) {
   }
 }
 
+// Whether a facet of `simplex` (its seeds but one) is in `faces`.
+bool has_facet_in(const std::vector<int32_t>& simplex,
+                  const std::set<std::vector<int32_t>>& faces) {
+  if (simplex.size() < 3) return false;  // an edge's facets are seeds, never dropped
+  for (std::size_t skip = 0; skip < simplex.size(); ++skip) {
+    std::vector<int32_t> facet;
+    for (std::size_t v = 0; v < simplex.size(); ++v)
+      if (v != skip) facet.push_back(simplex[v]);
+    if (faces.count(facet)) return true;
+  }
+  return false;
+}
+
 std::vector<int32_t> seeds_of(const NerveSimplex& s) {
   return std::vector<int32_t>(s.seeds.begin(), s.seeds.begin() + s.vertex_count);
 }
@@ -361,13 +374,20 @@ Nerve decided_nerve(const Canvas& canvas, const Nerve& nerve, const std::vector<
       dual::for_each_face(s.seeds, d,
                           [&](const std::vector<int32_t>& f) { removed_faces.insert(f); });
   Nerve out = nerve;
-  std::set<std::vector<int32_t>> witnessed;
+  std::set<std::vector<int32_t>> witnessed, dropped;
+  // Edges first, so that a simplex the decision leaves alone (a face of no witnessed top: a
+  // triangle whose tetrahedra the canvas never witnessed) goes with a dropped facet, and the
+  // nerve stays closed under faces (the curved dual builds a face from its opposite edge).
   for (std::vector<NerveSimplex>* list : {&out.edges, &out.triangles, &out.tetrahedra}) {
     list->erase(std::remove_if(list->begin(), list->end(),
                                [&](const NerveSimplex& s) {
                                  const std::vector<int32_t> f = dual::seeds_of(s);
                                  witnessed.insert(f);
-                                 return removed_faces.count(f) > 0 && kept_faces.count(f) == 0;
+                                 const bool drop =
+                                     (removed_faces.count(f) > 0 && kept_faces.count(f) == 0) ||
+                                     dual::has_facet_in(f, dropped);
+                                 if (drop) dropped.insert(f);
+                                 return drop;
                                }),
                 list->end());
   }
