@@ -138,6 +138,14 @@ __attribute__((always_inline)) inline lane_float lane_term_value(const LaneNeigh
              select((lane_float)INFINITY, behind_f, nb->label[2 * i + 1] == label));
 }
 
+// The smaller raw distance of stencil term i's two neighbours under `label` in each lane, +inf
+// where neither carries it: the candidate's floor (solve_for_label, eikonal_scheme.clh).
+__attribute__((always_inline)) inline lane_float lane_term_raw(const LaneNeighbours* nb, int i,
+                                                               lane_uint label) {
+  return min(select((lane_float)INFINITY, nb->distance[2 * i], nb->label[2 * i] == label),
+             select((lane_float)INFINITY, nb->distance[2 * i + 1], nb->label[2 * i + 1] == label));
+}
+
 // Sorts the LANE_TERMS terms w ascending, rho alongside, in every lane; stable, as the scalar
 // insertion sort.
 __attribute__((always_inline)) inline void lane_sort(lane_float* w, lane_float* rho) {
@@ -287,15 +295,18 @@ __attribute__((always_inline)) inline lane_float lane_solve_for_label(
   const lane_float sgx = frame->sign_x * gq[0], sgy = frame->sign_y * gq[1];
   const lane_float sgz = frame->sign_z * gq[2];
   lane_float w[STENCIL_TERMS], rho[STENCIL_TERMS];
+  lane_float least_raw = INFINITY;
 #pragma unroll
   for (int i = 0; i < LANE_TERMS; ++i) {
     const float3 e = convert_float3(lane_offset(i));  // a frame offset
     const lane_float eGq = e.x * sgx + e.y * sgy + e.z * sgz;
     w[i] = lane_term_value(nb, i, label, u0, eGq * inverse_u0, 1.0f, factored);
     rho[i] = st->weight[i];
+    least_raw =
+        min(least_raw, select(lane_term_raw(nb, i, label), (lane_float)INFINITY, rho[i] == 0.0f));
   }
   lane_sort(w, rho);
-  return lane_solve_sorted(w, rho);
+  return max(lane_solve_sorted(w, rho), least_raw);
 }
 
 inline void lane_voxel_metric(LaneStencil* st) {}  // one stencil: nothing per voxel
@@ -395,6 +406,7 @@ __attribute__((always_inline)) inline lane_float lane_solve_for_label(
   const lane_mask factored = alpha > 0.0f;
   const lane_float inverse_u0 = select((lane_float)0.0f, 1.0f / u0, factored);
   lane_float w[STENCIL_TERMS], rho[STENCIL_TERMS];
+  lane_float least_raw = INFINITY;
 #pragma unroll
   for (int i = 0; i < STENCIL_TERMS; ++i) {
     const lane_float eGq = st->ex[i] * gq[0] + st->ey[i] * gq[1] + st->ez[i] * gq[2];
@@ -405,9 +417,11 @@ __attribute__((always_inline)) inline lane_float lane_solve_for_label(
         select(lane_term_value(nb, i, label, u0, eGq * inverse_u0, term_alpha, term_alpha > 0.0f),
                (lane_float)INFINITY, st->rho[i] == 0.0f);
     rho[i] = st->rho[i];
+    least_raw = min(least_raw,
+                    select(lane_term_raw(nb, i, label), (lane_float)INFINITY, st->rho[i] == 0.0f));
   }
   lane_sort(w, rho);
-  return lane_solve_sorted(w, rho);
+  return max(lane_solve_sorted(w, rho), least_raw);
 }
 
 // Neighbour j of lane k's voxel at real position `position`, the voxel `slot` at offset e beyond

@@ -441,6 +441,7 @@ double ReferenceSolver::local_solve(int32_t voxel, int32_t label, const int32_t*
   const VoxelStencil& stencil = stencil_of(voxel);
   double w[6], rho[6];  // corrected neighbour value and weight, sorted by w
   int n = 0;
+  double least_raw = kInfinity;  // the candidate's floor (docs/scheme.md, "Local update", 6)
   for (int t = 0; t < stencil.size; ++t) {
     const Vec3 step = stencil_step(voxel, t);
     const double weight = term_factorization_weight(frame, step);
@@ -448,6 +449,7 @@ double ReferenceSolver::local_solve(int32_t voxel, int32_t label, const int32_t*
     for (int side = 0; side < 2; ++side) {
       const int32_t y = neighbours[2 * t + side];
       if (y < 0 || state_[y].label != label) continue;
+      least_raw = std::min(least_raw, state_[y].value);
       const double corrected =
           corrected_value(frame, step, side == 0 ? 1.0 : -1.0, state_[y].value, weight);
       best = std::min(best, corrected);
@@ -463,7 +465,7 @@ double ReferenceSolver::local_solve(int32_t voxel, int32_t label, const int32_t*
     rho[k] = stencil.weight[t];
   }
   if (n == 0) return kInfinity;
-  return solve_sorted_quadratic(w, rho, n, h_);
+  return std::max(solve_sorted_quadratic(w, rho, n, h_), least_raw);
 }
 
 namespace {

@@ -107,6 +107,28 @@ TEST_P(EveryField, HundredInsertionsOneByOneEqualASolve) {
   test::expect_same_field(canvas, all, test::insert_one_by_one(*engine, canvas, seeds));
 }
 
+// One seed on unidimensional_shock's line x = 0.6, where the metric changes by a factor up to 5
+// per voxel: the source factorization of a voxel that fits the seed's metric lowered its
+// neighbours' values by more than the step to them, both engines' values fell below zero without
+// end, and neither settled ("did not converge"). A candidate is now at least its label's least
+// raw neighbour value (docs/scheme.md, "Local update", step 6).
+TEST(SeedOnAShock, BothEnginesSettleAndAgree) {
+  REQUIRE_ENGINE(RelaxationVariant::automatic);
+  Box box;
+  const Canvas canvas = field_canvas({"unidimensional_shock", 2}, kResolution2D, &box);
+  for (const Vec3& seed : {Vec3(0.6, -0.78, 0), Vec3(0.6005, -0.78, 0)}) {
+    SCOPED_TRACE("seed x " + std::to_string(seed.x()));
+    VoronoiField expected, field;
+    make_reference_propagator()->solve(canvas, {seed}, expected);
+    for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
+      if (!canvas.active[slot]) continue;
+      ASSERT_GE(expected.distance[slot], 0.0f) << "slot " << slot;
+    }
+    engine->solve(canvas, {seed}, field);
+    test::expect_same_field(canvas, expected, field);
+  }
+}
+
 std::string case_name(const ::testing::TestParamInfo<FieldCase>& info) {
   std::string name = info.param.spec.substr(0, info.param.spec.find(':'));
   return name + "_" + std::to_string(info.param.dimension) + "D";
