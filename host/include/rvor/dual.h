@@ -122,9 +122,10 @@ StraightDual build_straight_dual(const Canvas& canvas, const Nerve& nerve,
 
 // The nerve with its near-degenerate configurations decided as build_straight_dual decides them:
 // the faces of the top simplices the decision removes go, unless a kept or added top simplex has
-// them too; those it adds come with their faces, unwitnessed (witness_count 0, both witnesses at
-// the centroid of their seeds). The curved dual takes it, so that both duals have the same
-// combinatorics.
+// them too, and so does a simplex that is a face of no top once one of its faces went (the result
+// stays closed under faces); those it adds come with their faces, unwitnessed (witness_count 0,
+// both witnesses at the centroid of their seeds). The curved dual takes it, so that both duals
+// have the same combinatorics.
 Nerve decided_nerve(const Canvas& canvas, const Nerve& nerve, const std::vector<Vec3>& seeds);
 
 // The `dual` object of report.json as JSON text: vertices, edges, triangles, tetrahedra,
