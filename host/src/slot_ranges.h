@@ -34,11 +34,17 @@ void for_slot_ranges(std::size_t slots, unsigned threads, Work&& work) {
     if (e) std::rethrow_exception(e);
 }
 
-// range_result(begin, end) over contiguous ranges covering [0, slots), one per slot_threads()
-// thread, in range order.
+// Below this many slots per thread a range runs on the calling thread: starting threads costs
+// more than the work (a canvas cropped around each seed of a curved dual is finalized inside
+// a parallel loop already).
+constexpr std::size_t kSlotsPerThread = std::size_t{1} << 16;
+
+// range_result(begin, end) over contiguous ranges covering [0, slots), one per thread (at most
+// slot_threads(), and one per kSlotsPerThread slots), in range order.
 template <typename RangeResult>
 auto over_slot_ranges(std::size_t slots, RangeResult&& range_result) {
-  const unsigned threads = slot_threads();
+  const unsigned threads = static_cast<unsigned>(
+      std::min<std::size_t>(slot_threads(), std::max<std::size_t>(1, slots / kSlotsPerThread)));
   std::vector<decltype(range_result(std::size_t{0}, std::size_t{0}))> partial(threads);
   for_slot_ranges(slots, threads, [&](unsigned t, std::size_t begin, std::size_t end) {
     partial[t] = range_result(begin, end);
@@ -46,8 +52,8 @@ auto over_slot_ranges(std::size_t slots, RangeResult&& range_result) {
   return partial;
 }
 
-// The sum, wrapping, of range_sum(begin, end) over contiguous ranges covering [0, slots), on
-// slot_threads() threads.
+// The sum, wrapping, of range_sum(begin, end) over contiguous ranges covering [0, slots), as
+// over_slot_ranges splits them.
 template <typename RangeSum>
 std::uint64_t sum_over_slot_ranges(std::size_t slots, RangeSum&& range_sum) {
   std::uint64_t total = 0;
@@ -55,7 +61,7 @@ std::uint64_t sum_over_slot_ranges(std::size_t slots, RangeSum&& range_sum) {
   return total;
 }
 
-// The sum, wrapping, of term(slot) over [0, slots), on slot_threads() threads.
+// The sum, wrapping, of term(slot) over [0, slots), as over_slot_ranges splits them.
 template <typename Term>
 std::uint64_t sum_over_slots(std::size_t slots, Term&& term) {
   return sum_over_slot_ranges(slots, [&](std::size_t begin, std::size_t end) {
