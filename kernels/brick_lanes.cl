@@ -139,11 +139,14 @@ __attribute__((always_inline)) inline lane_float lane_term_value(const LaneNeigh
 }
 
 // The smaller raw distance of stencil term i's two neighbours under `label` in each lane, +inf
-// where neither carries it: the candidate's floor (solve_for_label, eikonal_scheme.clh).
+// where neither carries it or the term has no weight: what the candidate's floor takes
+// (solve_for_label, eikonal_scheme.clh).
 __attribute__((always_inline)) inline lane_float lane_term_raw(const LaneNeighbours* nb, int i,
-                                                               lane_uint label) {
-  return min(select((lane_float)INFINITY, nb->distance[2 * i], nb->label[2 * i] == label),
-             select((lane_float)INFINITY, nb->distance[2 * i + 1], nb->label[2 * i + 1] == label));
+                                                               lane_uint label, lane_float rho) {
+  const lane_float raw =
+      min(select((lane_float)INFINITY, nb->distance[2 * i], nb->label[2 * i] == label),
+          select((lane_float)INFINITY, nb->distance[2 * i + 1], nb->label[2 * i + 1] == label));
+  return select(raw, (lane_float)INFINITY, rho == 0.0f);
 }
 
 // Sorts the LANE_TERMS terms w ascending, rho alongside, in every lane; stable, as the scalar
@@ -302,8 +305,7 @@ __attribute__((always_inline)) inline lane_float lane_solve_for_label(
     const lane_float eGq = e.x * sgx + e.y * sgy + e.z * sgz;
     w[i] = lane_term_value(nb, i, label, u0, eGq * inverse_u0, 1.0f, factored);
     rho[i] = st->weight[i];
-    least_raw =
-        min(least_raw, select(lane_term_raw(nb, i, label), (lane_float)INFINITY, rho[i] == 0.0f));
+    least_raw = min(least_raw, lane_term_raw(nb, i, label, rho[i]));
   }
   lane_sort(w, rho);
   return max(lane_solve_sorted(w, rho), least_raw);
@@ -417,8 +419,7 @@ __attribute__((always_inline)) inline lane_float lane_solve_for_label(
         select(lane_term_value(nb, i, label, u0, eGq * inverse_u0, term_alpha, term_alpha > 0.0f),
                (lane_float)INFINITY, st->rho[i] == 0.0f);
     rho[i] = st->rho[i];
-    least_raw = min(least_raw,
-                    select(lane_term_raw(nb, i, label), (lane_float)INFINITY, st->rho[i] == 0.0f));
+    least_raw = min(least_raw, lane_term_raw(nb, i, label, rho[i]));
   }
   lane_sort(w, rho);
   return max(lane_solve_sorted(w, rho), least_raw);
