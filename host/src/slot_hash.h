@@ -21,9 +21,8 @@ namespace rvor {
 
 // For a fixed index a bijection of the word: an xor with an index key, a multiplication by an odd
 // constant and a xorshift, each invertible. (splitmix64's finaliser, two multiplications and
-// xorshifts more, made an insertion's check of the caller's 16.8M slots 14.5 ms against 8.9 ms on
-// one core here, 7.5 against 4.4 ms on two, where only reading them takes 3.8 and 2.2 ms: a
-// stand-alone copy of the loop, g++ -O3 with the AVX2 clone.)
+// xorshifts more, made an insertion's digest of the caller's 16.8M slots 7.2 ms against 4.6 ms on
+// two cores here: `build/bin/bench_slot_hashes`, docs/scheme.md "A cheaper mix".)
 inline std::uint64_t indexed_word_hash(std::uint64_t index, std::uint64_t word) {
   const std::uint64_t x = (word ^ (index * 0x9E3779B97F4A7C15ull)) * 0xBF58476D1CE4E5B9ull;
   return x ^ (x >> 32);

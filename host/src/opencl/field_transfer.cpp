@@ -60,11 +60,10 @@ class MappedStates {
   cl_ulong* words_;
 };
 
-// The sum of the slot hashes of [begin, end). An insertion hashes the caller's whole field (16.8M
+// The sum of the slot hashes of [begin, end) and whether a slot fails insertable_slot
+// (rvor/propagation.h) for `solved_seeds`. An insertion digests the caller's whole field (16.8M
 // slots at 256^3), so this loop is cloned for AVX2 (slot_hash.h), where it vectorises its 64-bit
-// multiplications: 48 ms -> 22 ms for 16.8M slots on one core with splitmix's finaliser (a
-// stand-alone copy of the loop, g++ -O3; docs/scheme.md, "A cheaper mix", for the mix now).
-// With the hash, whether a slot fails insertable_slot (rvor/propagation.h) for `solved_seeds`.
+// multiplications (`build/bin/bench_slot_hashes` times it).
 RVOR_CLONED_FOR_AVX2 FieldDigest digest_slots(const float* distance, const std::int32_t* label,
                                               std::size_t solved_seeds, std::size_t begin,
                                               std::size_t end) {

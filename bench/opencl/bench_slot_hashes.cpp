@@ -1,0 +1,65 @@
+// The per-slot hashes on the host (host/src/slot_hash.h): an insertion's digest of the caller's
+// field (its hash and insertable check, on slot_threads() threads beside the device's rounds), a
+// canvas's content hash (Canvas::finalize) and the identity every solve and insertion compares
+// (canvas_identity). Slots per second; the 256^3 sizes of the standard bench cases.
+#include <benchmark/benchmark.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "canvas_identity.h"
+#include "field_transfer.h"
+#include "rvor/canvas.h"
+
+namespace {
+
+constexpr int kEdge = 256;
+
+rvor::Canvas box_canvas() {
+  std::vector<rvor::VoxelIndex> origins;
+  for (int k = 0; k < kEdge; k += rvor::Canvas::kBrickEdge)
+    for (int j = 0; j < kEdge; j += rvor::Canvas::kBrickEdge)
+      for (int i = 0; i < kEdge; i += rvor::Canvas::kBrickEdge) origins.push_back({i, j, k});
+  rvor::Canvas canvas;
+  canvas.allocate(3, 2.0 / kEdge, rvor::Vec3::Constant(-1), {kEdge, kEdge, kEdge}, origins);
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
+    canvas.active[slot] = 1;
+    canvas.metric[6 * slot] = canvas.metric[6 * slot + 2] = canvas.metric[6 * slot + 5] =
+        1.0f + static_cast<float>(slot % 977) * 1e-3f;
+  }
+  canvas.finalize();
+  return canvas;
+}
+
+void BM_FieldDigest(benchmark::State& state) {
+  rvor::VoronoiField field;
+  const std::size_t slots = std::size_t{kEdge} * kEdge * kEdge;
+  field.distance.resize(slots);
+  field.label.resize(slots);
+  for (std::size_t slot = 0; slot < slots; ++slot) {
+    field.distance[slot] = 1e-3f * static_cast<float>(slot % 9973);
+    field.label[slot] = static_cast<std::int32_t>(slot % 1000);
+  }
+  for (auto _ : state) benchmark::DoNotOptimize(rvor::opencl::digest_field(field, 1000));
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * slots));
+}
+
+void BM_CanvasContentHash(benchmark::State& state) {
+  rvor::Canvas canvas = box_canvas();
+  for (auto _ : state) {
+    canvas.finalize();
+    benchmark::DoNotOptimize(canvas.content_hash());
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * canvas.slot_count()));
+}
+
+void BM_CanvasIdentity(benchmark::State& state) {
+  const rvor::Canvas canvas = box_canvas();
+  for (auto _ : state) benchmark::DoNotOptimize(rvor::canvas_identity(canvas));
+}
+
+BENCHMARK(BM_FieldDigest)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_CanvasContentHash)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_CanvasIdentity)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
