@@ -465,6 +465,26 @@ TEST(OpenCLInsertion, EveryColourAtOnceEqualsAllAtOnce) {
   }
 }
 
+// Voxel phases bound an insertion's iterations per round apart from a solve's: with one
+// iteration a round, insertions still reach the solve with all seeds.
+TEST(OpenCLInsertion, VoxelPhasesTakeTheInsertionIterationBound) {
+  OpenCLOptions options = test::with_variant(RelaxationVariant::voxel_phases);
+  options.phase_iterations = 6;
+  options.insertion_phase_iterations = 1;
+  REQUIRE_ENGINE_WITH(options);
+  const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 32, rotated_metric(3, 4.0));
+  const std::vector<Vec3> seeds = test::random_points(kLo, kHi, 3, 12, 31);
+  VoronoiField all;
+  EXPECT_EQ(engine->solve(canvas, seeds, all).visits_per_relaxation, 6u);
+  VoronoiField field;
+  engine->solve(canvas, {seeds.begin(), seeds.begin() + 6}, field);
+  for (std::size_t n = 6; n < seeds.size(); ++n)
+    EXPECT_EQ(engine->insert(canvas, {seeds.begin(), seeds.begin() + n + 1}, n, field)
+                  .visits_per_relaxation,
+              1u);
+  test::expect_same_field(canvas, all, field);
+}
+
 // The engine keeps the field it returned on the device; a field it did not return (here the CPU
 // reference's), or one the caller replaced, must be uploaded, not assumed.
 TEST(OpenCLInsertion, IntoAFieldTheEngineDidNotReturn) {
@@ -633,6 +653,11 @@ TEST(OpenCLOptionsCheck, OutOfRangeScheduleOptionsAreClearErrors) {
   o.phase_iterations = 65;  // the voxel phases stamp their evaluations too
   expect_option_error(o, "phase_iterations must be in [1, 64], got 65");
   o.phase_iterations = 8;
+  o.insertion_phase_iterations = 0;
+  expect_option_error(o, "OpenCLOptions::insertion_phase_iterations must be in [1, 64], got 0");
+  o.insertion_phase_iterations = 65;
+  expect_option_error(o, "OpenCLOptions::insertion_phase_iterations must be in [1, 64], got 65");
+  o.insertion_phase_iterations = 4;
   for (const double step : {std::nan(""), 1e-30, HUGE_VAL}) {
     o.front_step = step;
     expect_option_error(o, "front_step must be negative (automatic), 0 (off) or at least 0.25");

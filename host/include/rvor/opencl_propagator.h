@@ -34,6 +34,12 @@ struct OpenCLOptions {
   // make_opencl_propagator throws outside [0, 64].
   int max_sweeps = 0;
   int phase_iterations = 8;  // voxel_phases: most iterations (all phases) per round (at least 1)
+  // voxel_phases insertions: most iterations per round, in [1, 64]. An insertion relaxes a few
+  // bricks a round, so a round lasts as long as one work-group's iterations, each 8 phases apart
+  // by barriers: fewer iterations, more but shorter rounds. One insertion into 1000 seeds at 256^3
+  // on an NVIDIA H200 (docs/scheme.md, "Iterations per insertion round"): 2 / 4 / 8 / 16
+  // iterations 4.65 / 4.39 / 5.04 / 6.08 ms (euclidean), 4 / 8 12.1 / 17.9 ms (radial_shock_3d).
+  int insertion_phase_iterations = 4;
   // Solves relax one brick colour (parities of the brick coordinates, 2^d colours) per round, so
   // that a brick reads its neighbours' fresh values (insertions relax every pending brick each
   // round while they fit the scratch, docs/scheme.md, "Insertion on the device"). `rvor bench

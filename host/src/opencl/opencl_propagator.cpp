@@ -345,9 +345,16 @@ class OpenCLPropagator final : public Propagator {
   }
 
   // The most times one relaxation of a brick evaluates a voxel: a sweep visits each voxel once,
-  // a voxel_phases iteration updates each once.
-  int visits_per_relaxation() const {
-    return sweeps_bricks() ? max_sweeps() : options_.phase_iterations;
+  // a voxel_phases iteration updates each once. An insertion's voxel_phases rounds take their own
+  // bound (OpenCLOptions::insertion_phase_iterations).
+  int visits_per_relaxation(bool insertion) const {
+    if (sweeps_bricks()) return max_sweeps();
+    return insertion ? options_.insertion_phase_iterations : options_.phase_iterations;
+  }
+
+  // The most of solves and insertions: the evaluation stamps of a round must cover either.
+  int most_visits_per_relaxation() const {
+    return std::max(visits_per_relaxation(false), visits_per_relaxation(true));
   }
 
   // The uniform stencil's shape as constants for relax_brick_lanes (kernels/brick_lanes.cl).
@@ -401,6 +408,7 @@ class OpenCLPropagator final : public Propagator {
   PropagationStats propagate(const Canvas& canvas, std::size_t first_seed, std::size_t seed_count,
                              const std::vector<cl_int4>& claims, bool frozen_marks_held,
                              const BrickSeedLists* exact_start = nullptr) {
+    visits_ = visits_per_relaxation(first_seed > 0);
     queue_.enqueueFillBuffer(canvas_->update_counter, cl_ulong{0}, 0, sizeof(cl_ulong));
     queue_.enqueueFillBuffer(canvas_->touched, cl_uchar{0}, 0, canvas_->bricks);
     queue_.enqueueFillBuffer(canvas_->flags, cl_uchar{0}, 0, canvas_->bricks);
@@ -457,7 +465,7 @@ class OpenCLPropagator final : public Propagator {
     stats.round_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - rounds_start).count();
     stats.device_bytes = canvas_->bytes;
-    stats.visits_per_relaxation = static_cast<std::uint64_t>(visits_per_relaxation());
+    stats.visits_per_relaxation = static_cast<std::uint64_t>(visits_);
     return stats;
   }
 
@@ -553,7 +561,7 @@ class OpenCLPropagator final : public Propagator {
   void reset_stamps() {
     // A power of two above the evaluations of one relaxation, so rounds are stamp bit masks.
     const cl_uint ticks =
-        static_cast<cl_uint>(visits_per_relaxation()) * static_cast<cl_uint>(brick_volume_);
+        static_cast<cl_uint>(most_visits_per_relaxation()) * static_cast<cl_uint>(brick_volume_);
     stamp_stride_ = 1;
     while (stamp_stride_ <= ticks) stamp_stride_ *= 2;
     round_base_ = 0;
@@ -672,7 +680,7 @@ class OpenCLPropagator final : public Propagator {
     // Every variant takes BRICK_SWEEP_ARGUMENTS (kernels/propagation.cl).
     set_args(kernel, d.list, static_cast<cl_int>(count), d.state, d.scratch, d.scratch_stamps,
              d.stencils, d.shapes, d.table, d.origins, d.dims, d.grid, d.seeds, d.flags,
-             d.update_counter, static_cast<cl_int>(visits_per_relaxation()), d.evaluated, d.changed,
+             d.update_counter, static_cast<cl_int>(visits_), d.evaluated, d.changed,
              next_round_base(), stamp_stride_, d.activity, d.reader_reach, d.news, threshold_,
              d.least_tentative);
     const std::size_t voxels = static_cast<std::size_t>(count) * brick_volume_;
@@ -717,6 +725,7 @@ class OpenCLPropagator final : public Propagator {
   std::size_t brick_volume_ = 512;
   static constexpr std::uint64_t kMaxStamp = 0xFFFFFFFFu;  // stamps are cl_uint on the device
   cl_uint stamp_stride_ = 1, round_base_ = 0;              // evaluation stamps
+  int visits_ = 1;  // visits_per_relaxation of the propagation under way
   // The field the device state holds, while it holds one bit for bit.
   std::optional<HeldField> device_field_;
   // What the claims derived from the seeds of the last solve or insertion on this canvas (which
@@ -739,9 +748,12 @@ std::unique_ptr<Propagator> make_opencl_propagator(const std::string& device,
   if (options.max_sweeps < 0 || options.max_sweeps > kMaxSweeps)
     throw Error("OpenCLOptions::max_sweeps must be in [0, " + std::to_string(kMaxSweeps) +
                 "] (0: automatic), got " + std::to_string(options.max_sweeps));
-  if (options.phase_iterations < 1 || options.phase_iterations > kMaxSweeps)
-    throw Error("OpenCLOptions::phase_iterations must be in [1, " + std::to_string(kMaxSweeps) +
-                "], got " + std::to_string(options.phase_iterations));
+  for (const auto& [name, iterations] :
+       {std::pair{"phase_iterations", options.phase_iterations},
+        std::pair{"insertion_phase_iterations", options.insertion_phase_iterations}})
+    if (iterations < 1 || iterations > kMaxSweeps)
+      throw Error(std::string("OpenCLOptions::") + name + " must be in [1, " +
+                  std::to_string(kMaxSweeps) + "], got " + std::to_string(iterations));
   if (!std::isfinite(options.front_step) ||
       (options.front_step > 0.0 && options.front_step < kSmallestFrontStep))
     throw Error(
