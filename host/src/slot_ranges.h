@@ -10,9 +10,11 @@
 
 namespace rvor {
 
-// Threads for per-slot host work: the machine's, at most 8.
+// Threads for per-slot host work: the machine's, at most 16. (An insertion's check of the
+// caller's field at 512^3 outlasts the rounds on the GPU machine's 16 cores by ~28 ms on 8
+// threads, ~18 ms on 16.)
 inline unsigned slot_threads() {
-  return std::max(1u, std::min(8u, std::thread::hardware_concurrency()));
+  return std::max(1u, std::min(16u, std::thread::hardware_concurrency()));
 }
 
 // Runs work(t, begin, end) on `threads` threads over [0, slots); rethrows the first error.
