@@ -288,8 +288,9 @@ void add_bench_command(CLI::App& app) {
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
   cmd->add_option("--insert", options->inserted_seeds,
-                  "Then insert N more seeds one at a time into the solved canvas; the table's "
-                  "`insert` column is the mean insert time as a percentage of the solve")
+                  "Then insert N more seeds one at a time into the solved canvas, as a chain of "
+                  "insertions does (a VoronoiSession, which keeps the field with the engine); the "
+                  "table's `insert` column is the mean insert time as a percentage of the solve")
       ->transform(seed_count(0))
       ->capture_default_str();
   cmd->add_flag("--no-exact-start", options->no_exact_start,

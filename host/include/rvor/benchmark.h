@@ -56,8 +56,9 @@ struct BenchResult {
   std::uint64_t device_bytes = 0;           // OpenCL: the device canvas's buffers; cpu: 0
   double bytes_per_voxel = 0.0;             // device_bytes / active voxels
 
-  // Incremental insertion (inserted_seeds > 0): mean and largest seconds of one insert() call
-  // (including the field's upload and download), and the mean as a fraction of the solve.
+  // Incremental insertion (inserted_seeds > 0): mean and largest seconds of one insertion of a
+  // VoronoiSession (the chain of insertions a mesh generator runs: no check of a caller's field,
+  // rvor/voronoi_session.h; the read-back included), and the mean as a fraction of the solve.
   std::optional<double> insert_mean_seconds, insert_max_seconds, insert_fraction;
   // Of the mean insertion, the seconds in its rounds of relaxations (PropagationStats::
   // round_seconds); the rest is the seeds' and the field's preparation and the read-back.

@@ -95,7 +95,9 @@ class Propagator {
   virtual PropagationStats solve(const Canvas& canvas, const std::vector<Vec3>& seeds,
                                  VoronoiField& field) = 0;
   // Adds seeds[first_new..] to a field solved for seeds[0..first_new): only what the new seeds
-  // change is recomputed, and the result equals solve() with all seeds (docs/scheme.md).
+  // change is recomputed, and the result equals solve() with all seeds (docs/scheme.md). Any
+  // field of the canvas is taken, once checked (require_insertable_field), which reads every
+  // slot; chains of insertions into the field returned last skip that in a VoronoiSession.
   virtual PropagationStats insert(const Canvas& canvas, const std::vector<Vec3>& seeds,
                                   std::size_t first_new, VoronoiField& field) = 0;
   // Per canvas brick, 1 where the brick holds a multi-label grid cell (find_multi_label_bricks),
@@ -104,6 +106,16 @@ class Propagator {
   // the device holds another one); the default scans on the host.
   virtual std::vector<std::uint8_t> multi_label_bricks(const Canvas& canvas,
                                                        const VoronoiField& field);
+
+ protected:
+  // insert() into a `field` that is, bit for bit, the one this propagator's last solve() or
+  // insert() returned: VoronoiSession, which alone calls it, owns both the propagator and the
+  // field. The OpenCL engine then skips reading all of it to make sure. Default: insert().
+  virtual PropagationStats insert_returned(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                                           std::size_t first_new, VoronoiField& field) {
+    return insert(canvas, seeds, first_new, field);
+  }
+  friend class VoronoiSession;
 };
 
 // Per canvas brick, 1 where some grid cell based at one of its voxels (the cube, in 2D the square,

@@ -15,6 +15,7 @@
 #include "rvor/metric_field.h"
 #include "rvor/propagation.h"
 #include "rvor/seeds.h"
+#include "rvor/voronoi_session.h"
 
 namespace rvor {
 
@@ -65,15 +66,15 @@ std::unique_ptr<Propagator> make_engine(const BenchCase& c) {
   return make_opencl_propagator(c.device, options);
 }
 
-// Inserts the seeds after the first r.bench_case.seeds one at a time into the solved field.
-void time_insertion(Propagator& engine, const Canvas& canvas, const std::vector<Vec3>& all_seeds,
-                    VoronoiField& field, BenchResult& r) {
+// Inserts the seeds after the first r.bench_case.seeds one at a time into the session's solved
+// field, as a chain of insertions runs (VoronoiSession: no check of a caller's field).
+void time_insertion(VoronoiSession& session, const Canvas& canvas,
+                    const std::vector<Vec3>& all_seeds, BenchResult& r) {
   const std::size_t solved = r.bench_case.seeds;
   if (all_seeds.size() <= solved) return;
   double total = 0.0, largest = 0.0, in_rounds = 0.0, rounds = 0.0;
   for (std::size_t next = solved; next < all_seeds.size(); ++next) {
-    const std::vector<Vec3> seeds(all_seeds.begin(), all_seeds.begin() + next + 1);
-    const PropagationStats stats = engine.insert(canvas, seeds, next, field);
+    const PropagationStats stats = session.insert(canvas, {all_seeds[next]});
     total += stats.seconds;
     in_rounds += stats.round_seconds;
     rounds += static_cast<double>(stats.iterations);
@@ -90,9 +91,9 @@ void time_insertion(Propagator& engine, const Canvas& canvas, const std::vector<
 void time_engine(const BenchCase& c, const Canvas& canvas, const std::vector<Vec3>& all_seeds,
                  VoronoiField& field, BenchResult& r) {
   const std::vector<Vec3> seeds(all_seeds.begin(), all_seeds.begin() + c.seeds);
-  std::unique_ptr<Propagator> engine = make_engine(c);
+  VoronoiSession session(make_engine(c));
   for (int repetition = 0; repetition < std::max(1, c.repetitions); ++repetition) {
-    const PropagationStats stats = engine->solve(canvas, seeds, field);
+    const PropagationStats stats = session.solve(canvas, seeds);
     if (repetition > 0 && stats.seconds >= r.seconds) continue;
     r.seconds = stats.seconds;
     r.iterations = stats.iterations;
@@ -103,9 +104,9 @@ void time_engine(const BenchCase& c, const Canvas& canvas, const std::vector<Vec
     r.exact_start = stats.exact_start;
     r.device_bytes = stats.device_bytes;
   }
-  r.device_description = engine->device_description();  // after a solve: the variant that ran
-  VoronoiField extended = field;  // `field` stays the solve's, for the comparisons
-  time_insertion(*engine, canvas, all_seeds, extended, r);
+  r.device_description = session.device_description();  // after a solve: the variant that ran
+  field = session.field();                              // the solve's, for the comparisons
+  time_insertion(session, canvas, all_seeds, r);
   r.voxels_per_second = per_second(r.active_voxels, r.seconds);
   r.updates_per_voxel = static_cast<double>(r.voxel_updates) / static_cast<double>(r.active_voxels);
   r.bytes_per_voxel = static_cast<double>(r.device_bytes) / static_cast<double>(r.active_voxels);

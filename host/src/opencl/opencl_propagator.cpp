@@ -128,19 +128,7 @@ class OpenCLPropagator final : public Propagator {
 
   PropagationStats insert(const Canvas& canvas, const std::vector<Vec3>& seeds,
                           std::size_t first_new, VoronoiField& field) override {
-    return guarded("inserting seeds", [&] {
-      const auto start = std::chrono::steady_clock::now();
-      require_field_for(canvas, field, "insert()");
-      if (first_new > seeds.size()) throw Error("insert(): first_new is past the last seed");
-      std::size_t known_seeds = 0;
-      const std::vector<cl_int4> claims = prepare(canvas, seeds, first_new, &field, &known_seeds);
-      step_ = 0.0f;  // an insertion changes a region around its seeds: no stepping
-      std::optional<HeldField> held = std::exchange(device_field_, std::nullopt);
-      PropagationStats stats =
-          propagate_insertion(canvas, seeds.size(), first_new, known_seeds, claims, field, held);
-      read_back(held, seeds.size(), field, start, stats);
-      return stats;
-    });
+    return insert_into(canvas, seeds, first_new, field, false);
   }
 
   std::vector<std::uint8_t> multi_label_bricks(const Canvas& canvas,
@@ -184,23 +172,65 @@ class OpenCLPropagator final : public Propagator {
     return device_.info.is_gpu ? RelaxationVariant::voxel_phases : RelaxationVariant::brick_lanes;
   }
 
+  PropagationStats insert_returned(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                                   std::size_t first_new, VoronoiField& field) override {
+    return insert_into(canvas, seeds, first_new, field, true);
+  }
+
+  // returned: `field` is the one returned last, bit for bit (insert_returned).
+  PropagationStats insert_into(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                               std::size_t first_new, VoronoiField& field, bool returned) {
+    return guarded("inserting seeds", [&] {
+      const auto start = std::chrono::steady_clock::now();
+      require_field_for(canvas, field, "insert()");
+      if (first_new > seeds.size()) throw Error("insert(): first_new is past the last seed");
+      // The check of the caller's field reads every slot: it starts first, beside all the rest.
+      std::future<opencl::FieldDigest> digest;
+      if (!returned)
+        digest = std::async(std::launch::async,
+                            [&field, first_new] { return opencl::digest_field(field, first_new); });
+      std::size_t known_seeds = 0;
+      const std::vector<cl_int4> claims = prepare(canvas, seeds, first_new, &field, &known_seeds);
+      step_ = 0.0f;  // an insertion changes a region around its seeds: no stepping
+      std::optional<HeldField> held = std::exchange(device_field_, std::nullopt);
+      PropagationStats stats;
+      if (returned && continues(held, first_new, known_seeds))
+        stats = propagate(canvas, first_new, seeds.size(), claims, true);
+      else
+        stats = propagate_insertion(canvas, seeds.size(), first_new, known_seeds, claims, field,
+                                    digest, held);
+      read_back(held, seeds.size(), field, start, stats);
+      return stats;
+    });
+  }
+
+  // Whether the device state `held` continues into an insertion of seeds[first_new..] as it is:
+  // solved for the first_new seeds that the last call had (`known_seeds` of them), its seeds'
+  // blocks frozen.
+  static bool continues(const std::optional<HeldField>& held, std::size_t first_new,
+                        std::size_t known_seeds) {
+    return held && held->solved_seeds == first_new && known_seeds >= first_new;
+  }
+
   // Propagates seeds[first_new, seed_count) from the caller's `field`, once checked
-  // (require_insertable_field). `held`: the field the device state held, reset unless `field` is
-  // that field bit for bit. The caller almost always passes back the field returned last, but
-  // making sure reads every slot (16.8M at 256^3, milliseconds even on 8 threads): so when the
-  // held field was solved for the same old seeds (`known_seeds` of them are the last call's), the
-  // insertion runs on it while the host checks, and runs again from `field` if that differs.
+  // (require_insertable_field) by its `digest`. `held`: the field the device state held, reset
+  // unless `field` is that field bit for bit. The caller almost always passes back the field
+  // returned last, but making sure reads every slot (16.8M at 256^3, 3-5 ms on 16 host cores of
+  // the GPU machine): so when the held field was solved for the same old seeds (`known_seeds` of
+  // them are the last call's), the insertion runs on it while the host checks, and runs again from
+  // `field` if that differs.
   PropagationStats propagate_insertion(const Canvas& canvas, std::size_t seed_count,
                                        std::size_t first_new, std::size_t known_seeds,
                                        const std::vector<cl_int4>& claims,
-                                       const VoronoiField& field, std::optional<HeldField>& held) {
-    const bool speculate = held && held->solved_seeds == first_new && known_seeds >= first_new;
-    std::future<opencl::FieldDigest> digest =
-        std::async(speculate ? std::launch::async : std::launch::deferred,
-                   [&field, first_new] { return opencl::digest_field(field, first_new); });
+                                       const VoronoiField& field,
+                                       std::future<opencl::FieldDigest>& digest,
+                                       std::optional<HeldField>& held) {
+    const bool speculate = continues(held, first_new, known_seeds);
     PropagationStats stats;
     if (speculate) stats = propagate(canvas, first_new, seed_count, claims, true);
-    const opencl::FieldDigest caller = digest.get();
+    // A returned field comes here when the device no longer holds it: checked as any other.
+    const opencl::FieldDigest caller =
+        digest.valid() ? digest.get() : opencl::digest_field(field, first_new);
     if (caller.faulty) require_insertable_field(canvas, field, first_new, "insert()");
     if (held && caller.hash != held->hash) held.reset();
     if (speculate && held) return stats;

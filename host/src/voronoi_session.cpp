@@ -1,0 +1,37 @@
+// VoronoiSession (rvor/voronoi_session.h): a field and its propagator, kept together.
+#include "rvor/voronoi_session.h"
+
+#include <utility>
+
+#include "rvor/error.h"
+
+namespace rvor {
+
+VoronoiSession::VoronoiSession(std::unique_ptr<Propagator> propagator)
+    : propagator_(std::move(propagator)) {
+  if (!propagator_) throw Error("VoronoiSession: no propagator");
+}
+
+PropagationStats VoronoiSession::solve(const Canvas& canvas, std::vector<Vec3> seeds) {
+  solved_ = returned_last_ = false;
+  const PropagationStats stats = propagator_->solve(canvas, seeds, field_);
+  seeds_ = std::move(seeds);
+  solved_ = returned_last_ = true;
+  return stats;
+}
+
+PropagationStats VoronoiSession::insert(const Canvas& canvas, const std::vector<Vec3>& new_seeds) {
+  if (!solved_) throw Error("VoronoiSession::insert(): no solved field yet (call solve() first)");
+  const std::size_t first_new = seeds_.size();
+  std::vector<Vec3> seeds = seeds_;
+  seeds.insert(seeds.end(), new_seeds.begin(), new_seeds.end());
+  const bool returned_last = std::exchange(returned_last_, false);
+  const PropagationStats stats =
+      returned_last ? propagator_->insert_returned(canvas, seeds, first_new, field_)
+                    : propagator_->insert(canvas, seeds, first_new, field_);
+  seeds_ = std::move(seeds);
+  returned_last_ = true;
+  return stats;
+}
+
+}  // namespace rvor

@@ -1,0 +1,102 @@
+// VoronoiSession: chains of insertions into a field the session keeps with its propagator, on the
+// test device's engine and on the CPU reference (rvor/voronoi_session.h).
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "opencl/opencl_test_support.h"
+#include "rvor/error.h"
+#include "rvor/opencl_propagator.h"
+#include "rvor/voronoi_session.h"
+#include "support/box_canvas.h"
+
+namespace rvor {
+namespace {
+
+const Vec3 kLo(-1, -1, -1), kHi(1, 1, 1);
+
+Canvas sheared_box() {
+  Mat3 G;
+  G << 5, 2, 0, 2, 2, 0, 0, 0, 1;
+  return test::make_uniform_box_canvas(3, kLo, kHi, 32, G);
+}
+
+std::vector<Vec3> seeds_between(const std::vector<Vec3>& seeds, std::size_t begin,
+                                std::size_t end) {
+  return {seeds.begin() + static_cast<std::ptrdiff_t>(begin),
+          seeds.begin() + static_cast<std::ptrdiff_t>(end)};
+}
+
+// Solves 6 seeds, then inserts one, then three at once, then the rest one by one.
+void expect_insertions_equal_a_solve(std::unique_ptr<Propagator> propagator,
+                                     std::unique_ptr<Propagator> all_at_once) {
+  const Canvas canvas = sheared_box();
+  const std::vector<Vec3> seeds = test::random_points(kLo, kHi, 3, 14, 41);
+  VoronoiSession session(std::move(propagator));
+  session.solve(canvas, seeds_between(seeds, 0, 6));
+  session.insert(canvas, seeds_between(seeds, 6, 7));
+  session.insert(canvas, seeds_between(seeds, 7, 10));
+  for (std::size_t n = 10; n < seeds.size(); ++n)
+    session.insert(canvas, seeds_between(seeds, n, n + 1));
+  EXPECT_EQ(session.seeds(), seeds);
+  VoronoiField expected;
+  all_at_once->solve(canvas, seeds, expected);
+  test::expect_same_field(canvas, expected, session.field());
+}
+
+TEST(VoronoiSession, InsertionsEqualASolveWithAllSeeds) {
+  REQUIRE_ENGINE(RelaxationVariant::automatic);
+  expect_insertions_equal_a_solve(std::move(engine), make_reference_propagator());
+}
+
+TEST(VoronoiSession, InsertionsEqualASolveWithAllSeedsOnTheReference) {
+  expect_insertions_equal_a_solve(make_reference_propagator(), make_reference_propagator());
+}
+
+TEST(VoronoiSession, InsertionBeforeASolveIsAnError) {
+  VoronoiSession session(make_reference_propagator());
+  const Canvas canvas = sheared_box();
+  EXPECT_THROW(session.insert(canvas, {Vec3::Zero()}), Error);
+  EXPECT_THROW(VoronoiSession(nullptr), Error);
+}
+
+// A seed outside the domain is refused before anything is written: the session keeps its seeds
+// and field, and the next insertions continue them.
+TEST(VoronoiSession, ARefusedInsertionLeavesTheSessionAsItWas) {
+  REQUIRE_ENGINE(RelaxationVariant::automatic);
+  const Canvas canvas = sheared_box();
+  const std::vector<Vec3> seeds = test::random_points(kLo, kHi, 3, 9, 43);
+  VoronoiSession session(std::move(engine));
+  session.solve(canvas, seeds_between(seeds, 0, 7));
+  const VoronoiField before = session.field();
+  EXPECT_THROW(session.insert(canvas, {Vec3(3, 0, 0)}), Error);
+  EXPECT_EQ(session.seeds().size(), 7u);
+  EXPECT_EQ(session.field().label, before.label);
+  session.insert(canvas, seeds_between(seeds, 7, 9));
+  VoronoiField expected;
+  make_reference_propagator()->solve(canvas, seeds, expected);
+  test::expect_same_field(canvas, expected, session.field());
+}
+
+// A canvas changed in place (and finalized) between insertions is uploaded again, which drops the
+// field the device held: the session's field is then uploaded and continued on the new canvas,
+// as Propagator::insert does with a caller's field.
+TEST(VoronoiSession, ACanvasChangedBetweenInsertionsContinuesTheFieldOnIt) {
+  REQUIRE_ENGINE(RelaxationVariant::automatic);
+  Canvas canvas = sheared_box();
+  const std::vector<Vec3> seeds = test::random_points(kLo, kHi, 3, 10, 47);
+  VoronoiSession session(std::move(engine));
+  session.solve(canvas, seeds_between(seeds, 0, 9));
+  VoronoiField expected = session.field();
+  test::slow_down_a_brick_between_sampled_slots(canvas);
+  session.insert(canvas, seeds_between(seeds, 9, 10));
+  // A fresh engine, given the field as a caller's.
+  make_opencl_propagator(test::engine_device(), test::with_variant(RelaxationVariant::automatic))
+      ->insert(canvas, seeds, 9, expected);
+  test::expect_same_field(canvas, expected, session.field());
+}
+
+}  // namespace
+}  // namespace rvor
