@@ -55,7 +55,10 @@ nvidia_opencl_library() {
 }
 
 # Environment, for a dry run elsewhere: ICD_LIBRARY (default NVIDIA's), BENCH_DEVICE (default the
-# first GPU `rvor devices` lists), RESOLUTION (default 256, the standard cases').
+# first GPU `rvor devices` lists), RESOLUTION (default 256, the standard cases'); to fit a shorter
+# call: TEST_SECONDS (default 200), TEST_FILTER (test_opencl's --gtest_filter), VARIANTS (default
+# "voxel_phases brick_sweep"), INSERTIONS (default 3), EXTRA_UNTIL (default 400: no 512^3 case
+# begins later; 0: none).
 run() {
   local bundle=${1:-$BUNDLE_DEFAULT} archive_dir=${OUT:-$PWD/device-results} root=/tmp/rvor-device
   local out=$root/results
@@ -86,13 +89,15 @@ run() {
   [[ -n $device ]] || { echo "no OpenCL GPU in 'rvor devices'" >&2; exit 1; }
 
   echo "== test_opencl on $device"
-  if RVOR_TEST_DEVICE=$device launch_for 200 test_opencl --gtest_brief=1 \
-    --gtest_filter='-Variants/*BrickLanes*:Variants/*BrickSweep*' >"$out/test_opencl.log" 2>&1; then
+  if RVOR_TEST_DEVICE=$device launch_for "${TEST_SECONDS:-200}" test_opencl \
+    --gtest_filter="${TEST_FILTER:--Variants/*BrickLanes*:Variants/*BrickSweep*}" \
+    >"$out/test_opencl.log" 2>&1; then
     echo passed
   else
     echo "FAILED or timed out (rc $?)"
   fi
-  tail -4 "$out/test_opencl.log"
+  grep -E '^\[ +(FAILED|PASSED) ' "$out/test_opencl.log" | head -20 || true
+  echo "$(grep -c '^\[       OK \]' "$out/test_opencl.log") tests passed, last: $(grep '^\[ RUN' "$out/test_opencl.log" | tail -1)"
   save_results
 
   local -A domains=([euclidean]="box:-1,-1,-1,1,1,1" [radial_shock_3d]="box:1,1,1,11,11,11")
@@ -102,14 +107,14 @@ run() {
     echo "== rvor bench --device $device --variant $variant --metric $metric --resolution $resolution"
     launch_for "$seconds" rvor bench --device "$device" --variant "$variant" --metric "$metric" \
       --domain "${domains[$metric]}" \
-      --resolution "$resolution" --no-reference --insert 3 --repeat 2 --json \
+      --resolution "$resolution" --no-reference --insert "${INSERTIONS:-3}" --repeat 2 --json \
       >"$out/$name.json" 2>"$out/$name.log" || echo "rc $?: $(tail -1 "$out/$name.log")"
     grep -E '"(seconds|voxels_per_second|updates_per_voxel|bytes_per_voxel|fastsweeping_ratio|insert_fraction|insert_mean_seconds|insert_mean_round_seconds|insert_mean_rounds)"' \
       "$out/$name.json" | tr -d ' \n' || true
     echo
     save_results
   }
-  for variant in voxel_phases brick_sweep; do
+  for variant in ${VARIANTS:-voxel_phases brick_sweep}; do
     for metric in euclidean radial_shock_3d; do
       bench_case 55 "$variant" "$metric" "${RESOLUTION:-256}"
     done
