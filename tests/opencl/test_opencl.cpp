@@ -323,8 +323,7 @@ TEST(OpenCLExactStart, OtherDomainsReachTheFixedPointOfAStartFromInfinity) {
 TEST(OpenCLExactStart, RotatedStencilsStartFromInfinity) {
   const Canvas rotated = test::make_uniform_box_canvas(3, kLo, kHi, 24, rotated_metric(3, 3.0));
   const std::vector<Vec3> seeds = test::seeds_in(rotated, 20, 3);
-  for (const RelaxationVariant variant :
-       {RelaxationVariant::brick_lanes, RelaxationVariant::voxel_phases}) {
+  for (const RelaxationVariant variant : test::kDefaultVariants) {
     SCOPED_TRACE(static_cast<int>(variant));
     REQUIRE_ENGINE(variant);
     const std::unique_ptr<Propagator> cold = engine_from_infinity(variant);
@@ -450,8 +449,7 @@ TEST(OpenCLInsertion, OneByOneEqualsAllAtOnce) {
 TEST(OpenCLInsertion, EveryColourAtOnceEqualsAllAtOnce) {
   const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 64, rotated_metric(3, 4.0));
   const std::vector<Vec3> seeds = test::random_points(kLo, kHi, 3, 310, 23);
-  for (const RelaxationVariant variant :
-       {RelaxationVariant::brick_lanes, RelaxationVariant::voxel_phases}) {
+  for (const RelaxationVariant variant : test::kDefaultVariants) {
     SCOPED_TRACE(static_cast<int>(variant));
     REQUIRE_ENGINE(variant);
     VoronoiField all;
@@ -560,8 +558,7 @@ TEST(OpenCLInsertion, RefusesAFieldNotSolvedForTheOldSeeds) {
 // and the same field, bit for bit, for both default variants and a stencil reaching past the
 // next brick.
 TEST(OpenCLInsertion, IsRepeatable) {
-  for (const RelaxationVariant variant :
-       {RelaxationVariant::brick_lanes, RelaxationVariant::voxel_phases}) {
+  for (const RelaxationVariant variant : test::kDefaultVariants) {
     for (const double anisotropy : {4.0, 40.0}) {
       SCOPED_TRACE(std::to_string(static_cast<int>(variant)) + ", anisotropy " +
                    std::to_string(anisotropy));
@@ -588,8 +585,7 @@ TEST(OpenCLInsertion, IsRepeatable) {
 
 // Both variants a device chooses by default (brick_lanes on CPUs, voxel_phases on GPUs).
 TEST(OpenCLInsertion, TouchesLessThanASolve) {
-  for (const RelaxationVariant variant :
-       {RelaxationVariant::brick_lanes, RelaxationVariant::voxel_phases}) {
+  for (const RelaxationVariant variant : test::kDefaultVariants) {
     SCOPED_TRACE(static_cast<int>(variant));
     REQUIRE_ENGINE(variant);
     const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 48, Mat3::Identity());
