@@ -2,6 +2,7 @@
 // test device's engine and on the CPU reference (rvor/voronoi_session.h).
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -80,22 +81,45 @@ TEST(VoronoiSession, ARefusedInsertionLeavesTheSessionAsItWas) {
   test::expect_same_field(canvas, expected, session.field());
 }
 
-// A canvas changed in place (and finalized) between insertions is uploaded again, which drops the
-// field the device held: the session's field is then uploaded and continued on the new canvas,
-// as Propagator::insert does with a caller's field.
-TEST(VoronoiSession, ACanvasChangedBetweenInsertionsContinuesTheFieldOnIt) {
-  REQUIRE_ENGINE(RelaxationVariant::automatic);
+// A canvas changed in place (and finalized) between insertions is taken up again, which drops the
+// field the propagator held: the session's field is then checked and continued on the new canvas,
+// as insert() does with a caller's field (given here to a fresh propagator).
+void expect_a_changed_canvas_continues_the_field(
+    const std::function<std::unique_ptr<Propagator>()>& make) {
   Canvas canvas = sheared_box();
   const std::vector<Vec3> seeds = test::random_points(kLo, kHi, 3, 10, 47);
-  VoronoiSession session(std::move(engine));
+  VoronoiSession session(make());
   session.solve(canvas, seeds_between(seeds, 0, 9));
   VoronoiField expected = session.field();
   test::slow_down_a_brick_between_sampled_slots(canvas);
   session.insert(canvas, seeds_between(seeds, 9, 10));
-  // A fresh engine, given the field as a caller's.
-  make_opencl_propagator(test::engine_device(), test::with_variant(RelaxationVariant::automatic))
-      ->insert(canvas, seeds, 9, expected);
+  make()->insert(canvas, seeds, 9, expected);
   test::expect_same_field(canvas, expected, session.field());
+}
+
+TEST(VoronoiSession, ACanvasChangedBetweenInsertionsContinuesTheFieldOnIt) {
+  REQUIRE_ENGINE(RelaxationVariant::automatic);
+  expect_a_changed_canvas_continues_the_field([] {
+    return make_opencl_propagator(test::engine_device(),
+                                  test::with_variant(RelaxationVariant::automatic));
+  });
+}
+
+TEST(VoronoiSession, ACanvasChangedBetweenInsertionsContinuesTheFieldOnItOnTheReference) {
+  expect_a_changed_canvas_continues_the_field([] { return make_reference_propagator(); });
+}
+
+// An insertion of no seed changes nothing.
+TEST(VoronoiSession, InsertingNoSeedKeepsTheField) {
+  REQUIRE_ENGINE(RelaxationVariant::automatic);
+  const Canvas canvas = sheared_box();
+  VoronoiSession session(std::move(engine));
+  session.solve(canvas, test::random_points(kLo, kHi, 3, 5, 53));
+  const VoronoiField before = session.field();
+  session.insert(canvas, {});
+  EXPECT_EQ(session.seeds().size(), 5u);
+  EXPECT_EQ(session.field().label, before.label);
+  EXPECT_EQ(session.field().distance, before.distance);
 }
 
 }  // namespace
