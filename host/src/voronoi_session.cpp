@@ -22,16 +22,21 @@ PropagationStats VoronoiSession::solve(const Canvas& canvas, std::vector<Vec3> s
 
 PropagationStats VoronoiSession::insert(const Canvas& canvas, const std::vector<Vec3>& new_seeds) {
   if (!solved_) throw Error("VoronoiSession::insert(): no solved field yet (call solve() first)");
+  if (&new_seeds == &seeds_) return insert(canvas, std::vector<Vec3>(new_seeds));  // seeds() again
   const std::size_t first_new = seeds_.size();
-  std::vector<Vec3> seeds = seeds_;
-  seeds.insert(seeds.end(), new_seeds.begin(), new_seeds.end());
+  // Appended in place (no copy of 100 000 seeds per insertion), taken back if the call fails.
+  seeds_.insert(seeds_.end(), new_seeds.begin(), new_seeds.end());
   const bool returned_last = std::exchange(returned_last_, false);
-  const PropagationStats stats =
-      returned_last ? propagator_->insert_returned(canvas, seeds, first_new, field_)
-                    : propagator_->insert(canvas, seeds, first_new, field_);
-  seeds_ = std::move(seeds);
-  returned_last_ = true;
-  return stats;
+  try {
+    const PropagationStats stats =
+        returned_last ? propagator_->insert_returned(canvas, seeds_, first_new, field_)
+                      : propagator_->insert(canvas, seeds_, first_new, field_);
+    returned_last_ = true;
+    return stats;
+  } catch (...) {
+    seeds_.resize(first_new);
+    throw;
+  }
 }
 
 }  // namespace rvor

@@ -110,6 +110,24 @@ TEST(VoronoiSession, ACanvasChangedBetweenInsertionsContinuesTheFieldOnItOnTheRe
   expect_a_changed_canvas_continues_the_field([] { return make_reference_propagator(); });
 }
 
+// The session's own seeds inserted again: each new one ties with its twin, whose label it does
+// not take (a solve with the doubled list labels by the first of two equal seeds).
+void expect_own_seeds_inserted_again_change_no_label(std::unique_ptr<Propagator> propagator) {
+  const Canvas canvas = sheared_box();
+  VoronoiSession session(std::move(propagator));
+  session.solve(canvas, test::random_points(kLo, kHi, 3, 4, 59));
+  const VoronoiField before = session.field();
+  session.insert(canvas, session.seeds());
+  EXPECT_EQ(session.seeds().size(), 8u);
+  EXPECT_EQ(session.field().label, before.label);
+}
+
+TEST(VoronoiSession, ItsOwnSeedsInsertedAgainChangeNoLabel) {
+  REQUIRE_ENGINE(RelaxationVariant::automatic);
+  expect_own_seeds_inserted_again_change_no_label(std::move(engine));
+  expect_own_seeds_inserted_again_change_no_label(make_reference_propagator());
+}
+
 // An insertion of no seed changes nothing.
 TEST(VoronoiSession, InsertingNoSeedKeepsTheField) {
   REQUIRE_ENGINE(RelaxationVariant::automatic);
