@@ -32,6 +32,7 @@ struct BenchOptions {
   std::optional<double> front_step;
   int repetitions = 2;  // the first solve may include compiling the kernels
   std::size_t inserted_seeds = 0;
+  bool checked_insert = false;
   bool no_exact_start = false;
   bool no_reference = false;
   bool no_fastsweeping = false;
@@ -109,6 +110,7 @@ std::vector<BenchCase> chosen_cases(const BenchOptions& o) {
     if (o.front_step) c.front_step = *o.front_step;
     c.repetitions = o.repetitions;
     c.inserted_seeds = o.inserted_seeds;
+    c.checked_insert = o.checked_insert;
     c.exact_start = !o.no_exact_start;
     c.reference = !o.no_reference;
     c.fastsweeping = !o.no_fastsweeping;
@@ -204,6 +206,7 @@ nlohmann::json case_json(const BenchResult& r) {
           {"device_bytes", r.device_bytes},
           {"bytes_per_voxel", r.bytes_per_voxel},
           {"inserted_seeds", r.bench_case.inserted_seeds},
+          {"checked_insert", r.bench_case.checked_insert},
           {"insert_mean_seconds", or_null(r.insert_mean_seconds)},
           {"insert_max_seconds", or_null(r.insert_max_seconds)},
           {"insert_mean_round_seconds", or_null(r.insert_mean_round_seconds)},
@@ -293,6 +296,9 @@ void add_bench_command(CLI::App& app) {
                   "table's `insert` column is the mean insert time as a percentage of the solve")
       ->transform(seed_count(0))
       ->capture_default_str();
+  cmd->add_flag("--checked-insert", options->checked_insert,
+                "Time --insert through Propagator::insert into a copy of the solved field instead: "
+                "a caller's field, which every insertion reads whole to check (beside its rounds)");
   cmd->add_flag("--no-exact-start", options->no_exact_start,
                 "Solve a uniform diagonal metric (the isotropic one among them) from +inf, as "
                 "any other metric, instead of from each voxel's nearest seed's exact distance "

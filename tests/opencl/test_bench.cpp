@@ -86,6 +86,22 @@ TEST(FastSweepingBaseline, DistanceIsEuclideanAndLabelIsNearestSeedAwayFromBisec
   EXPECT_GT(run.swept_voxels, canvas.active_voxel_count / 2);
 }
 
+// Insertions through Propagator::insert with a copy of the solved field (--checked-insert) are
+// timed as the session's are.
+TEST(RunBenchmarkCase, CheckedInsertionsAreTimedToo) {
+  REQUIRE_OPENCL_DEVICE();
+  BenchCase c;
+  c.resolution = 24;
+  c.seeds = 10;
+  c.inserted_seeds = 3;
+  c.checked_insert = true;
+  c.reference = c.fastsweeping = false;
+  const BenchResult r = run_benchmark_case(c);
+  ASSERT_TRUE(r.insert_mean_seconds && r.insert_mean_rounds);
+  EXPECT_GT(*r.insert_mean_seconds, 0);
+  EXPECT_GE(*r.insert_mean_rounds, 1.0);
+}
+
 TEST(RunBenchmarkCase, SmallCaseGivesConsistentPositiveNumbers) {
   REQUIRE_OPENCL_DEVICE();
   BenchCase c;
@@ -185,6 +201,7 @@ TEST(BenchCommand, JsonHasTheRequiredKeysPerCase) {
     EXPECT_GT(c.at("fastsweeping_voxels_per_second").get<double>(), 0);
     EXPECT_GT(c.at("cpu_reference_voxels_per_second").get<double>(), 0);
     EXPECT_EQ(c.at("inserted_seeds"), 1);
+    EXPECT_EQ(c.at("checked_insert"), false);
     EXPECT_GT(c.at("insert_fraction").get<double>(), 0);
     EXPECT_GT(c.at("insert_mean_round_seconds").get<double>(), 0);
     EXPECT_GE(c.at("insert_mean_rounds").get<double>(), 1.0);

@@ -29,8 +29,11 @@ struct BenchCase {
   bool fastsweeping = true;  // also time OpenVDB FastSweeping (3D canvases)
   int repetitions = 1;       // solves with the same propagator; the fastest counts
   // After the solve, insert this many further seeds (the next draws of the same generator) one
-  // at a time into the solved canvas, timing each Propagator::insert.
+  // at a time into the solved canvas: through a VoronoiSession, or with checked_insert through
+  // Propagator::insert into a copy of the solved field (a caller's field, which every insertion
+  // checks by reading all of it).
   std::size_t inserted_seeds = 0;
+  bool checked_insert = false;
 };
 
 // The cases `rvor bench` runs without case options: euclidean on [-1,1]^3 and radial_shock_3d on
@@ -58,7 +61,8 @@ struct BenchResult {
 
   // Incremental insertion (inserted_seeds > 0): mean and largest seconds of one insertion of a
   // VoronoiSession (the chain of insertions a mesh generator runs: no check of a caller's field,
-  // rvor/voronoi_session.h; the read-back included), and the mean as a fraction of the solve.
+  // rvor/voronoi_session.h), or of Propagator::insert with checked_insert, the read-back
+  // included; and the mean as a fraction of the solve.
   std::optional<double> insert_mean_seconds, insert_max_seconds, insert_fraction;
   // Of the mean insertion, the seconds in its rounds of relaxations (PropagationStats::
   // round_seconds); the rest is the seeds' and the field's preparation and the read-back.

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <memory>
 #include <sstream>
 
@@ -66,21 +67,21 @@ std::unique_ptr<Propagator> make_engine(const BenchCase& c) {
   return make_opencl_propagator(c.device, options);
 }
 
-// Inserts the seeds after the first r.bench_case.seeds one at a time into the session's solved
-// field, as a chain of insertions runs (VoronoiSession: no check of a caller's field).
-void time_insertion(VoronoiSession& session, const Canvas& canvas,
-                    const std::vector<Vec3>& all_seeds, BenchResult& r) {
+// Inserts the seeds after the first r.bench_case.seeds one at a time: insert_one(next) inserts
+// all_seeds[next] and returns its stats.
+void time_insertion(const std::function<PropagationStats(std::size_t)>& insert_one,
+                    std::size_t seed_count, BenchResult& r) {
   const std::size_t solved = r.bench_case.seeds;
-  if (all_seeds.size() <= solved) return;
+  if (seed_count <= solved) return;
   double total = 0.0, largest = 0.0, in_rounds = 0.0, rounds = 0.0;
-  for (std::size_t next = solved; next < all_seeds.size(); ++next) {
-    const PropagationStats stats = session.insert(canvas, {all_seeds[next]});
+  for (std::size_t next = solved; next < seed_count; ++next) {
+    const PropagationStats stats = insert_one(next);
     total += stats.seconds;
     in_rounds += stats.round_seconds;
     rounds += static_cast<double>(stats.iterations);
     largest = std::max(largest, stats.seconds);
   }
-  const double insertions = static_cast<double>(all_seeds.size() - solved);
+  const double insertions = static_cast<double>(seed_count - solved);
   r.insert_mean_seconds = total / insertions;
   r.insert_mean_round_seconds = in_rounds / insertions;
   r.insert_mean_rounds = rounds / insertions;
@@ -88,25 +89,52 @@ void time_insertion(VoronoiSession& session, const Canvas& canvas,
   r.insert_fraction = *r.insert_mean_seconds / r.seconds;
 }
 
+void record_solve(const PropagationStats& stats, const Canvas& canvas, BenchResult& r) {
+  r.seconds = stats.seconds;
+  r.iterations = stats.iterations;
+  r.voxel_updates = stats.voxel_updates;
+  r.relaxations_per_brick = static_cast<double>(stats.brick_relaxations) /
+                            static_cast<double>(std::max<std::size_t>(1, canvas.brick_count()));
+  r.visits_per_relaxation = stats.visits_per_relaxation;
+  r.exact_start = stats.exact_start;
+  r.device_bytes = stats.device_bytes;
+}
+
+// Records the fastest of the case's solves by solve_once().
+void time_solves(const BenchCase& c, const Canvas& canvas,
+                 const std::function<PropagationStats()>& solve_once, BenchResult& r) {
+  for (int repetition = 0; repetition < std::max(1, c.repetitions); ++repetition) {
+    const PropagationStats stats = solve_once();
+    if (repetition == 0 || stats.seconds < r.seconds) record_solve(stats, canvas, r);
+  }
+}
+
+// Solves and inserts through a VoronoiSession, or with checked_insert through the propagator
+// with a copy of the solved field as the caller's. `field`: the solve's, for the comparisons.
 void time_engine(const BenchCase& c, const Canvas& canvas, const std::vector<Vec3>& all_seeds,
                  VoronoiField& field, BenchResult& r) {
   const std::vector<Vec3> seeds(all_seeds.begin(), all_seeds.begin() + c.seeds);
-  VoronoiSession session(make_engine(c));
-  for (int repetition = 0; repetition < std::max(1, c.repetitions); ++repetition) {
-    const PropagationStats stats = session.solve(canvas, seeds);
-    if (repetition > 0 && stats.seconds >= r.seconds) continue;
-    r.seconds = stats.seconds;
-    r.iterations = stats.iterations;
-    r.voxel_updates = stats.voxel_updates;
-    r.relaxations_per_brick = static_cast<double>(stats.brick_relaxations) /
-                              static_cast<double>(std::max<std::size_t>(1, canvas.brick_count()));
-    r.visits_per_relaxation = stats.visits_per_relaxation;
-    r.exact_start = stats.exact_start;
-    r.device_bytes = stats.device_bytes;
+  if (c.checked_insert) {
+    const std::unique_ptr<Propagator> engine = make_engine(c);
+    time_solves(
+        c, canvas, [&] { return engine->solve(canvas, seeds, field); }, r);
+    r.device_description = engine->device_description();  // after a solve: the variant that ran
+    VoronoiField extended = field;
+    time_insertion(
+        [&](std::size_t next) {
+          return engine->insert(canvas, {all_seeds.begin(), all_seeds.begin() + next + 1}, next,
+                                extended);
+        },
+        all_seeds.size(), r);
+  } else {
+    VoronoiSession session(make_engine(c));
+    time_solves(
+        c, canvas, [&] { return session.solve(canvas, seeds); }, r);
+    r.device_description = session.device_description();
+    field = session.field();
+    time_insertion([&](std::size_t next) { return session.insert(canvas, {all_seeds[next]}); },
+                   all_seeds.size(), r);
   }
-  r.device_description = session.device_description();  // after a solve: the variant that ran
-  field = session.field();                              // the solve's, for the comparisons
-  time_insertion(session, canvas, all_seeds, r);
   r.voxels_per_second = per_second(r.active_voxels, r.seconds);
   r.updates_per_voxel = static_cast<double>(r.voxel_updates) / static_cast<double>(r.active_voxels);
   r.bytes_per_voxel = static_cast<double>(r.device_bytes) / static_cast<double>(r.active_voxels);
