@@ -11,15 +11,17 @@
 #                                          (not the CPU variants' parametrised cases: a work-item
 #                                          per brick crawls there, and they took the whole limit
 #                                          on 2026-12-04), then `rvor bench` with the variants a
-#                                          GPU runs and, while time is left, 512^3 cases; logs and JSON are packed after
+#                                          GPU runs (and euclidean once with --checked-insert) and,
+#                                          while time is left, 512^3 cases; logs and JSON are packed after
 #                                          each step into $OUT/device-results.tar.gz (the device
 #                                          tool brings back at most 8 files), else into
 #                                          ./device-results
 #
 # With the device tool: run(command="bash scripts/device_bench.sh run",
 #                           carry=["build/device-bundle.tar.xz"], timeout_s=580)
-# (at most 200 s of tests, 4 bench runs of 55 s and 512^3 runs begun before 400 s: under 9.5
-# minutes, inside one call's 10; the 2026-12-04 run took 331 s)
+# (at most 200 s of tests, 5 bench runs of 55 s and 512^3 runs of 75 s begun before 400 s: under
+# 9.5 minutes, inside one call's 10; session 28's first run took 331 s with 4 bench runs; a session
+# has 15 minutes of device time in all, starts included: the environment below shortens a run)
 # The programs run through the bundled loader, so the other machine's C library does not matter.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -101,14 +103,15 @@ run() {
   save_results
 
   local -A domains=([euclidean]="box:-1,-1,-1,1,1,1" [radial_shock_3d]="box:1,1,1,11,11,11")
-  bench_case() {  # SECONDS VARIANT METRIC RESOLUTION
-    local seconds=$1 variant=$2 metric=$3 resolution=$4
-    local name="bench_${variant}_${metric}_$resolution"
-    echo "== rvor bench --device $device --variant $variant --metric $metric --resolution $resolution"
+  bench_case() {  # SECONDS VARIANT METRIC RESOLUTION [FLAG]
+    local seconds=$1 variant=$2 metric=$3 resolution=$4 flag=${5:-}
+    local name="bench_${variant}_${metric}_$resolution${flag//-/_}"
+    echo "== rvor bench --device $device --variant $variant --metric $metric --resolution $resolution $flag"
     launch_for "$seconds" rvor bench --device "$device" --variant "$variant" --metric "$metric" \
       --domain "${domains[$metric]}" \
       --resolution "$resolution" --no-reference --insert "${INSERTIONS:-3}" --repeat 2 --json \
-      >"$out/$name.json" 2>"$out/$name.log" || echo "rc $?: $(tail -1 "$out/$name.log")"
+      ${flag:+"$flag"} >"$out/$name.json" 2>"$out/$name.log" ||
+      echo "rc $?: $(tail -1 "$out/$name.log")"
     grep -E '"(seconds|voxels_per_second|updates_per_voxel|bytes_per_voxel|fastsweeping_ratio|insert_fraction|insert_mean_seconds|insert_mean_round_seconds|insert_mean_rounds)"' \
       "$out/$name.json" | tr -d ' \n' || true
     echo
@@ -119,6 +122,8 @@ run() {
       bench_case 55 "$variant" "$metric" "${RESOLUTION:-256}"
     done
   done
+  # Insertions with a caller's field, checked every call (Propagator::insert), for comparison.
+  bench_case 55 voxel_phases euclidean "${RESOLUTION:-256}" --checked-insert
   # Larger canvases while the call's time lasts (SECONDS counts from the script's start).
   for metric in euclidean radial_shock_3d; do
     if ((SECONDS < ${EXTRA_UNTIL:-400})); then
@@ -130,5 +135,5 @@ run() {
 case ${1:-} in
   pack) pack ;;
   run) shift; run "$@" ;;
-  *) sed -n 2,16p "$0" >&2; exit 2 ;;
+  *) sed -n 2,18p "$0" >&2; exit 2 ;;
 esac
