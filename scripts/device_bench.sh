@@ -8,14 +8,14 @@
 #   scripts/device_bench.sh run [BUNDLE]   there, from the repository root: unpacks the bundle,
 #                                          points the OpenCL ICD loader at NVIDIA's driver, lists
 #                                          the devices, runs test_opencl's engine tests on the GPU
-#                                          (not the CPU variants' parametrised cases: a work-item
-#                                          per brick crawls there, and they took the whole limit
-#                                          on 2026-12-04), then `rvor bench` with the variants a
-#                                          GPU runs (and euclidean once with --checked-insert) and,
-#                                          while time is left, 512^3 cases; logs and JSON are packed after
-#                                          each step into $OUT/device-results.tar.gz (the device
-#                                          tool brings back at most 8 files), else into
-#                                          ./device-results
+#                                          (the GPU's own paths first; not the CPU variants'
+#                                          parametrised cases: a work-item per brick crawls there,
+#                                          and they took the whole limit on 2026-12-04), then
+#                                          `rvor bench` with the variants a GPU runs (euclidean
+#                                          once more with --checked-insert) and, while time is
+#                                          left, 512^3 cases; logs and JSON are packed after each
+#                                          step into $OUT/device-results.tar.gz (the device tool
+#                                          brings back at most 8 files), else into ./device-results
 #
 # With the device tool: run(command="bash scripts/device_bench.sh run",
 #                           carry=["build/device-bundle.tar.xz"], timeout_s=580)
@@ -90,16 +90,28 @@ run() {
   local device=${BENCH_DEVICE:-$(awk '/\[GPU/{print $1; exit}' "$out/devices.txt")}
   [[ -n $device ]] || { echo "no OpenCL GPU in 'rvor devices'" >&2; exit 1; }
 
-  echo "== test_opencl on $device"
-  if RVOR_TEST_DEVICE=$device launch_for "${TEST_SECONDS:-200}" test_opencl \
-    --gtest_filter="${TEST_FILTER:--Variants/*BrickLanes*:Variants/*BrickSweep*}" \
-    >"$out/test_opencl.log" 2>&1; then
-    echo passed
-  else
-    echo "FAILED or timed out (rc $?)"
-  fi
-  grep -E '^\[ +(FAILED|PASSED) ' "$out/test_opencl.log" | head -20 || true
-  echo "$(grep -c '^\[       OK \]' "$out/test_opencl.log") tests passed, last: $(grep '^\[ RUN' "$out/test_opencl.log" | tail -1)"
+  # The tests of what a GPU runs first (the session, insertions, voxel phases' cases), then the
+  # rest while TEST_SECONDS last (not the CPU variants' parametrised cases: a work-item per brick
+  # crawls on a GPU). TEST_FILTER replaces both with one filter.
+  local first_tests='VoronoiSession.*:OpenCLInsertion.*:Variants/*VoxelPhases*:OpenCLExactStart.*'
+  local cpu_variants='Variants/*BrickLanes*:Variants/*BrickSweep*'
+  local -a passes=("$first_tests" "-$first_tests:$cpu_variants")
+  [[ -n ${TEST_FILTER:-} ]] && passes=("$TEST_FILTER")
+  local pass=0 budget=${TEST_SECONDS:-200} started=$SECONDS
+  for filter in "${passes[@]}"; do
+    local left=$((budget - (SECONDS - started)))
+    ((left > 5)) || break
+    pass=$((pass + 1))
+    echo "== test_opencl on $device, pass $pass ($left s): $filter"
+    if RVOR_TEST_DEVICE=$device launch_for "$left" test_opencl --gtest_filter="$filter" \
+      >"$out/test_opencl_$pass.log" 2>&1; then
+      echo passed
+    else
+      echo "FAILED or timed out (rc $?)"
+    fi
+    grep -E '^\[ +FAILED ' "$out/test_opencl_$pass.log" | head -20 || true
+    echo "$(grep -c '^\[       OK \]' "$out/test_opencl_$pass.log") tests passed, last: $(grep '^\[ RUN' "$out/test_opencl_$pass.log" | tail -1)"
+  done
   save_results
 
   local -A domains=([euclidean]="box:-1,-1,-1,1,1,1" [radial_shock_3d]="box:1,1,1,11,11,11")
