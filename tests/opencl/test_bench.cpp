@@ -86,13 +86,19 @@ TEST(FastSweepingBaseline, DistanceIsEuclideanAndLabelIsNearestSeedAwayFromBisec
   EXPECT_GT(run.swept_voxels, canvas.active_voxel_count / 2);
 }
 
+// The euclidean box at `resolution` with `seeds` seeds.
+BenchCase small_case(int resolution, std::size_t seeds) {
+  BenchCase c;
+  c.resolution = resolution;
+  c.seeds = seeds;
+  return c;
+}
+
 // Insertions through Propagator::insert with a copy of the solved field (--checked-insert) are
 // timed as the session's are.
 TEST(RunBenchmarkCase, CheckedInsertionsAreTimedToo) {
   REQUIRE_OPENCL_DEVICE();
-  BenchCase c;
-  c.resolution = 24;
-  c.seeds = 10;
+  BenchCase c = small_case(24, 10);
   c.inserted_seeds = 3;
   c.checked_insert = true;
   c.reference = c.fastsweeping = false;
@@ -104,9 +110,7 @@ TEST(RunBenchmarkCase, CheckedInsertionsAreTimedToo) {
 
 TEST(RunBenchmarkCase, SmallCaseGivesConsistentPositiveNumbers) {
   REQUIRE_OPENCL_DEVICE();
-  BenchCase c;
-  c.resolution = 32;
-  c.seeds = 20;
+  BenchCase c = small_case(32, 20);
   c.inserted_seeds = 2;
   const BenchResult r = run_benchmark_case(c);
   EXPECT_EQ(r.active_voxels, 32u * 32 * 32);
@@ -147,11 +151,9 @@ TEST(RunBenchmarkCase, SmallCaseGivesConsistentPositiveNumbers) {
 
 TEST(RunBenchmarkCase, VaryingMetricStaysUnder64BytesPerVoxel) {
   REQUIRE_OPENCL_DEVICE();
-  BenchCase c;
+  BenchCase c = small_case(32, 20);
   c.domain = "box:1,1,1,11,11,11";
   c.metric = "radial_shock_3d";
-  c.resolution = 32;
-  c.seeds = 20;
   c.reference = false;
   c.fastsweeping = false;
   const BenchResult r = run_benchmark_case(c);
@@ -163,9 +165,7 @@ TEST(RunBenchmarkCase, VaryingMetricStaysUnder64BytesPerVoxel) {
 }
 
 TEST(RunBenchmarkCase, OptionalBaselinesCanBeSkipped) {
-  BenchCase c;
-  c.resolution = 16;
-  c.seeds = 5;
+  BenchCase c = small_case(16, 5);
   c.device = "cpu";
   c.fastsweeping = false;
   const BenchResult r = run_benchmark_case(c);
