@@ -30,6 +30,7 @@ struct BenchOptions {
   std::string device = default_device_name();  // $RVOR_DEVICE, else auto
   RelaxationVariant variant = RelaxationVariant::automatic;
   std::optional<double> front_step;
+  std::optional<int> phase_iterations, insertion_phase_iterations;
   int repetitions = 2;  // the first solve may include compiling the kernels
   std::size_t inserted_seeds = 0;
   bool checked_insert = false;
@@ -78,18 +79,37 @@ std::string domain_for(const std::string& metric) {
          text(box.hi.x()) + "," + text(box.hi.y()) + "," + text(box.hi.z());
 }
 
-// Front stepping is a brick_lanes schedule: an explicit other variant would ignore it.
-void check_front_step(const BenchOptions& o) {
-  const bool other_variant =
-      o.variant == RelaxationVariant::brick_sweep || o.variant == RelaxationVariant::voxel_phases;
-  if (o.front_step && *o.front_step > 0 && other_variant)
-    throw Error(
-        "--front-step applies to brick_lanes solves only, not to --variant " +
-        std::string(o.variant == RelaxationVariant::brick_sweep ? "brick_sweep" : "voxel_phases"));
+std::string variant_name(RelaxationVariant variant) {
+  switch (variant) {
+    case RelaxationVariant::brick_sweep:
+      return "brick_sweep";
+    case RelaxationVariant::brick_lanes:
+      return "brick_lanes";
+    case RelaxationVariant::voxel_phases:
+      return "voxel_phases";
+    default:
+      return "auto";
+  }
+}
+
+// Front stepping is a brick_lanes schedule, phase iterations voxel_phases': an explicit other
+// variant would ignore them.
+void check_variant_options(const BenchOptions& o) {
+  const bool sweeps = o.variant == RelaxationVariant::brick_sweep;
+  const bool phases = o.variant == RelaxationVariant::voxel_phases;
+  auto refuse = [&](const std::string& option, const std::string& applies_to) {
+    throw Error(option + " applies to " + applies_to + " only, not to --variant " +
+                variant_name(o.variant));
+  };
+  if (o.front_step && *o.front_step > 0 && (sweeps || phases))
+    refuse("--front-step", "brick_lanes solves");
+  const bool other = sweeps || o.variant == RelaxationVariant::brick_lanes;
+  if (o.phase_iterations && other) refuse("--phase-iterations", "voxel_phases");
+  if (o.insertion_phase_iterations && other) refuse("--insertion-phase-iterations", "voxel_phases");
 }
 
 std::vector<BenchCase> chosen_cases(const BenchOptions& o) {
-  check_front_step(o);
+  check_variant_options(o);
   if ((o.domain && o.domain->empty()) || (o.metric && o.metric->empty()))
     throw Error(std::string(o.domain && o.domain->empty() ? "--domain" : "--metric") + " is empty");
   std::vector<BenchCase> cases;
@@ -108,6 +128,8 @@ std::vector<BenchCase> chosen_cases(const BenchOptions& o) {
     c.device = o.device;
     c.variant = o.variant;
     if (o.front_step) c.front_step = *o.front_step;
+    if (o.phase_iterations) c.phase_iterations = *o.phase_iterations;
+    if (o.insertion_phase_iterations) c.insertion_phase_iterations = *o.insertion_phase_iterations;
     c.repetitions = o.repetitions;
     c.inserted_seeds = o.inserted_seeds;
     c.checked_insert = o.checked_insert;
@@ -207,6 +229,8 @@ nlohmann::json case_json(const BenchResult& r) {
           {"bytes_per_voxel", r.bytes_per_voxel},
           {"inserted_seeds", r.bench_case.inserted_seeds},
           {"checked_insert", r.bench_case.checked_insert},
+          {"phase_iterations", r.bench_case.phase_iterations},
+          {"insertion_phase_iterations", r.bench_case.insertion_phase_iterations},
           {"insert_mean_seconds", or_null(r.insert_mean_seconds)},
           {"insert_max_seconds", or_null(r.insert_max_seconds)},
           {"insert_mean_round_seconds", or_null(r.insert_mean_round_seconds)},
@@ -284,6 +308,14 @@ void add_bench_command(CLI::App& app) {
                   "tentative value), at least 0.25; 0: off; default automatic: 3 for non-axis "
                   "stencils and Voronoi cells at least 50 voxels across, else off")
       ->check(front_step_range);
+  cmd->add_option("--phase-iterations", options->phase_iterations,
+                  "voxel_phases: most iterations per round of a solve (default " +
+                      std::to_string(OpenCLOptions{}.phase_iterations) + ")")
+      ->check(CLI::Range(1, 64));
+  cmd->add_option("--insertion-phase-iterations", options->insertion_phase_iterations,
+                  "voxel_phases: most iterations per round of an insertion (default " +
+                      std::to_string(OpenCLOptions{}.insertion_phase_iterations) + ")")
+      ->check(CLI::Range(1, 64));
   cmd->add_option("--repeat", options->repetitions,
                   "Solves per case with the same engine; the fastest counts (the first also "
                   "uploads the canvas, and compiles the kernels where PoCL's cache lacks them: "

@@ -23,6 +23,9 @@ struct BenchCase {
   RelaxationVariant variant = RelaxationVariant::automatic;  // OpenCL devices only
   // OpenCL brick_lanes solves: OpenCLOptions::front_step (automatic by default).
   double front_step = OpenCLOptions{}.front_step;
+  // OpenCL voxel_phases: OpenCLOptions::phase_iterations and insertion_phase_iterations.
+  int phase_iterations = OpenCLOptions{}.phase_iterations;
+  int insertion_phase_iterations = OpenCLOptions{}.insertion_phase_iterations;
   // Uniform metrics: OpenCLOptions::exact_start, and the same for the CPU reference.
   bool exact_start = true;
   bool reference = true;     // also time the CPU reference (slow at 256^3)

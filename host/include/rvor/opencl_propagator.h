@@ -37,8 +37,9 @@ struct OpenCLOptions {
   // voxel_phases insertions: most iterations per round, in [1, 64]. An insertion relaxes a few
   // bricks a round, so a round lasts as long as one work-group's iterations, each 8 phases apart
   // by barriers: fewer iterations, more but shorter rounds. One insertion into 1000 seeds at 256^3
-  // on an NVIDIA H200 (docs/scheme.md, "Iterations per insertion round"): 2 / 4 / 8 / 16
-  // iterations 4.65 / 4.39 / 5.04 / 6.08 ms (euclidean), 4 / 8 12.1 / 17.9 ms (radial_shock_3d).
+  // on an NVIDIA H200 (docs/scheme.md, "Iterations per insertion round"; `rvor bench
+  // --insertion-phase-iterations N`): 2 / 4 / 8 / 16 iterations 4.65 / 4.39 / 5.04 / 6.08 ms
+  // (euclidean), 4 / 8 12.1 / 17.9 ms (radial_shock_3d).
   int insertion_phase_iterations = 4;
   // Solves relax one brick colour (parities of the brick coordinates, 2^d colours) per round, so
   // that a brick reads its neighbours' fresh values (insertions relax every pending brick each

@@ -63,6 +63,8 @@ std::unique_ptr<Propagator> make_engine(const BenchCase& c) {
   OpenCLOptions options;
   options.variant = c.variant;
   options.front_step = c.front_step;
+  options.phase_iterations = c.phase_iterations;
+  options.insertion_phase_iterations = c.insertion_phase_iterations;
   options.exact_start = c.exact_start;
   return make_opencl_propagator(c.device, options);
 }
