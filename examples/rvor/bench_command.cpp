@@ -33,6 +33,7 @@ struct BenchOptions {
   std::optional<int> phase_iterations, insertion_phase_iterations;
   int repetitions = 2;  // the first solve may include compiling the kernels
   std::size_t inserted_seeds = 0;
+  std::size_t insert_batch = 1;
   bool checked_insert = false;
   bool no_exact_start = false;
   bool no_reference = false;
@@ -132,6 +133,7 @@ std::vector<BenchCase> chosen_cases(const BenchOptions& o) {
     if (o.insertion_phase_iterations) c.insertion_phase_iterations = *o.insertion_phase_iterations;
     c.repetitions = o.repetitions;
     c.inserted_seeds = o.inserted_seeds;
+    c.insert_batch = o.insert_batch;
     c.checked_insert = o.checked_insert;
     c.exact_start = !o.no_exact_start;
     c.reference = !o.no_reference;
@@ -228,6 +230,7 @@ nlohmann::json case_json(const BenchResult& r) {
           {"device_bytes", r.device_bytes},
           {"bytes_per_voxel", r.bytes_per_voxel},
           {"inserted_seeds", r.bench_case.inserted_seeds},
+          {"insert_batch", r.bench_case.insert_batch},
           {"checked_insert", r.bench_case.checked_insert},
           {"phase_iterations", r.bench_case.phase_iterations},
           {"insertion_phase_iterations", r.bench_case.insertion_phase_iterations},
@@ -327,6 +330,11 @@ void add_bench_command(CLI::App& app) {
                   "insertions does (a VoronoiSession, which keeps the field with the engine); the "
                   "table's `insert` column is the mean insert time as a percentage of the solve")
       ->transform(seed_count(0))
+      ->capture_default_str();
+  cmd->add_option("--insert-batch", options->insert_batch,
+                  "Seeds per insertion of --insert (the last may take fewer); the `insert` "
+                  "column is then the mean time of one such insertion")
+      ->transform(seed_count(1))
       ->capture_default_str();
   cmd->add_flag("--checked-insert", options->checked_insert,
                 "Time --insert through Propagator::insert into a copy of the solved field instead: "

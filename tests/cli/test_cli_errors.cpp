@@ -229,7 +229,7 @@ TEST_F(CliErrors, ParseErrorsAreOneLineWithExitCodeOne) {
         std::string("bench --rng-seed 99999999999999999999"), std::string("bench --front-step nan"),
         // 2^64, which a comparison in double took for 2^64 - 1; a step the engine would refuse.
         std::string("bench --rng-seed 18446744073709551616"), std::string("bench --front-step 0.1"),
-        std::string("bench --phase-iterations 0"),
+        std::string("bench --phase-iterations 0"), std::string("bench --insert-batch 0"),
         std::string("bench --insertion-phase-iterations 65"),
         // An option of the other variants' schedules, which this one would ignore.
         std::string("bench --variant brick_lanes --insertion-phase-iterations 2"),

@@ -108,6 +108,19 @@ TEST(RunBenchmarkCase, CheckedInsertionsAreTimedToo) {
   EXPECT_GE(*r.insert_mean_rounds, 1.0);
 }
 
+// Insertions of several seeds each (--insert-batch), the last taking what is left.
+TEST(RunBenchmarkCase, InsertionsInBatches) {
+  REQUIRE_OPENCL_DEVICE();
+  BenchCase c = small_case(24, 10);
+  c.inserted_seeds = 5;
+  c.insert_batch = 2;
+  c.reference = c.fastsweeping = false;
+  const BenchResult r = run_benchmark_case(c);
+  ASSERT_TRUE(r.insert_mean_seconds && r.insert_max_seconds);
+  EXPECT_GT(*r.insert_mean_seconds, 0);
+  EXPECT_GE(*r.insert_max_seconds, *r.insert_mean_seconds);
+}
+
 TEST(RunBenchmarkCase, SmallCaseGivesConsistentPositiveNumbers) {
   REQUIRE_OPENCL_DEVICE();
   BenchCase c = small_case(32, 20);
@@ -202,6 +215,7 @@ TEST(BenchCommand, JsonHasTheRequiredKeysPerCase) {
     EXPECT_GT(c.at("cpu_reference_voxels_per_second").get<double>(), 0);
     EXPECT_EQ(c.at("inserted_seeds"), 1);
     EXPECT_EQ(c.at("checked_insert"), false);
+    EXPECT_EQ(c.at("insert_batch"), 1);
     EXPECT_GT(c.at("insert_fraction").get<double>(), 0);
     EXPECT_GT(c.at("insert_mean_round_seconds").get<double>(), 0);
     EXPECT_GE(c.at("insert_mean_rounds").get<double>(), 1.0);

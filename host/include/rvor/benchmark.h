@@ -36,6 +36,7 @@ struct BenchCase {
   // Propagator::insert into a copy of the solved field (a caller's field, which every insertion
   // checks by reading all of it).
   std::size_t inserted_seeds = 0;
+  std::size_t insert_batch = 1;  // seeds per insertion (the last may take fewer)
   bool checked_insert = false;
 };
 
@@ -62,7 +63,8 @@ struct BenchResult {
   std::uint64_t device_bytes = 0;           // OpenCL: the device canvas's buffers; cpu: 0
   double bytes_per_voxel = 0.0;             // device_bytes / active voxels
 
-  // Incremental insertion (inserted_seeds > 0): mean and largest seconds of one insertion of a
+  // Incremental insertion (inserted_seeds > 0): mean and largest seconds of one insertion (of
+  // insert_batch seeds) of a
   // VoronoiSession (the chain of insertions a mesh generator runs: no check of a caller's field,
   // rvor/voronoi_session.h), or of Propagator::insert with checked_insert, the read-back
   // included; and the mean as a fraction of the solve.

@@ -69,21 +69,22 @@ std::unique_ptr<Propagator> make_engine(const BenchCase& c) {
   return make_opencl_propagator(c.device, options);
 }
 
-// Inserts the seeds after the first r.bench_case.seeds one at a time: insert_one(next) inserts
-// all_seeds[next] and returns its stats.
-void time_insertion(const std::function<PropagationStats(std::size_t)>& insert_one,
+// Inserts the seeds after the first r.bench_case.seeds, insert_batch at a time: insert(next, end)
+// inserts all_seeds[next, end) and returns its stats.
+void time_insertion(const std::function<PropagationStats(std::size_t, std::size_t)>& insert,
                     std::size_t seed_count, BenchResult& r) {
   const std::size_t solved = r.bench_case.seeds;
   if (seed_count <= solved) return;
-  double total = 0.0, largest = 0.0, in_rounds = 0.0, rounds = 0.0;
-  for (std::size_t next = solved; next < seed_count; ++next) {
-    const PropagationStats stats = insert_one(next);
+  const std::size_t batch = std::max<std::size_t>(1, r.bench_case.insert_batch);
+  double total = 0.0, largest = 0.0, in_rounds = 0.0, rounds = 0.0, insertions = 0.0;
+  for (std::size_t next = solved; next < seed_count; next += batch) {
+    const PropagationStats stats = insert(next, std::min(seed_count, next + batch));
+    insertions += 1.0;
     total += stats.seconds;
     in_rounds += stats.round_seconds;
     rounds += static_cast<double>(stats.iterations);
     largest = std::max(largest, stats.seconds);
   }
-  const double insertions = static_cast<double>(seed_count - solved);
   r.insert_mean_seconds = total / insertions;
   r.insert_mean_round_seconds = in_rounds / insertions;
   r.insert_mean_rounds = rounds / insertions;
@@ -123,8 +124,8 @@ void time_engine(const BenchCase& c, const Canvas& canvas, const std::vector<Vec
     r.device_description = engine->device_description();  // after a solve: the variant that ran
     VoronoiField extended = field;
     time_insertion(
-        [&](std::size_t next) {
-          return engine->insert(canvas, {all_seeds.begin(), all_seeds.begin() + next + 1}, next,
+        [&](std::size_t next, std::size_t end) {
+          return engine->insert(canvas, {all_seeds.begin(), all_seeds.begin() + end}, next,
                                 extended);
         },
         all_seeds.size(), r);
@@ -134,8 +135,11 @@ void time_engine(const BenchCase& c, const Canvas& canvas, const std::vector<Vec
         c, canvas, [&] { return session.solve(canvas, seeds); }, r);
     r.device_description = session.device_description();
     field = session.field();
-    time_insertion([&](std::size_t next) { return session.insert(canvas, {all_seeds[next]}); },
-                   all_seeds.size(), r);
+    time_insertion(
+        [&](std::size_t next, std::size_t end) {
+          return session.insert(canvas, {all_seeds.begin() + next, all_seeds.begin() + end});
+        },
+        all_seeds.size(), r);
   }
   r.voxels_per_second = per_second(r.active_voxels, r.seconds);
   r.updates_per_voxel = static_cast<double>(r.voxel_updates) / static_cast<double>(r.active_voxels);
@@ -223,8 +227,10 @@ BenchResult run_benchmark_case(const BenchCase& c,
   time_engine(c, canvas, all_seeds, field, r);
   report(progress, r.device_description + ": " + seconds_text(r.seconds));
   if (r.insert_mean_seconds)
-    report(progress, "insert " + std::to_string(c.inserted_seeds) + " seeds one by one: mean " +
-                         seconds_text(*r.insert_mean_seconds) + " (" +
+    report(progress, "insert " + std::to_string(c.inserted_seeds) + " seeds " +
+                         (c.insert_batch > 1 ? "in batches of " + std::to_string(c.insert_batch)
+                                             : std::string("one by one")) +
+                         ": mean " + seconds_text(*r.insert_mean_seconds) + " (" +
                          seconds_text(*r.insert_mean_round_seconds) + " in " +
                          fixed_text(*r.insert_mean_rounds, 1) + " rounds), largest " +
                          seconds_text(*r.insert_max_seconds));
