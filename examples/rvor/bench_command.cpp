@@ -326,9 +326,10 @@ void add_bench_command(CLI::App& app) {
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
   cmd->add_option("--insert", options->inserted_seeds,
-                  "Then insert N more seeds one at a time into the solved canvas, as a chain of "
-                  "insertions does (a VoronoiSession, which keeps the field with the engine); the "
-                  "table's `insert` column is the mean insert time as a percentage of the solve")
+                  "Then insert N more seeds into the solved canvas, one at a time (or "
+                  "--insert-batch at a time), as a chain of insertions does (a VoronoiSession, "
+                  "which keeps the field with the engine); the table's `insert` column is the mean "
+                  "insert time as a percentage of the solve")
       ->transform(seed_count(0))
       ->capture_default_str();
   cmd->add_option("--insert-batch", options->insert_batch,
