@@ -193,23 +193,11 @@ class OpenCLPropagator final : public Propagator {
       const std::vector<cl_int4> claims = prepare(canvas, seeds, first_new, &field, &known_seeds);
       step_ = 0.0f;  // an insertion changes a region around its seeds: no stepping
       std::optional<HeldField> held = std::exchange(device_field_, std::nullopt);
-      PropagationStats stats;
-      if (returned && continues(held, first_new, known_seeds))
-        stats = propagate(canvas, first_new, seeds.size(), claims, true);
-      else
-        stats = propagate_insertion(canvas, seeds.size(), first_new, known_seeds, claims, field,
-                                    digest, held);
+      PropagationStats stats = propagate_insertion(canvas, seeds.size(), first_new, known_seeds,
+                                                   claims, field, digest, held);
       read_back(held, seeds.size(), field, start, stats);
       return stats;
     });
-  }
-
-  // Whether the device state `held` continues into an insertion of seeds[first_new..] as it is:
-  // solved for the first_new seeds that the last call had (`known_seeds` of them), its seeds'
-  // blocks frozen.
-  static bool continues(const std::optional<HeldField>& held, std::size_t first_new,
-                        std::size_t known_seeds) {
-    return held && held->solved_seeds == first_new && known_seeds >= first_new;
   }
 
   // Propagates seeds[first_new, seed_count) from the caller's `field`, once checked
@@ -218,17 +206,18 @@ class OpenCLPropagator final : public Propagator {
   // returned last, but making sure reads every slot (16.8M at 256^3, 3-5 ms on 16 host cores of
   // the GPU machine): so when the held field was solved for the same old seeds (`known_seeds` of
   // them are the last call's), the insertion runs on it while the host checks, and runs again from
-  // `field` if that differs.
+  // `field` if that differs. No digest: `field` is the one returned last (insert_returned), so
+  // only a device that no longer holds it makes it checked.
   PropagationStats propagate_insertion(const Canvas& canvas, std::size_t seed_count,
                                        std::size_t first_new, std::size_t known_seeds,
                                        const std::vector<cl_int4>& claims,
                                        const VoronoiField& field,
                                        std::future<opencl::FieldDigest>& digest,
                                        std::optional<HeldField>& held) {
-    const bool speculate = continues(held, first_new, known_seeds);
+    const bool speculate = held && held->solved_seeds == first_new && known_seeds >= first_new;
     PropagationStats stats;
     if (speculate) stats = propagate(canvas, first_new, seed_count, claims, true);
-    // A returned field comes here when the device no longer holds it: checked as any other.
+    if (speculate && !digest.valid()) return stats;
     const opencl::FieldDigest caller =
         digest.valid() ? digest.get() : opencl::digest_field(field, first_new);
     if (caller.faulty) require_insertable_field(canvas, field, first_new, "insert()");
@@ -438,7 +427,7 @@ class OpenCLPropagator final : public Propagator {
   PropagationStats propagate(const Canvas& canvas, std::size_t first_seed, std::size_t seed_count,
                              const std::vector<cl_int4>& claims, bool frozen_marks_held,
                              const BrickSeedLists* exact_start = nullptr) {
-    visits_ = visits_per_relaxation(first_seed > 0);
+    const int visits = visits_per_relaxation(first_seed > 0);
     queue_.enqueueFillBuffer(canvas_->update_counter, cl_ulong{0}, 0, sizeof(cl_ulong));
     queue_.enqueueFillBuffer(canvas_->touched, cl_uchar{0}, 0, canvas_->bricks);
     queue_.enqueueFillBuffer(canvas_->flags, cl_uchar{0}, 0, canvas_->bricks);
@@ -481,7 +470,7 @@ class OpenCLPropagator final : public Propagator {
           colour = colour_count - 1;  // the loop moves on to colour 0
           continue;
         }
-        relax(count);
+        relax(count, visits);
         stats.brick_relaxations += static_cast<std::uint64_t>(count);
         if (++stats.iterations > kMaxRounds)
           throw Error("the OpenCL propagation did not converge in " + std::to_string(kMaxRounds) +
@@ -495,7 +484,7 @@ class OpenCLPropagator final : public Propagator {
     stats.round_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - rounds_start).count();
     stats.device_bytes = canvas_->bytes;
-    stats.visits_per_relaxation = static_cast<std::uint64_t>(visits_);
+    stats.visits_per_relaxation = static_cast<std::uint64_t>(visits);
     return stats;
   }
 
@@ -703,14 +692,15 @@ class OpenCLPropagator final : public Propagator {
     queue_.finish();
   }
 
-  void relax(int count) {
+  // Relaxes the `count` listed bricks, each voxel at most `visits` times (visits_per_relaxation).
+  void relax(int count, int visits) {
     const DeviceCanvasRef d = *canvas_;
     const bool sweep = sweeps_bricks();
     cl::Kernel& kernel = step_ > 0.0f ? relax_stepping_ : relax_;
     // Every variant takes BRICK_SWEEP_ARGUMENTS (kernels/propagation.cl).
     set_args(kernel, d.list, static_cast<cl_int>(count), d.state, d.scratch, d.scratch_stamps,
              d.stencils, d.shapes, d.table, d.origins, d.dims, d.grid, d.seeds, d.flags,
-             d.update_counter, static_cast<cl_int>(visits_), d.evaluated, d.changed,
+             d.update_counter, static_cast<cl_int>(visits), d.evaluated, d.changed,
              next_round_base(), stamp_stride_, d.activity, d.reader_reach, d.news, threshold_,
              d.least_tentative);
     const std::size_t voxels = static_cast<std::size_t>(count) * brick_volume_;
@@ -755,7 +745,6 @@ class OpenCLPropagator final : public Propagator {
   std::size_t brick_volume_ = 512;
   static constexpr std::uint64_t kMaxStamp = 0xFFFFFFFFu;  // stamps are cl_uint on the device
   cl_uint stamp_stride_ = 1, round_base_ = 0;              // evaluation stamps
-  int visits_ = 1;  // visits_per_relaxation of the propagation under way
   // The field the device state holds, while it holds one bit for bit.
   std::optional<HeldField> device_field_;
   // What the claims derived from the seeds of the last solve or insertion on this canvas (which
