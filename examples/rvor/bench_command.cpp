@@ -80,17 +80,17 @@ std::string domain_for(const std::string& metric) {
          text(box.hi.x()) + "," + text(box.hi.y()) + "," + text(box.hi.z());
 }
 
+// --variant's names, which the errors below use too.
+const std::map<std::string, RelaxationVariant> kVariantNames = {
+    {"auto", RelaxationVariant::automatic},
+    {"brick_sweep", RelaxationVariant::brick_sweep},
+    {"brick_lanes", RelaxationVariant::brick_lanes},
+    {"voxel_phases", RelaxationVariant::voxel_phases}};
+
 std::string variant_name(RelaxationVariant variant) {
-  switch (variant) {
-    case RelaxationVariant::brick_sweep:
-      return "brick_sweep";
-    case RelaxationVariant::brick_lanes:
-      return "brick_lanes";
-    case RelaxationVariant::voxel_phases:
-      return "voxel_phases";
-    default:
-      return "auto";
-  }
+  for (const auto& [name, named] : kVariantNames)
+    if (named == variant) return name;
+  return "auto";
 }
 
 // Front stepping is a brick_lanes schedule, phase iterations voxel_phases': an explicit other
@@ -295,16 +295,11 @@ void add_bench_command(CLI::App& app) {
       ->transform(rng_seed_value)
       ->capture_default_str();
   const CLI::Option* device = add_device_option(cmd, options->device, "the reference itself");
-  const std::map<std::string, RelaxationVariant> variants = {
-      {"auto", RelaxationVariant::automatic},
-      {"brick_sweep", RelaxationVariant::brick_sweep},
-      {"brick_lanes", RelaxationVariant::brick_lanes},
-      {"voxel_phases", RelaxationVariant::voxel_phases}};
   cmd->add_option("--variant", options->variant,
                   "OpenCL relaxation: auto (brick_lanes on CPUs, voxel_phases on GPUs) | "
                   "brick_lanes (brick_sweep on 8 bricks per work-item, in SIMD lanes) | "
                   "brick_sweep | voxel_phases")
-      ->transform(CLI::CheckedTransformer(variants));
+      ->transform(CLI::CheckedTransformer(kVariantNames));
   cmd->add_option("--front-step", options->front_step,
                   "brick_lanes solves: front stepping, in voxel lengths K (values above a "
                   "threshold stay tentative; once per colour cycle it moves K past the least "
