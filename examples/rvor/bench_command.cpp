@@ -231,6 +231,7 @@ nlohmann::json case_json(const BenchResult& r) {
           {"bytes_per_voxel", r.bytes_per_voxel},
           {"inserted_seeds", r.bench_case.inserted_seeds},
           {"insert_batch", r.bench_case.insert_batch},
+          {"insertions", r.insertions},
           {"checked_insert", r.bench_case.checked_insert},
           {"phase_iterations", r.bench_case.phase_iterations},
           {"insertion_phase_iterations", r.bench_case.insertion_phase_iterations},

@@ -116,6 +116,7 @@ TEST(RunBenchmarkCase, InsertionsInBatches) {
   c.insert_batch = 2;
   c.reference = c.fastsweeping = false;
   const BenchResult r = run_benchmark_case(c);
+  EXPECT_EQ(r.insertions, 3u);  // 2, 2 and 1 seeds
   ASSERT_TRUE(r.insert_mean_seconds && r.insert_max_seconds);
   EXPECT_GT(*r.insert_mean_seconds, 0);
   EXPECT_GE(*r.insert_max_seconds, *r.insert_mean_seconds);
@@ -216,6 +217,7 @@ TEST(BenchCommand, JsonHasTheRequiredKeysPerCase) {
     EXPECT_EQ(c.at("inserted_seeds"), 1);
     EXPECT_EQ(c.at("checked_insert"), false);
     EXPECT_EQ(c.at("insert_batch"), 1);
+    EXPECT_EQ(c.at("insertions"), 1);
     EXPECT_GT(c.at("insert_fraction").get<double>(), 0);
     EXPECT_GT(c.at("insert_mean_round_seconds").get<double>(), 0);
     EXPECT_GE(c.at("insert_mean_rounds").get<double>(), 1.0);

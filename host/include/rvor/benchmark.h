@@ -69,6 +69,7 @@ struct BenchResult {
   // rvor/voronoi_session.h), or of Propagator::insert with checked_insert, the read-back
   // included; and the mean as a fraction of the solve.
   std::optional<double> insert_mean_seconds, insert_max_seconds, insert_fraction;
+  std::size_t insertions = 0;  // calls timed: inserted_seeds / insert_batch, rounded up
   // Of the mean insertion, the seconds in its rounds of relaxations (PropagationStats::
   // round_seconds); the rest is the seeds' and the field's preparation and the read-back.
   std::optional<double> insert_mean_round_seconds;

@@ -76,15 +76,17 @@ void time_insertion(const std::function<PropagationStats(std::size_t, std::size_
   const std::size_t solved = r.bench_case.seeds;
   if (seed_count <= solved) return;
   const std::size_t batch = std::max<std::size_t>(1, r.bench_case.insert_batch);
-  double total = 0.0, largest = 0.0, in_rounds = 0.0, rounds = 0.0, insertions = 0.0;
+  double total = 0.0, largest = 0.0, in_rounds = 0.0, rounds = 0.0;
+  r.insertions = 0;
   for (std::size_t next = solved; next < seed_count; next += batch) {
     const PropagationStats stats = insert(next, std::min(seed_count, next + batch));
-    insertions += 1.0;
+    ++r.insertions;
     total += stats.seconds;
     in_rounds += stats.round_seconds;
     rounds += static_cast<double>(stats.iterations);
     largest = std::max(largest, stats.seconds);
   }
+  const double insertions = static_cast<double>(r.insertions);
   r.insert_mean_seconds = total / insertions;
   r.insert_mean_round_seconds = in_rounds / insertions;
   r.insert_mean_rounds = rounds / insertions;
