@@ -11,8 +11,9 @@
 namespace rvor {
 
 // Threads for per-slot host work: the machine's, at most 16. (An insertion's check of the
-// caller's field at 512^3 outlasts the rounds on the GPU machine's 16 cores by ~28 ms on 8
-// threads, ~18 ms on 16.)
+// caller's field at 512^3 outlasted the rounds on the H200 machine's 16 cores by 23-31 ms on 8
+// threads, 17-20 ms on 16: a temporary switch and timers, session 28, docs/scheme.md "Insertions
+// on the GPU"; `rvor bench --checked-insert --resolution 512` shows the whole insertion.)
 inline unsigned slot_threads() {
   return std::max(1u, std::min(16u, std::thread::hardware_concurrency()));
 }
