@@ -110,12 +110,45 @@ __kernel void claim_seed_voxels(int claim_count, __global const int4* claims,
   mark_seed_change(slot, flags, changed, stamp, touched);
 }
 
+// The least u0 over a brick's listed seeds, candidates[begin, end) (rvor/nearest_seeds.h; ties:
+// the smaller label), at the EDGE slots of the brick row from `first` (local index), and the list
+// entry of that seed (-1: none, or its quarter does not see it: the bit per quarter of
+// `candidate_seen`).
+inline void nearest_listed_seeds(int brick, int first, uint begin, uint end,
+                                 __global const int* candidates,
+                                 __global const uchar* candidate_seen, __global const float* seeds,
+                                 __global const int4* brick_origins, float* distance, int* entry) {
+  const int3 in_brick = local_coordinates(first);
+  const int3 v = brick_origins[brick].xyz + in_brick;
+  const float8 x = (float8)(0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f) + (float)v.x;
+  float8 least = (float8)(INFINITY);
+  int8 nearest = (int8)(-1);
+  // Candidates come in ascending labels, so on a tie the first, smaller label stays.
+  for (uint c = begin; c < end; ++c) {
+    __global const float* seed = seeds + (size_t)candidates[c] * SEED_RECORD;
+    const float8 qx = x - seed[0];
+    const float qy = (float)v.y - seed[1], qz = (float)v.z - seed[2];
+    // A diagonal metric (the host checks): u0^2 = g11 qx^2 + g22 qy^2 + g33 qz^2.
+    const float8 u0 = sqrt(seed[8] * qx * qx + (seed[10] * qy * qy + seed[13] * qz * qz));
+    const int8 nearer = u0 < least;
+    least = select(least, u0, nearer);
+    nearest = select(nearest, (int8)((int)c), nearer);
+  }
+  vstore8(least, 0, distance);
+  vstore8(nearest, 0, entry);
+  // The row's quarters (bit q = (x >= 4) + 2 (y >= 4) + 4 (z >= 4), rvor/nearest_seeds.h).
+  const int row_quarter = (in_brick.y >= EDGE / 2 ? 2 : 0) + (in_brick.z >= EDGE / 2 ? 4 : 0);
+  for (int i = 0; i < EDGE; ++i) {
+    const int quarter = row_quarter + (i >= EDGE / 2 ? 1 : 0);
+    if (entry[i] >= 0 && !((candidate_seen[entry[i]] >> quarter) & 1)) entry[i] = -1;
+  }
+}
+
 // The exact start (docs/scheme.md, "Initialisation"), for a uniform diagonal metric, before the
 // seed blocks: a work-item per brick row (EDGE slots along x, as vectors). An active slot starts at
-// the least u0 over its brick's candidate seeds (rvor/nearest_seeds.h; ties: the smaller label)
-// where its quarter brick sees that seed (`candidate_seen`, a bit per quarter); elsewhere, and
-// where inactive, at INF_STATE. Not frozen, stamped as changed so that its first visit evaluates
-// it.
+// the least u0 over its brick's candidate seeds where its quarter brick sees that seed
+// (nearest_listed_seeds); elsewhere, and where inactive, at INF_STATE. Not frozen, stamped as
+// changed so that its first visit evaluates it.
 // Every brick is pending: it verifies its values and repairs the voxels next to bisectors. (A
 // work-item per slot, its seed loads and arithmetic scalar, took 0.33 s of a 1.9 s euclidean solve
 // at 256^3 with 1000 seeds: a temporary timer, not kept.)
@@ -132,35 +165,55 @@ __kernel void start_at_nearest_seeds(int brick_count, __global const uint* candi
   const int row = (int)(get_global_id(0) % rows);
   if (row == 0) flags[brick] = FLAG_UNCONVERGED;
   const int first = row * EDGE;  // local index of the row's first slot
-  const int3 in_brick = local_coordinates(first);
-  const int3 v = brick_origins[brick].xyz + in_brick;
-  const float8 x = (float8)(0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f) + (float)v.x;
-  float8 least = (float8)(INFINITY);
-  int8 entry = (int8)(-1);  // of the list: the nearest seed's, whose label and bits are read after
-  // Candidates come in ascending labels, so on a tie the first, smaller label stays.
-  for (uint c = candidate_begin[brick]; c < candidate_begin[brick + 1]; ++c) {
-    __global const float* seed = seeds + (size_t)candidates[c] * SEED_RECORD;
-    const float8 qx = x - seed[0];
-    const float qy = (float)v.y - seed[1], qz = (float)v.z - seed[2];
-    // A diagonal metric (the host checks): u0^2 = g11 qx^2 + g22 qy^2 + g33 qz^2.
-    const float8 u0 = sqrt(seed[8] * qx * qx + (seed[10] * qy * qy + seed[13] * qz * qz));
-    const int8 nearer = u0 < least;
-    least = select(least, u0, nearer);
-    entry = select(entry, (int8)((int)c), nearer);
-  }
+  float d[EDGE];
+  int e[EDGE];
+  nearest_listed_seeds(brick, first, candidate_begin[brick], candidate_begin[brick + 1], candidates,
+                       candidate_seen, seeds, brick_origins, d, e);
   const size_t slot = (size_t)brick * BRICK_VOLUME + first;
-  const float d[EDGE] = {least.s0, least.s1, least.s2, least.s3,
-                         least.s4, least.s5, least.s6, least.s7};
-  const int e[EDGE] = {entry.s0, entry.s1, entry.s2, entry.s3,
-                       entry.s4, entry.s5, entry.s6, entry.s7};
-  // The row's quarters (bit q = (x >= 4) + 2 (y >= 4) + 4 (z >= 4), rvor/nearest_seeds.h).
-  const int row_quarter = (in_brick.y >= EDGE / 2 ? 2 : 0) + (in_brick.z >= EDGE / 2 ? 4 : 0);
   for (int i = 0; i < EDGE; ++i) {
     const bool active = slot_active(activity, slot + i);
-    const int quarter = row_quarter + (i >= EDGE / 2 ? 1 : 0);
-    const bool sees = e[i] >= 0 && ((candidate_seen[e[i]] >> quarter) & 1);
-    state[slot + i] = active && sees ? make_state(d[i], candidates[e[i]]) : INF_STATE;
+    state[slot + i] = active && e[i] >= 0 ? make_state(d[i], candidates[e[i]]) : INF_STATE;
     if (active) changed[slot + i] = stamp;
+  }
+}
+
+// The exact start of an insertion's new seeds (docs/scheme.md, "Insertion on the device"), before
+// their blocks, a work-item per row of the listed bricks (those a new seed may lower; the lists of
+// listed_bricks[n] are candidates[candidate_begin[n], candidate_begin[n + 1]), with the new seeds'
+// labels): where a new seed's u0 lies below a voxel's value (not frozen: the claims decide the seed
+// blocks, in double precision), the voxel takes it, as the solve's exact start would, stamped as
+// changed and as never evaluated, so that it and its neighbours are evaluated (a voxel with no
+// lowered neighbour would otherwise keep it); its brick becomes pending and spreads news. Values
+// only decrease, so a voxel no new seed is nearer to keeps its state.
+__kernel void lower_to_nearest_seeds(
+    int listed_count, __global const int* listed_bricks, __global const uint* candidate_begin,
+    __global const int* candidates, __global const uchar* candidate_seen,
+    __global const float* seeds, __global const int4* brick_origins, __global const uint* activity,
+    __global ulong* state, __global uchar* flags, __global uint* changed, __global uint* evaluated,
+    uint stamp, __global uchar* touched) {
+  const int rows = EDGE * EDGE_Z;
+  const int listed = (int)(get_global_id(0) / rows);
+  if (listed >= listed_count) return;
+  const int brick = listed_bricks[listed];
+  const int first = (int)(get_global_id(0) % rows) * EDGE;
+  float d[EDGE];
+  int e[EDGE];
+  nearest_listed_seeds(brick, first, candidate_begin[listed], candidate_begin[listed + 1],
+                       candidates, candidate_seen, seeds, brick_origins, d, e);
+  const size_t slot = (size_t)brick * BRICK_VOLUME + first;
+  bool lowered = false;
+  for (int i = 0; i < EDGE; ++i) {
+    if (e[i] < 0 || !slot_active(activity, slot + i)) continue;
+    const ulong s = state[slot + i];
+    if (state_frozen(s) || !(d[i] < state_distance(s))) continue;
+    state[slot + i] = make_state(d[i], candidates[e[i]]);
+    changed[slot + i] = stamp;
+    evaluated[slot + i] = 0u;
+    lowered = true;
+  }
+  if (lowered) {  // every row writes the same bytes
+    flags[brick] = FLAG_CHANGED | FLAG_UNCONVERGED;
+    touched[brick] = 1;
   }
 }
 

@@ -341,7 +341,8 @@ void add_bench_command(CLI::App& app) {
                 "any other metric, instead of from each voxel's nearest seed's exact distance "
                 "(every voxel of a convex domain in one face-connected piece; elsewhere those "
                 "whose 4^3 block, 4^2 in 2D, sees the seed through active voxels; both "
-                "engines)");
+                "engines), and insert without lowering voxels to a new seed's exact distance "
+                "first (the OpenCL engine)");
   cmd->add_flag("--no-reference", options->no_reference, "Skip the CPU reference (slow at 256^3)");
   cmd->add_flag("--no-fastsweeping", options->no_fastsweeping,
                 "Skip OpenVDB FastSweeping (it runs on 3D canvases only)");

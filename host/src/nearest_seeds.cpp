@@ -103,6 +103,48 @@ Vec3 axis_scales(const Canvas& canvas) {
               canvas.dimension == 3 ? std::sqrt(G(2, 2)) : 1.0);
 }
 
+// The seeds in the coordinates scaled by axis_scales (index units), where the metric is Euclidean,
+// in a tree.
+struct ScaledSeeds {
+  ScaledSeeds(const Canvas& canvas, const std::vector<Vec3>& seeds)
+      : scales(axis_scales(canvas)),
+        points(scaled(canvas, seeds, scales)),
+        tree(points, canvas.dimension),
+        dimension(canvas.dimension) {}
+
+  // The box of the voxel centres of the brick at `origin`.
+  std::pair<Vec3, Vec3> brick_box(const VoxelIndex& origin) const {
+    const double edge = Canvas::kBrickEdge - 1;
+    const Vec3 lo = scales.cwiseProduct(Vec3(origin.i, origin.j, origin.k));
+    return {lo, lo + scales.cwiseProduct(Vec3(edge, edge, dimension == 3 ? edge : 0.0))};
+  }
+
+  static std::vector<Vec3> scaled(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                                  const Vec3& scales) {
+    std::vector<Vec3> points;
+    points.reserve(seeds.size());
+    for (const Vec3& seed : seeds)
+      points.push_back(scales.cwiseProduct(seed_index_point(canvas, seed)));
+    return points;
+  }
+
+  Vec3 scales;
+  std::vector<Vec3> points;
+  PointTree tree;
+  int dimension;
+};
+
+// The greatest distance of the brick's active voxels in a solved field (+inf where one is
+// unlabelled, world units).
+double greatest_distance(const Canvas& canvas, std::size_t brick,
+                         const std::vector<float>& distance) {
+  const std::size_t first = brick * static_cast<std::size_t>(canvas.brick_volume());
+  double greatest = 0.0;
+  for (std::size_t slot = first; slot < first + canvas.brick_volume(); ++slot)
+    if (canvas.active[slot]) greatest = std::max<double>(greatest, distance[slot]);
+  return greatest;
+}
+
 // The least and the greatest distance from y to the points of the box [lo, hi].
 std::pair<double, double> box_distances(const Vec3& y, const Vec3& lo, const Vec3& hi) {
   double least = 0.0, greatest = 0.0;
@@ -191,25 +233,23 @@ ExactStartReach exact_start_reach(const Canvas& canvas) {
   return exact_start_reach(canvas, first_metric_is_diagonal(canvas) && has_uniform_metric(canvas));
 }
 
-BrickSeedLists nearest_seed_candidates(const Canvas& canvas, const std::vector<Vec3>& seeds) {
+BrickSeedLists nearest_seed_candidates(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                                       const std::vector<std::uint8_t>* only_bricks) {
   if (canvas.active_voxel_count == 0) throw Error("nearest seeds: the canvas has no active voxel");
   BrickSeedLists lists;
   lists.begin.assign(canvas.brick_count() + 1, 0);
   if (seeds.empty()) return lists;
-  const Vec3 scales = axis_scales(canvas);
-  std::vector<Vec3> points;
-  points.reserve(seeds.size());
-  for (const Vec3& seed : seeds)
-    points.push_back(scales.cwiseProduct(seed_index_point(canvas, seed)));
-  const PointTree tree(points, canvas.dimension);
-  const double edge = Canvas::kBrickEdge - 1;
-  const Vec3 extent = scales.cwiseProduct(Vec3(edge, edge, canvas.dimension == 3 ? edge : 0.0));
+  const ScaledSeeds scaled(canvas, seeds);
+  const std::vector<Vec3>& points = scaled.points;
+  const PointTree& tree = scaled.tree;
   std::vector<std::int32_t> found;
   std::vector<std::pair<double, double>> reach;  // least and greatest distance to the brick
   for (std::size_t brick = 0; brick < canvas.brick_count(); ++brick) {
-    const VoxelIndex& o = canvas.brick_origins[brick];
-    const Vec3 lo = scales.cwiseProduct(Vec3(o.i, o.j, o.k)), hi = lo + extent;
+    lists.begin[brick + 1] = static_cast<std::uint32_t>(lists.seeds.size());
+    if (only_bricks && !(*only_bricks)[brick]) continue;
+    const auto [lo, hi] = scaled.brick_box(canvas.brick_origins[brick]);
     const Vec3 centre = 0.5 * (lo + hi);
+    const Vec3 extent = hi - lo;
     // Every voxel of the brick is within half its diameter of the centre, so no voxel's nearest
     // seed lies farther from the centre than the centre's nearest plus the diameter.
     const double radius = tree.nearest_distance(centre) + extent.norm();
@@ -239,9 +279,60 @@ BrickSeedLists nearest_seed_candidates(const Canvas& canvas, const std::vector<V
 }
 
 BrickSeedLists exact_start_lists(const Canvas& canvas, const std::vector<Vec3>& seeds,
-                                 ExactStartReach reach) {
-  BrickSeedLists lists = nearest_seed_candidates(canvas, seeds);
+                                 ExactStartReach reach,
+                                 const std::vector<std::uint8_t>* only_bricks) {
+  BrickSeedLists lists = nearest_seed_candidates(canvas, seeds, only_bricks);
   if (reach != ExactStartReach::every_brick) mark_where_seeds_are_seen(canvas, seeds, lists);
+  return lists;
+}
+
+std::vector<std::uint8_t> bricks_seeds_may_lower(const Canvas& canvas,
+                                                 const std::vector<Vec3>& seeds,
+                                                 const std::vector<float>& distance) {
+  std::vector<std::uint8_t> lowered(canvas.brick_count(), 0);
+  if (seeds.empty() || canvas.active_voxel_count == 0) return lowered;
+  const ScaledSeeds scaled(canvas, seeds);
+  std::vector<std::uint8_t> visited(canvas.brick_count(), 0);
+  std::vector<std::int32_t> queue;
+  const auto visit = [&](std::int32_t brick) {
+    if (brick >= 0 && !visited[brick]) {
+      visited[brick] = 1;
+      queue.push_back(brick);
+    }
+  };
+  const auto brick_of = [](int i) { return i >= 0 ? i / Canvas::kBrickEdge : -1; };
+  for (const Vec3& seed : seeds) {
+    const VoxelIndex v = canvas.voxel_containing(seed);
+    visit(canvas.brick_at(brick_of(v.i), brick_of(v.j), brick_of(v.k)));
+  }
+  const int reach_z = canvas.dimension == 3 ? 1 : 0;
+  while (!queue.empty()) {
+    const std::int32_t brick = queue.back();
+    queue.pop_back();
+    const VoxelIndex& o = canvas.brick_origins[brick];
+    const auto [lo, hi] = scaled.brick_box(o);
+    // No seed is nearer to a voxel of the brick than the centre's nearest less the radius.
+    const double least = scaled.tree.nearest_distance(0.5 * (lo + hi)) - 0.5 * (hi - lo).norm();
+    if (!(least * canvas.voxel_size <= greatest_distance(canvas, brick, distance) * (1.0 + 1e-5)))
+      continue;
+    lowered[brick] = 1;
+    const int bi = o.i / Canvas::kBrickEdge, bj = o.j / Canvas::kBrickEdge,
+              bk = o.k / Canvas::kBrickEdge;
+    for (int dk = -reach_z; dk <= reach_z; ++dk)
+      for (int dj = -1; dj <= 1; ++dj)
+        for (int di = -1; di <= 1; ++di) visit(canvas.brick_at(bi + di, bj + dj, bk + dk));
+  }
+  return lowered;
+}
+
+BrickSeedLists insertion_start_lists(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                                     std::size_t first_new, const std::vector<float>& distance,
+                                     ExactStartReach reach) {
+  const std::vector<Vec3> new_seeds(seeds.begin() + static_cast<std::ptrdiff_t>(first_new),
+                                    seeds.end());
+  const std::vector<std::uint8_t> bricks = bricks_seeds_may_lower(canvas, new_seeds, distance);
+  BrickSeedLists lists = exact_start_lists(canvas, new_seeds, reach, &bricks);
+  for (std::int32_t& label : lists.seeds) label += static_cast<std::int32_t>(first_new);
   return lists;
 }
 

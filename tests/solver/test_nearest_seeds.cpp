@@ -87,6 +87,55 @@ TEST(NearestSeeds, ListsHoldEveryVoxelsNearestSeeds) {
     }
 }
 
+// bricks_seeds_may_lower against brute force: with the old seeds' least u0 as the solved field,
+// every brick where a new seed's u0 lies below it at some voxel is found, and one new seed among
+// many finds a small part of the canvas.
+TEST(NearestSeeds, InsertionsFindEveryBrickANewSeedLowers) {
+  for (const int dimension : {2, 3})
+    for (const Mat3& G : {Mat3(Mat3::Identity()), Mat3(Vec3(1.0, 9.0, 4.0).asDiagonal())}) {
+      const Canvas canvas =
+          make_uniform_box_canvas(dimension, kLo, kHi, dimension == 3 ? 40 : 160, G);
+      const std::vector<Vec3> old_seeds = points_around(Vec3::Zero(), 1.0, dimension, 300, 5);
+      // The voxel centres of a 2D canvas lie at z = kLo.z; its seeds at z = 0.
+      const auto u0 = [&](Vec3 x, const Vec3& s) {
+        if (dimension == 2) x.z() = 0.0;
+        return std::sqrt((x - s).dot(G * (x - s)));
+      };
+      std::vector<float> distance(canvas.slot_count(), std::numeric_limits<float>::infinity());
+      for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
+        if (!canvas.active[slot]) continue;
+        double least = std::numeric_limits<double>::infinity();
+        for (const Vec3& s : old_seeds) least = std::min(least, u0(canvas.world_of(slot), s));
+        distance[slot] = static_cast<float>(least);
+      }
+      for (const int count : {1, 30}) {
+        SCOPED_TRACE(std::to_string(dimension) + "D, diag(" + std::to_string(G(1, 1)) + "), " +
+                     std::to_string(count) + " new seeds");
+        const std::vector<Vec3> new_seeds = points_around(Vec3::Zero(), 1.0, dimension, count, 11);
+        const std::vector<std::uint8_t> found = bricks_seeds_may_lower(canvas, new_seeds, distance);
+        ASSERT_EQ(found.size(), canvas.brick_count());
+        std::size_t lowered = 0;
+        for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
+          if (!canvas.active[slot]) continue;
+          double least = std::numeric_limits<double>::infinity();
+          for (const Vec3& s : new_seeds) least = std::min(least, u0(canvas.world_of(slot), s));
+          if (!(least < distance[slot])) continue;
+          ++lowered;
+          const std::size_t brick = slot / canvas.brick_volume();
+          ASSERT_TRUE(found[brick])
+              << "slot " << slot << " is lowered but brick " << brick << " was not found";
+        }
+        const auto bricks = static_cast<std::size_t>(std::count(found.begin(), found.end(), 1));
+        std::printf("[ measured ] %zu voxels lowered, %zu of %zu bricks found\n", lowered, bricks,
+                    canvas.brick_count());
+        EXPECT_GT(lowered, 0u);
+        if (count == 1) {
+          EXPECT_LT(bricks * 10, canvas.brick_count());
+        }
+      }
+    }
+}
+
 TEST(NearestSeeds, TiesAreAllListed) {
   // Two seeds mirrored about the plane x = 0: voxels at x = 0 have two nearest seeds.
   const Canvas canvas = make_uniform_box_canvas(3, kLo, kHi, 33, Mat3::Identity());

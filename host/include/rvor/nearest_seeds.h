@@ -87,7 +87,9 @@ struct BrickSeedLists {
 // among the seeds within the nearest seed's distance plus the box's diameter of its centre (a
 // k-d tree over the seeds: one nearest and one radius query per brick). Throws rvor::Error on a
 // canvas without active voxels.
-BrickSeedLists nearest_seed_candidates(const Canvas& canvas, const std::vector<Vec3>& seeds);
+// With `only_bricks`, the bricks whose byte is 0 list no seed.
+BrickSeedLists nearest_seed_candidates(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                                       const std::vector<std::uint8_t>* only_bricks = nullptr);
 
 // Clears the bits of BrickSeedLists::seen whose quarter does not see the entry's seed: a quarter
 // sees a seed when it is full (all its voxels active) and the convex hull of its voxel centres and
@@ -102,6 +104,26 @@ void mark_where_seeds_are_seen(const Canvas& canvas, const std::vector<Vec3>& se
 // The lists the exact start begins from: nearest_seed_candidates, marked by
 // mark_where_seeds_are_seen unless `reach` is every_brick.
 BrickSeedLists exact_start_lists(const Canvas& canvas, const std::vector<Vec3>& seeds,
-                                 ExactStartReach reach);
+                                 ExactStartReach reach,
+                                 const std::vector<std::uint8_t>* only_bricks = nullptr);
+
+// Under the exact start's metric, a byte per brick, set where a voxel's u0 of one of `seeds` may
+// lie below its `distance` (a solved field's, world units; +inf where unlabelled): bricks whose
+// least u0 over their box is not above their greatest distance. Only the bricks joined to a seed's
+// own brick through such bricks (face, edge or corner) are tested, so the cost follows the region
+// the seeds win. That region reaches each seed's brick (its block) and grows from it, as a
+// Voronoi cell does; a brick beyond it that the test would admit is left to the relaxations,
+// which reach the same fixed point from the field (an insertion's start is only where they begin).
+std::vector<std::uint8_t> bricks_seeds_may_lower(const Canvas& canvas,
+                                                 const std::vector<Vec3>& seeds,
+                                                 const std::vector<float>& distance);
+
+// The lists of an insertion's exact start (docs/scheme.md, "Insertion on the device"):
+// exact_start_lists of seeds[first_new..], labelled as among `seeds`, on the bricks where
+// bricks_seeds_may_lower finds that they may lower `distance`, the field solved for the seeds
+// before them; no entry on the other bricks.
+BrickSeedLists insertion_start_lists(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                                     std::size_t first_new, const std::vector<float>& distance,
+                                     ExactStartReach reach);
 
 }  // namespace rvor

@@ -61,10 +61,12 @@ struct OpenCLOptions {
   // throws for NaN, infinities and steps in (0, 0.25), whose rounds would multiply. A solve that
   // takes the exact start (below) steps no front, whatever this says.
   double front_step = -1.0;
-  // Solves (not insertions) under a uniform diagonal metric start voxels at their nearest seed's
-  // exact distance (every voxel of a convex domain, elsewhere those whose quarter brick sees the
-  // seed: rvor/nearest_seeds.h), which the relaxations then verify and repair next to bisectors
-  // (docs/scheme.md, "Initialisation"); false: from +inf, as for any other metric.
+  // Solves under a uniform diagonal metric start voxels at their nearest seed's exact distance
+  // (every voxel of a convex domain, elsewhere those whose quarter brick sees the seed:
+  // rvor/nearest_seeds.h), which the relaxations then verify and repair next to bisectors
+  // (docs/scheme.md, "Initialisation"); false: from +inf, as for any other metric. Insertions
+  // likewise lower the voxels a new seed's exact distance lies below to it (insertion_start_lists);
+  // false: they start from the solved field alone.
   bool exact_start = true;
 };
 

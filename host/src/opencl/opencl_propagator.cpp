@@ -193,8 +193,11 @@ class OpenCLPropagator final : public Propagator {
       const std::vector<cl_int4> claims = prepare(canvas, seeds, first_new, &field, &known_seeds);
       step_ = 0.0f;  // an insertion changes a region around its seeds: no stepping
       std::optional<HeldField> held = std::exchange(device_field_, std::nullopt);
-      PropagationStats stats = propagate_insertion(canvas, seeds.size(), first_new, known_seeds,
-                                                   claims, field, digest, held);
+      const std::optional<BrickSeedLists> nearest =
+          insertion_start_lists(canvas, seeds, first_new, field);
+      PropagationStats stats =
+          propagate_insertion(canvas, seeds.size(), first_new, known_seeds, claims, field, digest,
+                              held, nearest ? &*nearest : nullptr);
       read_back(held, seeds.size(), field, start, stats);
       return stats;
     });
@@ -213,10 +216,11 @@ class OpenCLPropagator final : public Propagator {
                                        const std::vector<cl_int4>& claims,
                                        const VoronoiField& field,
                                        std::future<opencl::FieldDigest>& digest,
-                                       std::optional<HeldField>& held) {
+                                       std::optional<HeldField>& held,
+                                       const BrickSeedLists* nearest) {
     const bool speculate = held && held->solved_seeds == first_new && known_seeds >= first_new;
     PropagationStats stats;
-    if (speculate) stats = propagate(canvas, first_new, seed_count, claims, true);
+    if (speculate) stats = propagate(canvas, first_new, seed_count, claims, true, nearest);
     if (speculate && !digest.valid()) return stats;
     const opencl::FieldDigest caller =
         digest.valid() ? digest.get() : opencl::digest_field(field, first_new);
@@ -224,7 +228,21 @@ class OpenCLPropagator final : public Propagator {
     if (held && caller.hash != held->hash) held.reset();
     if (speculate && held) return stats;
     if (!held) upload_field(field);
-    return propagate(canvas, first_new, seed_count, claims, held && held->solved_seeds.has_value());
+    return propagate(canvas, first_new, seed_count, claims, held && held->solved_seeds.has_value(),
+                     nearest);
+  }
+
+  // The lists of an insertion's exact start (lower_to_nearest_seeds) over the new seeds, labelled
+  // as they are among `seeds`; none where solves take no exact start.
+  std::optional<BrickSeedLists> insertion_start_lists(const Canvas& canvas,
+                                                      const std::vector<Vec3>& seeds,
+                                                      std::size_t first_new,
+                                                      const VoronoiField& field) const {
+    // With no solved seed, propagate() would take the lists for a solve's.
+    if (exact_start_reach_ == ExactStartReach::none || first_new == 0 || first_new == seeds.size())
+      return std::nullopt;
+    return rvor::insertion_start_lists(canvas, seeds, first_new, field.distance,
+                                       exact_start_reach_);
   }
 
   // Uploads the seeds; returns the claims that seeds[first_new..] can change (all of a solve's;
@@ -406,6 +424,7 @@ class OpenCLPropagator final : public Propagator {
     freeze_ = cl::Kernel(program, "freeze_seed_blocks");
     init_ = cl::Kernel(program, "initialise_seeds");
     start_ = cl::Kernel(program, "start_at_nearest_seeds");
+    lower_ = cl::Kernel(program, "lower_to_nearest_seeds");
     claim_ = cl::Kernel(program, "claim_seed_voxels");
     relax_ =
         cl::Kernel(program, variant_ == RelaxationVariant::brick_lanes   ? "relax_brick_lanes"
@@ -439,11 +458,13 @@ class OpenCLPropagator final : public Propagator {
                                0, canvas_->bricks * sizeof(cl_float));
     }
     const cl_uint seed_stamp = next_round_base();
-    if (exact_start) start_at_nearest_seeds(*exact_start, seed_stamp);
+    if (exact_start && first_seed == 0) start_at_nearest_seeds(*exact_start, seed_stamp);
     // The solved seeds' blocks are frozen already where the device's own solve or insertion left
     // the field it holds; an uploaded field carries no frozen marks. (Re-freezing 20000 seeds'
     // blocks was ~45% of an insertion's samples at 128^3.)
     if (first_seed > 0 && !frozen_marks_held) prepare_seed_blocks(0, first_seed, true, seed_stamp);
+    // After the frozen marks: the claims, not the start, decide the solved seeds' blocks.
+    if (exact_start && first_seed > 0) lower_to_nearest_seeds(*exact_start, seed_stamp);
     prepare_seed_blocks(first_seed, seed_count, false, seed_stamp);
     initialise_seeds(first_seed, seed_count, seed_stamp);
     claim_seed_voxels(claims, seed_stamp);
@@ -560,6 +581,37 @@ class OpenCLPropagator final : public Propagator {
              d.activity, d.state, d.flags, d.changed, stamp);
     const std::size_t rows = d.slots / Canvas::kBrickEdge;  // a work-item per brick row
     queue_.enqueueNDRangeKernel(start_, cl::NullRange,
+                                cl::NDRange(round_up(rows, kBookkeepingGroup)),
+                                cl::NDRange(kBookkeepingGroup));
+  }
+
+  // An insertion's exact start: the voxels a new seed's u0 lowers take it (kernels/propagation.cl),
+  // on the bricks that list a seed.
+  void lower_to_nearest_seeds(const BrickSeedLists& nearest, cl_uint stamp) {
+    std::vector<cl_int> listed;
+    std::vector<cl_uint> begin;  // the listed bricks' ranges follow each other in `seeds`
+    for (std::size_t brick = 0; brick + 1 < nearest.begin.size(); ++brick)
+      if (nearest.begin[brick] != nearest.begin[brick + 1]) {
+        listed.push_back(static_cast<cl_int>(brick));
+        begin.push_back(nearest.begin[brick]);
+      }
+    if (listed.empty()) return;
+    begin.push_back(nearest.begin.back());
+    const DeviceCanvasRef d = *canvas_;
+    const cl::Buffer bricks(context_, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                            listed.size() * sizeof(cl_int), listed.data());
+    const cl::Buffer ranges(context_, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                            begin.size() * sizeof(cl_uint), begin.data());
+    const cl::Buffer entries(context_, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                             nearest.seeds.size() * sizeof(cl_int),
+                             const_cast<std::int32_t*>(nearest.seeds.data()));
+    const cl::Buffer seen(context_, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                          nearest.seen.size() * sizeof(cl_uchar),
+                          const_cast<std::uint8_t*>(nearest.seen.data()));
+    set_args(lower_, static_cast<cl_int>(listed.size()), bricks, ranges, entries, seen, d.seeds,
+             d.origins, d.activity, d.state, d.flags, d.changed, d.evaluated, stamp, d.touched);
+    const std::size_t rows = listed.size() * (brick_volume_ / Canvas::kBrickEdge);  // per row
+    queue_.enqueueNDRangeKernel(lower_, cl::NullRange,
                                 cl::NDRange(round_up(rows, kBookkeepingGroup)),
                                 cl::NDRange(kBookkeepingGroup));
   }
@@ -751,8 +803,8 @@ class OpenCLPropagator final : public Propagator {
   // were checked, and are in the device's seed buffer), and their device records.
   SeedClaimCache claim_cache_;
   std::vector<float> held_records_;
-  cl::Kernel freeze_, init_, start_, claim_, relax_, commit_, gather_, activate_, compact_, spread_,
-      flag_multi_label_;
+  cl::Kernel freeze_, init_, start_, lower_, claim_, relax_, commit_, gather_, activate_, compact_,
+      spread_, flag_multi_label_;
   cl::Kernel least_of_, pend_below_, relax_stepping_, pend_listed_;
   std::string build_options_;  // of the program the kernels above come from
   // Front stepping: evaluations above the threshold stay tentative (kernels/state_word.clh);
