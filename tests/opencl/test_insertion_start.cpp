@@ -123,5 +123,21 @@ TEST(InsertionExactStart, NewSeedsNextToSolvedOnesLeaveTheirBlocksToTheClaims) {
   }
 }
 
+// Into a field the engine did not return (the reference's): the engine uploads it, without frozen
+// marks, and freezes the solved seeds' blocks again before the start lowers anything.
+TEST(InsertionExactStart, IntoTheReferencesField) {
+  const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 40, Vec3(1, 9, 4).asDiagonal());
+  const std::vector<Vec3> seeds = test::seeds_in(canvas, 120, 41);
+  for (const RelaxationVariant variant : test::kDefaultVariants) {
+    SCOPED_TRACE(static_cast<int>(variant));
+    REQUIRE_ENGINE(variant);
+    VoronoiField all, field;
+    engine->solve(canvas, seeds, all);
+    make_reference_propagator()->solve(canvas, {seeds.begin(), seeds.begin() + 100}, field);
+    EXPECT_TRUE(engine->insert(canvas, seeds, 100, field).exact_start);
+    test::expect_same_field(canvas, all, field);
+  }
+}
+
 }  // namespace
 }  // namespace rvor
