@@ -567,16 +567,9 @@ class OpenCLPropagator final : public Propagator {
   void start_at_nearest_seeds(const BrickSeedLists& nearest, cl_uint stamp) {
     const DeviceCanvasRef d = *canvas_;
     if (d.bricks == 0) return;
-    const cl::Buffer begin(context_, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                           nearest.begin.size() * sizeof(cl_uint),
-                           const_cast<std::uint32_t*>(nearest.begin.data()));
-    // Not empty: every brick lists at least its nearest seed.
-    const cl::Buffer listed(context_, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                            nearest.seeds.size() * sizeof(cl_int),
-                            const_cast<std::int32_t*>(nearest.seeds.data()));
-    const cl::Buffer seen(context_, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                          nearest.seen.size() * sizeof(cl_uchar),
-                          const_cast<std::uint8_t*>(nearest.seen.data()));
+    // Not empty: every brick lists at least its nearest seed. (Buffers live until the launch.)
+    const cl::Buffer begin = read_only(nearest.begin), listed = read_only(nearest.seeds),
+                     seen = read_only(nearest.seen);
     set_args(start_, static_cast<cl_int>(d.bricks), begin, listed, seen, d.seeds, d.origins,
              d.activity, d.state, d.flags, d.changed, stamp);
     const std::size_t rows = d.slots / Canvas::kBrickEdge;  // a work-item per brick row
@@ -598,16 +591,8 @@ class OpenCLPropagator final : public Propagator {
     if (listed.empty()) return;
     begin.push_back(nearest.begin.back());
     const DeviceCanvasRef d = *canvas_;
-    const cl::Buffer bricks(context_, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                            listed.size() * sizeof(cl_int), listed.data());
-    const cl::Buffer ranges(context_, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                            begin.size() * sizeof(cl_uint), begin.data());
-    const cl::Buffer entries(context_, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                             nearest.seeds.size() * sizeof(cl_int),
-                             const_cast<std::int32_t*>(nearest.seeds.data()));
-    const cl::Buffer seen(context_, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                          nearest.seen.size() * sizeof(cl_uchar),
-                          const_cast<std::uint8_t*>(nearest.seen.data()));
+    const cl::Buffer bricks = read_only(listed), ranges = read_only(begin),
+                     entries = read_only(nearest.seeds), seen = read_only(nearest.seen);
     set_args(lower_, static_cast<cl_int>(listed.size()), bricks, ranges, entries, seen, d.seeds,
              d.origins, d.activity, d.state, d.flags, d.changed, d.evaluated, stamp, d.touched);
     const std::size_t rows = listed.size() * (brick_volume_ / Canvas::kBrickEdge);  // per row
@@ -619,13 +604,20 @@ class OpenCLPropagator final : public Propagator {
   void claim_seed_voxels(const std::vector<cl_int4>& claims, cl_uint stamp) {
     if (claims.empty()) return;
     const DeviceCanvasRef d = *canvas_;
-    const cl::Buffer buffer(context_, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                            claims.size() * sizeof(cl_int4), const_cast<cl_int4*>(claims.data()));
+    const cl::Buffer buffer = read_only(claims);
     set_args(claim_, static_cast<cl_int>(claims.size()), buffer, d.seeds, d.state, d.activity,
              d.table, d.dims, d.grid, d.flags, d.changed, stamp, d.touched);
     queue_.enqueueNDRangeKernel(claim_, cl::NullRange,
                                 cl::NDRange(round_up(claims.size(), kBookkeepingGroup)),
                                 cl::NDRange(kBookkeepingGroup));
+  }
+
+  // A device copy of `values` (not empty) for a launch; it must outlive the enqueue (a kernel
+  // argument does not hold its buffer).
+  template <typename T>
+  cl::Buffer read_only(const std::vector<T>& values) const {
+    return cl::Buffer(context_, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, values.size() * sizeof(T),
+                      const_cast<T*>(values.data()));
   }
 
   // Forgets every evaluation (work avoidance, every variant): the next one recomputes all voxels.
