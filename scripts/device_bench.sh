@@ -93,7 +93,7 @@ run() {
   # The tests of what a GPU runs first (the session, insertions, voxel phases' cases), then the
   # rest while TEST_SECONDS last (not the CPU variants' parametrised cases: a work-item per brick
   # crawls on a GPU). TEST_FILTER replaces both with one filter.
-  local first_tests='VoronoiSession.*:OpenCLInsertion.*:Variants/*VoxelPhases*:OpenCLExactStart.*'
+  local first_tests='VoronoiSession.*:OpenCLInsertion.*:InsertionExactStart.*:Variants/*VoxelPhases*:OpenCLExactStart.*'
   local cpu_variants='Variants/*BrickLanes*:Variants/*BrickSweep*'
   local -a passes=("$first_tests" "-$first_tests:$cpu_variants")
   [[ -n ${TEST_FILTER:-} ]] && passes=("$TEST_FILTER")
