@@ -534,22 +534,26 @@ TEST(OpenCLInsertion, IntoAnotherFieldOfTheSameSeeds) {
 
 // A field no solve for the old seeds returns is refused with the slot named, whether or not the
 // device holds the field it was copied from; then the engine inserts into the solved field.
+// A rotated metric, and the identity, whose insertions first lower voxels to the new seed's exact
+// distance from the caller's field (InsertionExactStart).
 TEST(OpenCLInsertion, RefusesAFieldNotSolvedForTheOldSeeds) {
   REQUIRE_ENGINE(RelaxationVariant::automatic);
-  const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 16, rotated_metric(3, 4.0));
-  const std::vector<Vec3> seeds = test::random_points(kLo, kHi, 3, 6, 11);
-  const std::vector<Vec3> old_seeds(seeds.begin(), seeds.end() - 1);
-  VoronoiField all, solved;
-  engine->solve(canvas, seeds, all);
-  for (const bool held : {true, false}) {
-    SCOPED_TRACE(held ? "the device holds the solved field" : "the device holds another");
-    engine->solve(canvas, old_seeds, solved);
-    if (!held) engine->solve(canvas, seeds, all);
-    test::expect_corrupted_fields_refused(*engine, canvas, seeds, old_seeds.size(), solved);
+  for (const Mat3& metric : {rotated_metric(3, 4.0), Mat3(Mat3::Identity())}) {
+    const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 16, metric);
+    const std::vector<Vec3> seeds = test::random_points(kLo, kHi, 3, 6, 11);
+    const std::vector<Vec3> old_seeds(seeds.begin(), seeds.end() - 1);
+    VoronoiField all, solved;
+    engine->solve(canvas, seeds, all);
+    for (const bool held : {true, false}) {
+      SCOPED_TRACE(held ? "the device holds the solved field" : "the device holds another");
+      engine->solve(canvas, old_seeds, solved);
+      if (!held) engine->solve(canvas, seeds, all);
+      test::expect_corrupted_fields_refused(*engine, canvas, seeds, old_seeds.size(), solved);
+    }
+    VoronoiField field = solved;
+    engine->insert(canvas, seeds, old_seeds.size(), field);
+    test::expect_same_field(canvas, all, field);
   }
-  VoronoiField field = solved;
-  engine->insert(canvas, seeds, old_seeds.size(), field);
-  test::expect_same_field(canvas, all, field);
 }
 
 // Insertions relax neighbouring bricks in the same round (every pending brick each round), which
