@@ -475,29 +475,33 @@ class OpenCLPropagator final : public Propagator {
     stats.exact_start = exact_start != nullptr;
     // An insertion relaxes every pending brick each round while they fit the scratch: its front
     // crosses few bricks, and taking them a colour at a time made 5x the rounds, each a wait for
-    // the device (docs/scheme.md, "Insertion on the device").
-    int colour_count = first_seed > 0 ? 1 : colours(canvas);
+    // the device (docs/scheme.md, "Insertion on the device"). When they do not fit, it takes a
+    // cycle of colours, then tries every colour at once again.
+    const bool insertion = first_seed > 0;
+    int colour_count = insertion ? 1 : colours(canvas);
     int colour = 0;
     do {
-      for (int count = 0; next_active_list(colour_count, colour, count);
-           colour = (colour + 1) % colour_count) {
+      for (int count = 0; next_active_list(colour_count, colour, count);) {
         if (colour == 0 && step_ > 0.0f) raise_threshold();
-        if (count == 0) continue;
         if (static_cast<std::size_t>(count) > canvas_->scratch_bricks) {
-          // More than the scratch holds (every colour at once): none this round, by colours from
-          // now (a subset taken by the list would depend on the work-items' timing).
+          // More than the scratch holds (every colour at once): none this round, a cycle of
+          // colours from the next (a subset taken by the list would depend on the work-items'
+          // timing).
           pend_listed(count);
           colour_count = colours(canvas);
-          colour = colour_count - 1;  // the loop moves on to colour 0
           continue;
         }
-        relax(count, visits);
-        stats.brick_relaxations += static_cast<std::uint64_t>(count);
-        if (++stats.iterations > kMaxRounds)
-          throw Error("the OpenCL propagation did not converge in " + std::to_string(kMaxRounds) +
-                      " rounds (float rounding can keep voxels changing under very strong "
-                      "anisotropy along a grid axis, docs/scheme.md 'Convergence'; --device cpu "
-                      "solves in double)");
+        if (count > 0) {
+          relax(count, visits);
+          stats.brick_relaxations += static_cast<std::uint64_t>(count);
+          if (++stats.iterations > kMaxRounds)
+            throw Error("the OpenCL propagation did not converge in " + std::to_string(kMaxRounds) +
+                        " rounds (float rounding can keep voxels changing under very strong "
+                        "anisotropy along a grid axis, docs/scheme.md 'Convergence'; --device cpu "
+                        "solves in double)");
+        }
+        colour = (colour + 1) % colour_count;
+        if (insertion && colour == 0) colour_count = 1;
       }
     } while (step_ > 0.0f && raise_threshold());
     queue_.enqueueReadBuffer(canvas_->update_counter, CL_TRUE, 0, sizeof(cl_ulong),
