@@ -1,6 +1,7 @@
 // The OpenCL engine and OpenVDB FastSweeping on one small case (64^3 box, 100 seeds), counters
-// as rates: `voxels` is converged active voxels per second. The full comparison, with the CPU
-// reference and the 256^3 cases, is `rvor bench`.
+// as rates: `voxels` is converged active voxels per second; and insertions of 1, 10 and 100 seeds
+// into it. The full comparison, with the CPU reference and the 256^3 cases, is `rvor
+// bench`.
 #include <benchmark/benchmark.h>
 
 #include <map>
@@ -16,6 +17,7 @@
 #include "rvor/metric_field.h"
 #include "rvor/opencl_propagator.h"
 #include "rvor/seeds.h"
+#include "rvor/voronoi_session.h"
 
 namespace {
 
@@ -71,6 +73,34 @@ void opencl_solve(benchmark::State& state, const std::string& metric) {
   state.SetLabel(engine->device_description());
 }
 
+// One insertion of range(0) seeds into the solved case through a VoronoiSession (what
+// farthest-point seeding and refinement run); only the insertion is timed, and `share_of_a_solve`
+// is its time over the solve's before it.
+void opencl_insertion(benchmark::State& state, const std::string& metric) {
+  const SmallCase& c = small_case(metric);
+  const std::vector<rvor::Vec3> extra =
+      rvor::random_seeds(c.canvas, static_cast<std::size_t>(state.range(0)), 2);
+  std::unique_ptr<rvor::Propagator> engine;
+  try {
+    engine = rvor::make_opencl_propagator("auto");
+  } catch (const rvor::Error& e) {
+    return state.SkipWithError(e.what());
+  }
+  rvor::VoronoiSession session(std::move(engine));
+  session.solve(c.canvas, c.seeds);  // uploads the canvas and builds the program
+  double solve_seconds = 0, insert_seconds = 0, rounds = 0;
+  for (auto _ : state) {
+    solve_seconds += session.solve(c.canvas, c.seeds).seconds;
+    const rvor::PropagationStats stats = session.insert(c.canvas, extra);
+    state.SetIterationTime(stats.seconds);
+    insert_seconds += stats.seconds;
+    rounds += double(stats.iterations);
+  }
+  state.counters["share_of_a_solve"] = insert_seconds / solve_seconds;
+  state.counters["rounds"] = rounds / double(state.iterations());
+  state.SetLabel(session.device_description());
+}
+
 // Only FastSweeping's sweep() is timed, as in rvor bench (its initialisation is one more pass).
 void fastsweeping_solve(benchmark::State& state, const std::string& metric) {
   const SmallCase& c = small_case(metric);
@@ -87,6 +117,18 @@ BENCHMARK_CAPTURE(opencl_solve, euclidean, std::string("euclidean"))
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(opencl_solve, radial_shock_3d, std::string("radial_shock_3d"))
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(opencl_insertion, euclidean, std::string("euclidean"))
+    ->Arg(1)
+    ->Arg(10)
+    ->Arg(100)
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(opencl_insertion, radial_shock_3d, std::string("radial_shock_3d"))
+    ->Arg(1)
+    ->Arg(10)
+    ->Arg(100)
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(fastsweeping_solve, euclidean, std::string("euclidean"))
