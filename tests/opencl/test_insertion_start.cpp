@@ -142,5 +142,26 @@ TEST(InsertionExactStart, IntoTheReferencesField) {
   }
 }
 
+// The start makes many bricks pending at once: twenty new seeds among 200 at 64^3 overflow the
+// scratch (a colour class, 64 bricks), and the insertion takes a cycle of colours, then every
+// colour at once again, instead of colours to its end: 28 rounds on PoCL in both variants, 35 and
+// 36 when it kept to colours (a temporary revert).
+TEST(InsertionExactStart, ABatchThatOverflowsTheScratchReturnsToEveryColourAtOnce) {
+  const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 64, Mat3::Identity());
+  const std::vector<Vec3> seeds = test::seeds_in(canvas, 220, 17);
+  for (const RelaxationVariant variant : test::kDefaultVariants) {
+    SCOPED_TRACE(static_cast<int>(variant));
+    REQUIRE_ENGINE(variant);
+    VoronoiField all, field;
+    engine->solve(canvas, seeds, all);
+    engine->solve(canvas, {seeds.begin(), seeds.begin() + 200}, field);
+    const PropagationStats stats = engine->insert(canvas, seeds, 200, field);
+    std::printf("[ measured ] variant %d: %llu rounds\n", static_cast<int>(variant),
+                static_cast<unsigned long long>(stats.iterations));
+    EXPECT_LT(stats.iterations, 32u);
+    test::expect_same_field(canvas, all, field);
+  }
+}
+
 }  // namespace
 }  // namespace rvor
