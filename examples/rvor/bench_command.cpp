@@ -239,6 +239,7 @@ nlohmann::json case_json(const BenchResult& r) {
           {"insert_max_seconds", or_null(r.insert_max_seconds)},
           {"insert_mean_round_seconds", or_null(r.insert_mean_round_seconds)},
           {"insert_mean_rounds", or_null(r.insert_mean_rounds)},
+          {"insert_exact_start", or_null(r.insert_exact_start)},
           {"insert_fraction", or_null(r.insert_fraction)},
           {"fastsweeping_seconds", or_null(r.fastsweeping_seconds)},
           {"fastsweeping_init_seconds", or_null(r.fastsweeping_init_seconds)},

@@ -222,6 +222,9 @@ TEST(BenchCommand, JsonHasTheRequiredKeysPerCase) {
     EXPECT_GT(c.at("insert_mean_round_seconds").get<double>(), 0);
     EXPECT_GE(c.at("insert_mean_rounds").get<double>(), 1.0);
   }
+  // Insertions take the exact start under the isotropic metric, not under radial_shock_3d's.
+  EXPECT_EQ(report["cases"][0].at("insert_exact_start"), true);
+  EXPECT_EQ(report["cases"][1].at("insert_exact_start"), false);
   EXPECT_EQ(report["cases"][1].at("metric"), "radial_shock_3d");
   EXPECT_GE(report["cases"][1].at("max_anisotropy").get<double>(), 10.0);
 }

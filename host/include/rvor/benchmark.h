@@ -75,6 +75,9 @@ struct BenchResult {
   std::optional<double> insert_mean_round_seconds;
   // Rounds per insertion (PropagationStats::iterations): on a GPU each waits for the device.
   std::optional<double> insert_mean_rounds;
+  // Whether every insertion started its new seeds' voxels at their exact distance
+  // (PropagationStats::exact_start: the OpenCL engine under a uniform diagonal metric).
+  std::optional<bool> insert_exact_start;
 
   // OpenVDB FastSweeping: only sweep() is timed (initExt separately), 1 iteration of 8 sweeps.
   std::optional<double> fastsweeping_seconds, fastsweeping_init_seconds;

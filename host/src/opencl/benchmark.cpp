@@ -77,6 +77,7 @@ void time_insertion(const std::function<PropagationStats(std::size_t, std::size_
   if (seed_count <= solved) return;
   const std::size_t batch = std::max<std::size_t>(1, r.bench_case.insert_batch);
   double total = 0.0, largest = 0.0, in_rounds = 0.0, rounds = 0.0;
+  bool exact_start = true;
   r.insertions = 0;
   for (std::size_t next = solved; next < seed_count; next += batch) {
     const PropagationStats stats = insert(next, std::min(seed_count, next + batch));
@@ -85,12 +86,14 @@ void time_insertion(const std::function<PropagationStats(std::size_t, std::size_
     in_rounds += stats.round_seconds;
     rounds += static_cast<double>(stats.iterations);
     largest = std::max(largest, stats.seconds);
+    exact_start = exact_start && stats.exact_start;
   }
   const double insertions = static_cast<double>(r.insertions);
   r.insert_mean_seconds = total / insertions;
   r.insert_mean_round_seconds = in_rounds / insertions;
   r.insert_mean_rounds = rounds / insertions;
   r.insert_max_seconds = largest;
+  r.insert_exact_start = exact_start;
   r.insert_fraction = *r.insert_mean_seconds / r.seconds;
 }
 
