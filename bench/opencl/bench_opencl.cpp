@@ -119,18 +119,13 @@ BENCHMARK_CAPTURE(opencl_solve, euclidean, std::string("euclidean"))
 BENCHMARK_CAPTURE(opencl_solve, radial_shock_3d, std::string("radial_shock_3d"))
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(opencl_insertion, euclidean, std::string("euclidean"))
-    ->Arg(1)
-    ->Arg(10)
-    ->Arg(100)
-    ->UseManualTime()
-    ->Unit(benchmark::kMillisecond);
+// Insertions of 1, 10 and 100 seeds.
+void insertion_batches(benchmark::internal::Benchmark* b) {
+  b->Arg(1)->Arg(10)->Arg(100)->UseManualTime()->Unit(benchmark::kMillisecond);
+}
+BENCHMARK_CAPTURE(opencl_insertion, euclidean, std::string("euclidean"))->Apply(insertion_batches);
 BENCHMARK_CAPTURE(opencl_insertion, radial_shock_3d, std::string("radial_shock_3d"))
-    ->Arg(1)
-    ->Arg(10)
-    ->Arg(100)
-    ->UseManualTime()
-    ->Unit(benchmark::kMillisecond);
+    ->Apply(insertion_batches);
 BENCHMARK_CAPTURE(fastsweeping_solve, euclidean, std::string("euclidean"))
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);
