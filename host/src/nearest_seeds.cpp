@@ -318,9 +318,10 @@ std::vector<std::uint8_t> bricks_seeds_may_lower(const Canvas& canvas,
     lowered[brick] = 1;
     const int bi = o.i / Canvas::kBrickEdge, bj = o.j / Canvas::kBrickEdge,
               bk = o.k / Canvas::kBrickEdge;
-    for (int dk = -reach_z; dk <= reach_z; ++dk)
-      for (int dj = -1; dj <= 1; ++dj)
-        for (int di = -1; di <= 1; ++di) visit(canvas.brick_at(bi + di, bj + dj, bk + dk));
+    for (int axis = 0; axis < (reach_z ? 3 : 2); ++axis)  // the face neighbours
+      for (const int step : {-1, 1})
+        visit(canvas.brick_at(bi + (axis == 0 ? step : 0), bj + (axis == 1 ? step : 0),
+                              bk + (axis == 2 ? step : 0)));
   }
   return lowered;
 }

@@ -110,10 +110,12 @@ BrickSeedLists exact_start_lists(const Canvas& canvas, const std::vector<Vec3>& 
 // Under the exact start's metric, a byte per brick, set where a voxel's u0 of one of `seeds` may
 // lie below its `distance` (a solved field's, world units; +inf where unlabelled): bricks whose
 // least u0 over their box is not above their greatest distance. Only the bricks joined to a seed's
-// own brick through such bricks (face, edge or corner) are tested, so the cost follows the region
-// the seeds win. That region reaches each seed's brick (its block) and grows from it, as a
-// Voronoi cell does; a brick beyond it that the test would admit is left to the relaxations,
-// which reach the same fixed point from the field (an insertion's start is only where they begin).
+// own brick through the faces of such bricks are tested, so the cost follows the region the seeds
+// win. That region reaches each seed's brick (its block) and grows from it, as a Voronoi cell
+// does, and the bricks a connected region meets are joined through faces (where it crosses an
+// edge or a corner, the bricks around that meet it too); a brick beyond it that the test would
+// admit is left to the relaxations, which reach the same fixed point from the field (an
+// insertion's start is only where they begin).
 std::vector<std::uint8_t> bricks_seeds_may_lower(const Canvas& canvas,
                                                  const std::vector<Vec3>& seeds,
                                                  const std::vector<float>& distance);
