@@ -233,15 +233,13 @@ ExactStartReach exact_start_reach(const Canvas& canvas) {
   return exact_start_reach(canvas, first_metric_is_diagonal(canvas) && has_uniform_metric(canvas));
 }
 
-BrickSeedLists nearest_seed_candidates(const Canvas& canvas, const std::vector<Vec3>& seeds,
-                                       const std::vector<std::uint8_t>* only_bricks) {
-  if (canvas.active_voxel_count == 0) throw Error("nearest seeds: the canvas has no active voxel");
+namespace {
+
+// nearest_seed_candidates with the seeds' tree built (`scaled`, not empty).
+BrickSeedLists candidate_lists(const Canvas& canvas, const ScaledSeeds& scaled,
+                               const std::vector<std::uint8_t>* only_bricks) {
   BrickSeedLists lists;
   lists.begin.assign(canvas.brick_count() + 1, 0);
-  if (seeds.empty()) return lists;
-  const ScaledSeeds scaled(canvas, seeds);
-  const std::vector<Vec3>& points = scaled.points;
-  const PointTree& tree = scaled.tree;
   std::vector<std::int32_t> found;
   std::vector<std::pair<double, double>> reach;  // least and greatest distance to the brick
   for (std::size_t brick = 0; brick < canvas.brick_count(); ++brick) {
@@ -252,15 +250,15 @@ BrickSeedLists nearest_seed_candidates(const Canvas& canvas, const std::vector<V
     const Vec3 extent = hi - lo;
     // Every voxel of the brick is within half its diameter of the centre, so no voxel's nearest
     // seed lies farther from the centre than the centre's nearest plus the diameter.
-    const double radius = tree.nearest_distance(centre) + extent.norm();
+    const double radius = scaled.tree.nearest_distance(centre) + extent.norm();
     found.clear();
-    tree.within(centre, radius * (1.0 + 1e-9) + 1e-9, found);  // rounding never drops a seed
+    scaled.tree.within(centre, radius * (1.0 + 1e-9) + 1e-9, found);  // rounding drops no seed
     // Of those, a seed whose least distance to the brick exceeds another's greatest is nearest
     // to none of its voxels.
     reach.clear();
     double least_greatest = std::numeric_limits<double>::infinity();
     for (const std::int32_t s : found) {
-      reach.push_back(box_distances(points[s], lo, hi));
+      reach.push_back(box_distances(scaled.points[s], lo, hi));
       least_greatest = std::min(least_greatest, reach.back().second);
     }
     std::size_t kept = 0;
@@ -270,28 +268,20 @@ BrickSeedLists nearest_seed_candidates(const Canvas& canvas, const std::vector<V
     std::sort(found.begin(), found.end());
     lists.seeds.insert(lists.seeds.end(), found.begin(), found.end());
     if (lists.seeds.size() > std::numeric_limits<std::uint32_t>::max())
-      throw Error("nearest seeds: over 2^32 candidate entries (" + std::to_string(seeds.size()) +
-                  " seeds on " + std::to_string(canvas.brick_count()) + " bricks)");
+      throw Error("nearest seeds: over 2^32 candidate entries (" +
+                  std::to_string(scaled.points.size()) + " seeds on " +
+                  std::to_string(canvas.brick_count()) + " bricks)");
     lists.begin[brick + 1] = static_cast<std::uint32_t>(lists.seeds.size());
   }
   lists.seen.assign(lists.seeds.size(), canvas.dimension == 3 ? 0xff : 0x0f);
   return lists;
 }
 
-BrickSeedLists exact_start_lists(const Canvas& canvas, const std::vector<Vec3>& seeds,
-                                 ExactStartReach reach,
-                                 const std::vector<std::uint8_t>* only_bricks) {
-  BrickSeedLists lists = nearest_seed_candidates(canvas, seeds, only_bricks);
-  if (reach != ExactStartReach::every_brick) mark_where_seeds_are_seen(canvas, seeds, lists);
-  return lists;
-}
-
-std::vector<std::uint8_t> bricks_seeds_may_lower(const Canvas& canvas,
-                                                 const std::vector<Vec3>& seeds,
-                                                 const std::vector<float>& distance) {
+// bricks_seeds_may_lower with the seeds' tree built (`scaled`).
+std::vector<std::uint8_t> bricks_may_lower(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                                           const ScaledSeeds& scaled,
+                                           const std::vector<float>& distance) {
   std::vector<std::uint8_t> lowered(canvas.brick_count(), 0);
-  if (seeds.empty() || canvas.active_voxel_count == 0) return lowered;
-  const ScaledSeeds scaled(canvas, seeds);
   std::vector<std::uint8_t> visited(canvas.brick_count(), 0);
   std::vector<std::int32_t> queue;
   const auto visit = [&](std::int32_t brick) {
@@ -305,7 +295,6 @@ std::vector<std::uint8_t> bricks_seeds_may_lower(const Canvas& canvas,
     const VoxelIndex v = canvas.voxel_containing(seed);
     visit(canvas.brick_at(brick_of(v.i), brick_of(v.j), brick_of(v.k)));
   }
-  const int reach_z = canvas.dimension == 3 ? 1 : 0;
   while (!queue.empty()) {
     const std::int32_t brick = queue.back();
     queue.pop_back();
@@ -316,23 +305,64 @@ std::vector<std::uint8_t> bricks_seeds_may_lower(const Canvas& canvas,
     if (!(least * canvas.voxel_size <= greatest_distance(canvas, brick, distance) * (1.0 + 1e-5)))
       continue;
     lowered[brick] = 1;
-    const int bi = o.i / Canvas::kBrickEdge, bj = o.j / Canvas::kBrickEdge,
-              bk = o.k / Canvas::kBrickEdge;
-    for (int axis = 0; axis < (reach_z ? 3 : 2); ++axis)  // the face neighbours
-      for (const int step : {-1, 1})
-        visit(canvas.brick_at(bi + (axis == 0 ? step : 0), bj + (axis == 1 ? step : 0),
-                              bk + (axis == 2 ? step : 0)));
+    const int b[3] = {o.i / Canvas::kBrickEdge, o.j / Canvas::kBrickEdge, o.k / Canvas::kBrickEdge};
+    for (int axis = 0; axis < canvas.dimension; ++axis)  // through the faces
+      for (const int step : {-1, 1}) {
+        int n[3] = {b[0], b[1], b[2]};
+        n[axis] += step;
+        visit(canvas.brick_at(n[0], n[1], n[2]));
+      }
   }
   return lowered;
 }
 
+// Clears the seen bits where the reach asks for it (exact_start_lists).
+void mark_reach(const Canvas& canvas, const std::vector<Vec3>& seeds, ExactStartReach reach,
+                BrickSeedLists& lists) {
+  if (reach != ExactStartReach::every_brick) mark_where_seeds_are_seen(canvas, seeds, lists);
+}
+
+}  // namespace
+
+BrickSeedLists nearest_seed_candidates(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                                       const std::vector<std::uint8_t>* only_bricks) {
+  if (canvas.active_voxel_count == 0) throw Error("nearest seeds: the canvas has no active voxel");
+  if (seeds.empty()) {
+    BrickSeedLists lists;
+    lists.begin.assign(canvas.brick_count() + 1, 0);
+    return lists;
+  }
+  return candidate_lists(canvas, ScaledSeeds(canvas, seeds), only_bricks);
+}
+
+BrickSeedLists exact_start_lists(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                                 ExactStartReach reach,
+                                 const std::vector<std::uint8_t>* only_bricks) {
+  BrickSeedLists lists = nearest_seed_candidates(canvas, seeds, only_bricks);
+  mark_reach(canvas, seeds, reach, lists);
+  return lists;
+}
+
+std::vector<std::uint8_t> bricks_seeds_may_lower(const Canvas& canvas,
+                                                 const std::vector<Vec3>& seeds,
+                                                 const std::vector<float>& distance) {
+  if (seeds.empty() || canvas.active_voxel_count == 0)
+    return std::vector<std::uint8_t>(canvas.brick_count(), 0);
+  return bricks_may_lower(canvas, seeds, ScaledSeeds(canvas, seeds), distance);
+}
+
+// The new seeds' tree serves both the search and the lists.
 BrickSeedLists insertion_start_lists(const Canvas& canvas, const std::vector<Vec3>& seeds,
                                      std::size_t first_new, const std::vector<float>& distance,
                                      ExactStartReach reach) {
   const std::vector<Vec3> new_seeds(seeds.begin() + static_cast<std::ptrdiff_t>(first_new),
                                     seeds.end());
-  const std::vector<std::uint8_t> bricks = bricks_seeds_may_lower(canvas, new_seeds, distance);
-  BrickSeedLists lists = exact_start_lists(canvas, new_seeds, reach, &bricks);
+  if (new_seeds.empty() || canvas.active_voxel_count == 0)
+    return nearest_seed_candidates(canvas, new_seeds);  // its checks and empty lists
+  const ScaledSeeds scaled(canvas, new_seeds);
+  const std::vector<std::uint8_t> bricks = bricks_may_lower(canvas, new_seeds, scaled, distance);
+  BrickSeedLists lists = candidate_lists(canvas, scaled, &bricks);
+  mark_reach(canvas, new_seeds, reach, lists);
   for (std::int32_t& label : lists.seeds) label += static_cast<std::int32_t>(first_new);
   return lists;
 }
