@@ -15,6 +15,7 @@
 #include "rvor/devices.h"
 #include "rvor/error.h"
 #include "rvor/metric_field.h"
+#include "rvor/opencl_propagator.h"
 #include "rvor/spec_text.h"
 #include "terminal.h"
 
@@ -311,11 +312,11 @@ void add_bench_command(CLI::App& app) {
   cmd->add_option("--phase-iterations", options->phase_iterations,
                   "voxel_phases: most iterations per round of a solve (default " +
                       std::to_string(OpenCLOptions{}.phase_iterations) + ")")
-      ->check(CLI::Range(1, 64));
+      ->check(CLI::Range(1, kMostVisitsPerRelaxation));
   cmd->add_option("--insertion-phase-iterations", options->insertion_phase_iterations,
                   "voxel_phases: most iterations per round of an insertion (default " +
                       std::to_string(OpenCLOptions{}.insertion_phase_iterations) + ")")
-      ->check(CLI::Range(1, 64));
+      ->check(CLI::Range(1, kMostVisitsPerRelaxation));
   cmd->add_option("--repeat", options->repetitions,
                   "Solves per case with the same engine; the fastest counts (the first also "
                   "uploads the canvas, and compiles the kernels where PoCL's cache lacks them: "

@@ -24,6 +24,11 @@ enum class RelaxationVariant {
 // steps multiply the rounds (1e-30 took 360 times the rounds).
 constexpr double kSmallestFrontStep = 0.25;
 
+// The most sweeps (max_sweeps) or iterations (phase_iterations, insertion_phase_iterations) one
+// relaxation of a brick may take: they bound its evaluation stamps (kernels/propagation.cl, work
+// avoidance).
+constexpr int kMostVisitsPerRelaxation = 64;
+
 struct OpenCLOptions {
   RelaxationVariant variant = RelaxationVariant::automatic;
   // brick_sweep and brick_lanes: most sweeps per brick and round, in [1, 64], or 0: automatic, 4

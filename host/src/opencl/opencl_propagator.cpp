@@ -28,9 +28,6 @@ namespace rvor {
 
 namespace {
 
-// Bounds the evaluation stamps one relaxation uses (kernels/propagation.cl, work avoidance): the
-// sweeps of a brick sweep, the iterations of voxel phases.
-constexpr int kMaxSweeps = 64;
 constexpr std::size_t kSeedRecord = 16;  // floats, see kernels/eikonal_scheme.clh
 constexpr std::size_t kBookkeepingGroup = 64;
 constexpr int kLanes = 8;  // bricks per work-item of relax_brick_lanes (kernels/brick_lanes.cl)
@@ -812,15 +809,17 @@ class OpenCLPropagator final : public Propagator {
 
 std::unique_ptr<Propagator> make_opencl_propagator(const std::string& device,
                                                    const OpenCLOptions& options) {
-  if (options.max_sweeps < 0 || options.max_sweeps > kMaxSweeps)
-    throw Error("OpenCLOptions::max_sweeps must be in [0, " + std::to_string(kMaxSweeps) +
-                "] (0: automatic), got " + std::to_string(options.max_sweeps));
+  if (options.max_sweeps < 0 || options.max_sweeps > kMostVisitsPerRelaxation)
+    throw Error("OpenCLOptions::max_sweeps must be in [0, " +
+                std::to_string(kMostVisitsPerRelaxation) + "] (0: automatic), got " +
+                std::to_string(options.max_sweeps));
   for (const auto& [name, iterations] :
        {std::pair{"phase_iterations", options.phase_iterations},
         std::pair{"insertion_phase_iterations", options.insertion_phase_iterations}})
-    if (iterations < 1 || iterations > kMaxSweeps)
+    if (iterations < 1 || iterations > kMostVisitsPerRelaxation)
       throw Error(std::string("OpenCLOptions::") + name + " must be in [1, " +
-                  std::to_string(kMaxSweeps) + "], got " + std::to_string(iterations));
+                  std::to_string(kMostVisitsPerRelaxation) + "], got " +
+                  std::to_string(iterations));
   if (!std::isfinite(options.front_step) ||
       (options.front_step > 0.0 && options.front_step < kSmallestFrontStep))
     throw Error(
