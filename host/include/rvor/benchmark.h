@@ -31,10 +31,10 @@ struct BenchCase {
   bool reference = true;     // also time the CPU reference (slow at 256^3)
   bool fastsweeping = true;  // also time OpenVDB FastSweeping (3D canvases)
   int repetitions = 1;       // solves with the same propagator; the fastest counts
-  // After the solve, insert this many further seeds (the next draws of the same generator) one
-  // at a time into the solved canvas: through a VoronoiSession, or with checked_insert through
-  // Propagator::insert into a copy of the solved field (a caller's field, which every insertion
-  // checks by reading all of it).
+  // After the solve, insert this many further seeds (the next draws of the same generator),
+  // insert_batch at a time, into the solved canvas: through a VoronoiSession, or with
+  // checked_insert through Propagator::insert into a copy of the solved field (a caller's field,
+  // which every insertion checks by reading all of it).
   std::size_t inserted_seeds = 0;
   std::size_t insert_batch = 1;  // seeds per insertion (the last may take fewer)
   bool checked_insert = false;
@@ -64,10 +64,9 @@ struct BenchResult {
   double bytes_per_voxel = 0.0;             // device_bytes / active voxels
 
   // Incremental insertion (inserted_seeds > 0): mean and largest seconds of one insertion (of
-  // insert_batch seeds) of a
-  // VoronoiSession (the chain of insertions a mesh generator runs: no check of a caller's field,
-  // rvor/voronoi_session.h), or of Propagator::insert with checked_insert, the read-back
-  // included; and the mean as a fraction of the solve.
+  // insert_batch seeds) of a VoronoiSession (the chain of insertions a mesh generator runs: no
+  // check of a caller's field, rvor/voronoi_session.h), or of Propagator::insert with
+  // checked_insert, the read-back included; and the mean as a fraction of the solve.
   std::optional<double> insert_mean_seconds, insert_max_seconds, insert_fraction;
   std::size_t insertions = 0;  // calls timed: inserted_seeds / insert_batch, rounded up
   // Of the mean insertion, the seconds in its rounds of relaxations (PropagationStats::
