@@ -443,7 +443,8 @@ class OpenCLPropagator final : public Propagator {
   PropagationStats propagate(const Canvas& canvas, std::size_t first_seed, std::size_t seed_count,
                              const std::vector<cl_int4>& claims, bool frozen_marks_held,
                              const BrickSeedLists* exact_start = nullptr) {
-    const int visits = visits_per_relaxation(first_seed > 0);
+    const bool insertion = first_seed > 0;
+    const int visits = visits_per_relaxation(insertion);
     queue_.enqueueFillBuffer(canvas_->update_counter, cl_ulong{0}, 0, sizeof(cl_ulong));
     queue_.enqueueFillBuffer(canvas_->touched, cl_uchar{0}, 0, canvas_->bricks);
     queue_.enqueueFillBuffer(canvas_->flags, cl_uchar{0}, 0, canvas_->bricks);
@@ -455,13 +456,13 @@ class OpenCLPropagator final : public Propagator {
                                0, canvas_->bricks * sizeof(cl_float));
     }
     const cl_uint seed_stamp = next_round_base();
-    if (exact_start && first_seed == 0) start_at_nearest_seeds(*exact_start, seed_stamp);
+    if (exact_start && !insertion) start_at_nearest_seeds(*exact_start, seed_stamp);
     // The solved seeds' blocks are frozen already where the device's own solve or insertion left
     // the field it holds; an uploaded field carries no frozen marks. (Re-freezing 20000 seeds'
     // blocks was ~45% of an insertion's samples at 128^3.)
-    if (first_seed > 0 && !frozen_marks_held) prepare_seed_blocks(0, first_seed, true, seed_stamp);
+    if (insertion && !frozen_marks_held) prepare_seed_blocks(0, first_seed, true, seed_stamp);
     // After the frozen marks: the claims, not the start, decide the solved seeds' blocks.
-    if (exact_start && first_seed > 0) lower_to_nearest_seeds(*exact_start, seed_stamp);
+    if (exact_start && insertion) lower_to_nearest_seeds(*exact_start, seed_stamp);
     prepare_seed_blocks(first_seed, seed_count, false, seed_stamp);
     initialise_seeds(first_seed, seed_count, seed_stamp);
     claim_seed_voxels(claims, seed_stamp);
@@ -474,7 +475,6 @@ class OpenCLPropagator final : public Propagator {
     // crosses few bricks, and taking them a colour at a time made 5x the rounds, each a wait for
     // the device (docs/scheme.md, "Insertion on the device"). When they do not fit, it takes a
     // cycle of colours, then tries every colour at once again.
-    const bool insertion = first_seed > 0;
     int colour_count = insertion ? 1 : colours(canvas);
     int colour = 0;
     do {
