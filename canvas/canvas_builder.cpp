@@ -119,8 +119,15 @@ Placement place_voxels(const ResolvedDomain& domain, int resolution) {
   if (!(longest > 0) || !std::isfinite(longest)) fail_empty(*domain.spec, resolution);
   p.h = longest / resolution;
   check_scale(*domain.spec, domain.bounds, p.h);
-  for (int a = 0; a < 3; ++a)
-    p.dims[a] = std::max(1, static_cast<int>(std::lround(std::max(0.0, extent[a]) / p.h)));
+  const bool box = domain.spec->kind == DomainSpec::Kind::Box ||
+                   domain.spec->kind == DomainSpec::Kind::Rectangle;
+  for (int a = 0; a < 3; ++a) {
+    p.dims[a] = static_cast<int>(std::lround(std::max(0.0, extent[a]) / p.h));
+    // A box thinner than half a voxel across an axis has no voxel centre inside it (every voxel
+    // of a box is active); the other domains' voxels are tested, and a thin one has none.
+    if (p.dims[a] == 0 && box && a < p.dimension) fail_empty(*domain.spec, resolution);
+    p.dims[a] = std::max(1, p.dims[a]);
+  }
   if (p.dimension == 2) p.dims[2] = 1;
   p.origin = domain.bounds.lo + 0.5 * p.h * Vec3(1, 1, p.dimension == 3 ? 1 : 0);
   return p;

@@ -74,15 +74,20 @@ bool is_section_keyword(std::string_view text) {
 
 std::string read_whole_file(const std::string& path) {
   std::ifstream in = open_input_file(path, "Medit file");
-  std::ostringstream text;
-  text << in.rdbuf();
+  std::string whole;
+  // Read by chunks, each checked as it comes: binary Medit files (.meshb, .solb) start with the
+  // int 1, and text never holds a NUL byte, so a binary file (or /dev/zero) is refused at its
+  // first chunk rather than after reading it whole.
+  std::string chunk(std::size_t{1} << 20, '\0');
+  while (in.read(chunk.data(), static_cast<std::streamsize>(chunk.size())) || in.gcount() > 0) {
+    const std::string_view read(chunk.data(), static_cast<std::size_t>(in.gcount()));
+    if (read.find('\0') != std::string_view::npos)
+      throw Error(path +
+                  ": a binary file (binary Medit .meshb/.solb is not supported: write ASCII "
+                  ".mesh/.sol)");
+    whole += read;
+  }
   if (in.bad()) throw Error(path + ": read error");
-  std::string whole = text.str();
-  // Binary Medit files (.meshb, .solb) start with the int 1; text never holds a NUL byte.
-  if (whole.find('\0') != std::string::npos)
-    throw Error(path +
-                ": a binary file (binary Medit .meshb/.solb is not supported: write ASCII "
-                ".mesh/.sol)");
   return whole;
 }
 

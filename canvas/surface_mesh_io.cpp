@@ -31,7 +31,7 @@ class LineReader {
  public:
   explicit LineReader(const std::string& path) : path_(path), in_(open_input(path)) {}
   bool next(std::string& line) {
-    if (!std::getline(in_, line)) return false;
+    if (!read_input_line(in_, line, path_, number_ + 1)) return false;
     ++number_;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     return true;

@@ -17,4 +17,22 @@ std::ifstream open_input_file(const std::string& path, const std::string& what) 
   return in;
 }
 
+bool read_input_line(std::istream& in, std::string& line, const std::string& path, long number) {
+  line.clear();
+  std::streambuf* buffer = in.rdbuf();
+  for (;;) {
+    const int c = buffer->sbumpc();
+    if (c == std::char_traits<char>::eof()) {
+      in.setstate(std::ios::eofbit);
+      return !line.empty();
+    }
+    if (c == '\n') return true;
+    if (line.size() == kMaxInputLineBytes)
+      throw Error(path + ":" + std::to_string(number) + ": a line longer than " +
+                  std::to_string(kMaxInputLineBytes >> 20) +
+                  " MiB (a binary file, or not the file meant?)");
+    line.push_back(static_cast<char>(c));
+  }
+}
+
 }  // namespace rvor

@@ -117,6 +117,33 @@ TEST_F(CliErrors, EmptyDomain) {
   expect_error("--domain box:0,0,0,0,1,1 --resolution 16 --random-seeds 3", "box:0,0,0,0,1,1");
 }
 
+// A box or rectangle thinner than half a voxel has no voxel centre inside it: the canvas held one
+// layer of voxels outside the domain, and seeds drawn there.
+TEST_F(CliErrors, BoxThinnerThanHalfAVoxel) {
+  expect_error("--domain rect:0,0,100,1 --resolution 32 --random-seeds 3", "thinner than a voxel");
+  expect_error("--domain box:0,0,0,100,100,1 --resolution 32 --random-seeds 3",
+               "thinner than a voxel");
+}
+
+// Files without line ends (a binary file, /dev/zero) are refused at their first MiB, not read
+// whole into memory first (/dev/zero ran until the memory was gone).
+TEST_F(CliErrors, TextInputsWithoutLineEndsAreRefusedEarly) {
+  write_text(dir.file("long.xyz"), std::string((1 << 20) + 10, '1'));
+  expect_error("--domain rect:-1,-1,1,1 --resolution 16 --seeds " + dir.file("long.xyz"),
+               "long.xyz:1: a line longer than 1 MiB");
+  expect_error("--domain rect:-1,-1,1,1 --resolution 16 --seeds /dev/zero",
+               "/dev/zero:1: a line longer than 1 MiB");
+  expect_error("--domain rect:-1,-1,1,1 --resolution 16 --random-seeds 2 --probe /dev/zero",
+               "/dev/zero:1: a line longer");
+  std::filesystem::create_symlink("/dev/zero", dir.file("zero.off"));
+  expect_error("--domain mesh:" + dir.file("zero.off") + " --resolution 16 --random-seeds 2",
+               "zero.off:1: a line longer");
+  expect_error(
+      "--domain rect:0,0,1,1 --resolution 16 --metric-mesh /dev/zero --metric-file "
+      "/dev/zero --random-seeds 2",
+      "/dev/zero: a binary file");
+}
+
 TEST_F(CliErrors, ZeroResolution) {
   expect_error("--domain rect:-1,-1,1,1 --resolution 0 --seeds " + seeds2d(), "resolution");
 }
@@ -234,6 +261,18 @@ TEST_F(CliErrors, ParseErrorsAreOneLineWithExitCodeOne) {
         // An option of the other variants' schedules, which this one would ignore.
         std::string("bench --variant brick_lanes --insertion-phase-iterations 2"),
         std::string("bench --variant voxel_phases --front-step 3"),
+        // Options nothing in the run would read (each small enough to run quickly if taken).
+        std::string("bench --resolution 8 --seeds 2 --no-fastsweeping --device cpu --variant "
+                    "voxel_phases"),
+        std::string("bench --resolution 8 --seeds 2 --no-fastsweeping --device cpu --front-step 3"),
+        std::string("bench --resolution 8 --seeds 2 --no-fastsweeping --insert-batch 2"),
+        std::string("bench --resolution 8 --seeds 2 --no-fastsweeping --checked-insert"),
+        std::string("voronoi --quiet --out " + out() +
+                    " --domain rect:-1,-1,1,1 --resolution 8 "
+                    "--seeds " +
+                    seeds2d() + " --rng-seed 5"),
+        // A variant by the number CLI11's mapping gave it.
+        std::string("bench --resolution 8 --seeds 2 --no-fastsweeping --variant 2"),
         std::string("voronoi --quiet --domain rect:-1,-1,1,1 --random-seeds 3 --memory-budget 0.5"),
         std::string("voronoi --domain rect:-1,-1,1,1 --metric uniform:1,0,1 --metric-vdb m.vdb")}) {
     const CommandResult result = run_command(tool + " " + args);
