@@ -94,9 +94,33 @@ std::string variant_name(RelaxationVariant variant) {
   return "auto";
 }
 
+// --variant: one of kVariantNames, handed on as the enum's number (CLI11's CheckedTransformer
+// would take the numbers too, and print its mapping in --help).
+const CLI::Validator variant_from_name(
+    [](std::string& text) -> std::string {
+      const auto named = kVariantNames.find(text);
+      if (named == kVariantNames.end()) {
+        std::vector<std::string> names;
+        for (const auto& [name, variant] : kVariantNames) names.push_back(name);
+        return "'" + text + "' is not a variant (" + join(names) + ")";
+      }
+      text = std::to_string(static_cast<int>(named->second));
+      return {};
+    },
+    "");
+
 // Front stepping is a brick_lanes schedule, phase iterations voxel_phases': an explicit other
-// variant would ignore them.
+// variant would ignore them, and the reference (--device cpu) ignores all four.
 void check_variant_options(const BenchOptions& o) {
+  if (o.device == "cpu")
+    for (const auto& [option, given] :
+         {std::pair{"--variant", o.variant != RelaxationVariant::automatic},
+          std::pair{"--front-step", o.front_step.has_value()},
+          std::pair{"--phase-iterations", o.phase_iterations.has_value()},
+          std::pair{"--insertion-phase-iterations", o.insertion_phase_iterations.has_value()}})
+      if (given)
+        throw Error(std::string(option) +
+                    " applies to the OpenCL engine only, not to --device cpu (the reference)");
   const bool sweeps = o.variant == RelaxationVariant::brick_sweep;
   const bool phases = o.variant == RelaxationVariant::voxel_phases;
   auto refuse = [&](const std::string& option, const std::string& applies_to) {
@@ -282,12 +306,12 @@ void add_bench_command(CLI::App& app) {
       "Examples:\n"
       "  rvor bench --resolution 128 --no-reference --insert 3\n"
       "  rvor bench --metric swirl --domain rect:-1,-1,1,1 --resolution 96 --json");
-  cmd->add_option(
-      "--domain", options->domain,
-      "box:X0,Y0,Z0,X1,Y1,Z1 | rect:X0,Y0,X1,Y1 | mesh:FILE | implicit:NAME (default: the metric's "
-      "domain, else box:-1,-1,-1,1,1,1, or rect:-1,-1,1,1 for a 2D field)");
+  cmd->add_option("--domain", options->domain,
+                  domain_help() +
+                      " (default: the metric's domain, else box:-1,-1,-1,1,1,1, or "
+                      "rect:-1,-1,1,1 for a 2D field)");
   cmd->add_option("--metric", options->metric,
-                  "NAME[:key=value,...], NAME one of: " + join(analytic_metric_names()));
+                  metric_help() + " (default: euclidean when --domain is given)");
   cmd->add_option("--resolution", options->resolution,
                   "Voxels along the longest side (default 256)")
       ->transform(decimal_integer)
@@ -302,7 +326,8 @@ void add_bench_command(CLI::App& app) {
                   "OpenCL relaxation: auto (brick_lanes on CPUs, voxel_phases on GPUs) | "
                   "brick_lanes (brick_sweep on 8 bricks per work-item, in SIMD lanes) | "
                   "brick_sweep | voxel_phases")
-      ->transform(CLI::CheckedTransformer(kVariantNames));
+      ->transform(variant_from_name)
+      ->type_name("NAME");
   cmd->add_option("--front-step", options->front_step,
                   "brick_lanes solves: front stepping, in voxel lengths K (values above a "
                   "threshold stay tentative; once per colour cycle it moves K past the least "
@@ -310,7 +335,8 @@ void add_bench_command(CLI::App& app) {
                   "stencils and Voronoi cells at least 50 voxels across, else off")
       ->check(front_step_range);
   cmd->add_option("--phase-iterations", options->phase_iterations,
-                  "voxel_phases: most iterations per round of a solve (default " +
+                  "voxel_phases (an explicit --variant, or auto on a GPU): most iterations per "
+                  "round of a solve (default " +
                       std::to_string(OpenCLOptions{}.phase_iterations) + ")")
       ->check(CLI::Range(1, kMostVisitsPerRelaxation));
   cmd->add_option("--insertion-phase-iterations", options->insertion_phase_iterations,
@@ -323,21 +349,25 @@ void add_bench_command(CLI::App& app) {
                   "seconds at small sizes)")
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
-  cmd->add_option("--insert", options->inserted_seeds,
-                  "Then insert N more seeds into the solved canvas, one at a time (or "
-                  "--insert-batch at a time), as a chain of insertions does (a VoronoiSession, "
-                  "which keeps the field with the engine); the table's `insert` column is the mean "
-                  "insert time as a percentage of the solve")
-      ->transform(seed_count(0))
-      ->capture_default_str();
+  CLI::Option* insert =
+      cmd->add_option(
+             "--insert", options->inserted_seeds,
+             "Then insert N more seeds into the solved canvas, one at a time (or "
+             "--insert-batch at a time), as a chain of insertions does (a VoronoiSession, "
+             "which keeps the field with the engine); the table's `insert` column is the mean "
+             "insert time as a percentage of the solve")
+          ->transform(seed_count(0))
+          ->capture_default_str();
   cmd->add_option("--insert-batch", options->insert_batch,
                   "Seeds per insertion of --insert (the last may take fewer); the `insert` "
                   "column is then the mean time of one such insertion")
       ->transform(seed_count(1))
-      ->capture_default_str();
+      ->capture_default_str()
+      ->needs(insert);
   cmd->add_flag("--checked-insert", options->checked_insert,
                 "Time --insert through Propagator::insert into a copy of the solved field instead: "
-                "a caller's field, which every insertion reads whole to check (beside its rounds)");
+                "a caller's field, which every insertion reads whole to check (beside its rounds)")
+      ->needs(insert);
   cmd->add_flag("--no-exact-start", options->no_exact_start,
                 "Solve a uniform diagonal metric (the isotropic one among them) from +inf, as "
                 "any other metric, instead of from each voxel's nearest seed's exact distance "

@@ -38,6 +38,14 @@ void print_devices() {
 
 void add_devices_command(CLI::App& app) {
   CLI::App* command = app.add_subcommand("devices", "List the compute devices rvor can use");
+  command->footer(
+      "Prints one line per device: cpu (the reference solver), then opencl:N for every OpenCL\n"
+      "device (name, kind, compute units, memory, largest buffer, platform, driver; why it cannot\n"
+      "run the kernels, if so), and the default (--device of voronoi and bench: $RVOR_DEVICE,\n"
+      "else auto).\n"
+      "Example:\n"
+      "  rvor devices && RVOR_DEVICE=opencl:1 rvor voronoi --domain rect:-1,-1,1,1 "
+      "--random-seeds 10");
   command->callback(print_devices);
 }
 

@@ -10,6 +10,7 @@
 
 #include "rvor/devices.h"
 #include "rvor/error.h"
+#include "rvor/metric_field.h"
 #include "rvor/spec_text.h"
 
 namespace rvor::cli {
@@ -105,6 +106,21 @@ std::string join(const std::vector<std::string>& items, const std::string& separ
   std::string joined;
   for (const std::string& item : items) joined += (joined.empty() ? "" : separator) + item;
   return joined;
+}
+
+std::string domain_help() {
+  return "box:X0,Y0,Z0,X1,Y1,Z1 | rect:X0,Y0,X1,Y1 | mesh:FILE (.off/.obj/.stl: closed surfaces "
+         "that neither cross nor touch each other or themselves and have no zero-area "
+         "triangles; one inside another bounds a cavity) | implicit:NAME[:k=v,...]: sphere "
+         "(center=X,Y,Z, r=1), ellipsoid (center, a=1, b=0.75, c=0.5), torus (center, R=1, "
+         "r=0.25, axis z), disk (2D: center=X,Y, r=1); centres default to the origin";
+}
+
+std::string metric_help() {
+  return "NAME[:key=value,...], NAME one of: " + join(analytic_metric_names()) +
+         "; every field takes scale=S; uniform:m11,m12,m22 (2D) or "
+         "uniform:m11,m12,m22,m13,m23,m33 (3D); swirl, starred and unidimensional_shock are 2D "
+         "fields, radial_shock_3d is 3D, the others both";
 }
 
 CLI::Option* add_device_option(CLI::App* command, std::string& device,

@@ -55,6 +55,10 @@ extern const CLI::Validator rng_seed_value;
 // A file or directory name that is not empty ("--seeds $UNSET" would otherwise mean "none").
 extern const CLI::Validator non_empty_path;
 
+// The help of --domain and --metric, the same for `voronoi` and `bench`.
+std::string domain_help();
+std::string metric_help();
+
 // --device, whose default is $RVOR_DEVICE or auto. `what_cpu_is` says what "cpu" means there.
 CLI::Option* add_device_option(CLI::App* command, std::string& device,
                                const std::string& what_cpu_is);

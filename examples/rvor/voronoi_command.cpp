@@ -333,22 +333,13 @@ void add_voronoi_command(CLI::App& app) {
       "Outputs in --out: voronoi.vdb (float grid 'distance', int grid 'label'), report.json,\n"
       "seeds.xyz, and with --vtu canvas.vtu, with --probe probe.csv (x,y,z,distance,label),\n"
       "with --dual the files listed there, with --png voronoi.png.");
-  cmd->add_option("--domain", options->domain,
-                  "box:X0,Y0,Z0,X1,Y1,Z1 | rect:X0,Y0,X1,Y1 | mesh:FILE(.off/.obj/.stl: closed "
-                  "surfaces that neither cross nor touch each other or themselves and have no "
-                  "zero-area triangles; one inside another bounds a cavity) | "
-                  "implicit:NAME[:k=v,...] (sphere, ellipsoid, torus, disk)")
-      ->required();
+  cmd->add_option("--domain", options->domain, domain_help())->required();
   cmd->add_option("--resolution", options->resolution,
                   "Voxels along the longest side of the domain")
       ->transform(decimal_integer)
       ->capture_default_str();
   CLI::Option* metric_option =
-      cmd->add_option("--metric", options->metric,
-                      "NAME[:key=value,...], NAME one of: " + join(analytic_metric_names()) +
-                          "; every field takes scale=S; uniform:m11,m12,m22 (2D) or "
-                          "uniform:m11,m12,m22,m13,m23,m33 (3D)")
-          ->capture_default_str();
+      cmd->add_option("--metric", options->metric, metric_help())->capture_default_str();
   CLI::Option* sol_option =
       cmd->add_option("--metric-file", options->metric_sol,
                       "Metric tensors at mesh vertices (Medit .sol), interpolated; points "
@@ -367,13 +358,16 @@ void add_voronoi_command(CLI::App& app) {
   vdb_option->excludes(sol_option)->excludes(mesh_option);
   cmd->add_option("--seeds", options->seeds_file, "Seeds, one point per line (2 or 3 coordinates)")
       ->check(non_empty_path);
-  cmd->add_option("--random-seeds", options->random_seed_count,
-                  "Draw N seeds uniformly in distinct voxels of the canvas (the domain to half a "
-                  "voxel)")
-      ->transform(seed_count(0));
+  CLI::Option* random_option =
+      cmd->add_option("--random-seeds", options->random_seed_count,
+                      "Draw N seeds uniformly in distinct voxels of the canvas (the domain to half "
+                      "a voxel); two of them closer than the canvas resolves can still share a "
+                      "cell (report.json: field.empty_cells)")
+          ->transform(seed_count(0));
   cmd->add_option("--rng-seed", options->rng_seed, "Random generator seed for --random-seeds")
       ->transform(rng_seed_value)
-      ->capture_default_str();
+      ->capture_default_str()
+      ->needs(random_option);
   const CLI::Option* device =
       add_device_option(cmd, options->device, "sequential reference, double precision");
   cmd->add_option(
