@@ -3,6 +3,7 @@
 #include <csignal>
 #include <exception>
 #include <iostream>
+#include <new>
 
 #include "commands.h"
 #include "terminal.h"
@@ -32,6 +33,12 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help
     std::cerr << "rvor: error: " << rvor::cli::parse_error_text(app, e, argc, argv) << "\n";
+    return 1;
+  } catch (const std::bad_alloc&) {
+    // What ran out is memory the estimates did not foresee (they check the canvas against
+    // --memory-budget): say so, rather than "std::bad_alloc".
+    std::cerr << "rvor: error: out of memory (std::bad_alloc): the run needs more memory than "
+                 "this process may use; lower --resolution or the seed count, or free memory\n";
     return 1;
   } catch (const std::exception& e) {
     std::cerr << "rvor: error: " << e.what() << "\n";

@@ -145,7 +145,7 @@ void require_chosen_device(const CLI::Option* option, const std::string& device)
 
 void print_voronoi_summary(std::ostream& out, const std::string& out_dir,
                            const std::vector<std::string>& outputs, std::size_t active_voxels,
-                           std::size_t seeds, const FieldSummary& summary,
+                           std::size_t seeds, const FieldSummary& summary, const MetricReach& reach,
                            double propagation_seconds, double total_seconds) {
   out << "rvor voronoi: " << active_voxels << " voxels, " << seeds << " seeds, "
       << summary.non_empty_cells << " non-empty cells (" << summary.smallest_cell << " to "
@@ -156,6 +156,12 @@ void print_voronoi_summary(std::ostream& out, const std::string& out_dir,
     out << "  warning: " << summary.empty_cells << " seed" << (summary.empty_cells > 1 ? "s" : "")
         << " (seed " << summary.first_empty_cell << " first) own no voxel: each shares its voxel "
         << "with another seed, or lies nearer to one than the resolution separates\n";
+  if (beyond_validated_anisotropy(reach))
+    out << "  warning: the metric's anisotropy reaches " << reach.max_anisotropy
+        << " with stencils " << reach.longest_offset << " voxels long, beyond the anisotropy "
+        << kValidatedAnisotropy
+        << " up to which the tests validate the scheme at any angle: expect distances off by "
+           "percents, more where the stencils reach across the canvas\n";
   if (summary.unreached_voxels > 0)
     out << "  warning: " << summary.unreached_voxels
         << " voxels were reached by no seed (a domain component without seeds, or, under strong "

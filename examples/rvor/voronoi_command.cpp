@@ -26,6 +26,7 @@
 #include "rvor/field_summary.h"
 #include "rvor/local_fields.h"
 #include "rvor/metric_field.h"
+#include "rvor/metric_reach.h"
 #include "rvor/nerve.h"
 #include "rvor/propagation.h"
 #include "rvor/seeds.h"
@@ -208,6 +209,7 @@ void write_voronoi(const VoronoiOptions& o) {
     const std::unique_ptr<MetricField> metric =
         load_metric(o, domain.dimension(), canvas_options.memory_budget);
     const Canvas canvas = build_canvas(domain, *metric, canvas_options);
+    const MetricReach reach = sampled_metric_reach(canvas);
     const double canvas_seconds =
         progress.end(std::to_string(canvas.active_voxel_count) + " active voxels");
 
@@ -278,6 +280,8 @@ void write_voronoi(const VoronoiOptions& o) {
         {"voxel_updates", stats.voxel_updates},
         {"brick_relaxations", stats.brick_relaxations},
         {"exact_start", stats.exact_start},
+        {"max_anisotropy", reach.max_anisotropy},
+        {"longest_stencil_offset", reach.longest_offset},
         {"updates_per_voxel",
          canvas.active_voxel_count ? double(stats.voxel_updates) / canvas.active_voxel_count : 0.0},
         {"timings",
@@ -295,7 +299,7 @@ void write_voronoi(const VoronoiOptions& o) {
     outputs.commit(earlier);
     if (!o.quiet)
       print_voronoi_summary(std::cout, out, output_names(o), canvas.active_voxel_count,
-                            seeds.size(), summary, propagation_seconds, total);
+                            seeds.size(), summary, reach, propagation_seconds, total);
   } catch (const Error& error) {
     throw Error(outputs.shown(error.what()));  // the output's name, not its staging path
   }

@@ -52,6 +52,27 @@ TEST_F(CliOutputs, ReportHoldsTheRunFacts) {
   for (const char* stage : {"canvas", "propagation", "outputs", "total"})
     EXPECT_GE(report["timings"][stage].get<double>(), 0) << stage;
   EXPECT_EQ(report["field"]["unreached_voxels"].get<int>(), 0);
+  EXPECT_DOUBLE_EQ(report["max_anisotropy"].get<double>(), 3.0);  // sqrt(9 / 1)
+  EXPECT_EQ(report["longest_stencil_offset"].get<int>(), 1);
+}
+
+// Beyond the anisotropy the tests validate at any angle, with stencils longer than a voxel, the
+// summary warns (distances off by 16% were reported without a word: a 1e8 : 1 tensor at 30
+// degrees, 128^2); along an axis any anisotropy is exact and it does not.
+TEST_F(CliOutputs, AnisotropyBeyondTheValidatedRangeIsWarned) {
+  write_text(dir.file("seeds.xyz"), "0.1 0.2\n-0.5 0.3\n");
+  const auto run = [&](const std::string& metric) {
+    const CommandResult result =
+        run_command(rvor_binary() + " voronoi --device cpu --overwrite --out " + out() +
+                    " --domain rect:-1,-1,1,1 --resolution 32 --metric " + metric + " --seeds " +
+                    dir.file("seeds.xyz"));
+    EXPECT_EQ(result.exit_code, 0) << metric << ": " << result.err;
+    return result.out;
+  };
+  const std::string warning = "beyond the anisotropy 100 up to which the tests validate";
+  EXPECT_NE(run("uniform:75000000.25,43301269.7,25000000.75").find(warning), std::string::npos);
+  EXPECT_EQ(run("uniform:1e8,0,1").find(warning), std::string::npos);
+  EXPECT_EQ(run("uniform:6075.25,3506.970,2025.75").find(warning), std::string::npos);  // 90
 }
 
 TEST_F(CliOutputs, DefaultDeviceIsOpenCLWhenOneIsPresent) {

@@ -1,7 +1,6 @@
 // run_benchmark_case (rvor/benchmark.h): one canvas, one seed set, three solvers.
 #include "rvor/benchmark.h"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -14,6 +13,7 @@
 #include "rvor/domain.h"
 #include "rvor/error.h"
 #include "rvor/metric_field.h"
+#include "rvor/metric_reach.h"
 #include "rvor/propagation.h"
 #include "rvor/seeds.h"
 #include "rvor/voronoi_session.h"
@@ -21,8 +21,6 @@
 namespace rvor {
 
 namespace {
-
-constexpr std::size_t kAnisotropySamples = 20000;
 
 void report(const std::function<void(const std::string&)>& progress, const std::string& line) {
   if (progress) progress(line);
@@ -41,21 +39,6 @@ std::string seconds_text(double seconds) {
 
 double per_second(std::size_t voxels, double seconds) {
   return seconds > 0 ? static_cast<double>(voxels) / seconds : 0.0;
-}
-
-// sqrt(lambda_max / lambda_min) of the metric at evenly spread active voxels: the ratio of the
-// longest to the shortest unit-ball axis, the anisotropy the cases are specified by.
-double sampled_anisotropy(const Canvas& canvas) {
-  const std::size_t stride = std::max<std::size_t>(1, canvas.slot_count() / kAnisotropySamples);
-  double largest = 1.0;
-  for (std::size_t slot = 0; slot < canvas.slot_count(); slot += stride) {
-    if (!canvas.active[slot]) continue;
-    const Eigen::SelfAdjointEigenSolver<Mat3> eigen(canvas.metric_at(slot), Eigen::EigenvaluesOnly);
-    const Vec3 lambda = eigen.eigenvalues();
-    const double smallest = canvas.dimension == 3 ? lambda[0] : std::min(lambda[0], lambda[1]);
-    largest = std::max(largest, std::sqrt(lambda.maxCoeff() / smallest));
-  }
-  return largest;
 }
 
 std::unique_ptr<Propagator> make_engine(const BenchCase& c) {
@@ -217,7 +200,7 @@ BenchResult run_benchmark_case(const BenchCase& c,
   r.domain_description = domain.description();
   r.metric_description = metric->description();
   r.active_voxels = canvas.active_voxel_count;
-  r.max_anisotropy = sampled_anisotropy(canvas);
+  r.max_anisotropy = sampled_metric_reach(canvas).max_anisotropy;
   // Random draws are sequential, so the first c.seeds do not depend on c.inserted_seeds.
   const std::vector<Vec3> all_seeds = random_seeds(canvas, c.seeds + c.inserted_seeds, c.rng_seed);
   const std::vector<Vec3> seeds(all_seeds.begin(), all_seeds.begin() + c.seeds);
