@@ -42,8 +42,9 @@ void remove_abandoned_staging(const std::string& dir) {
 
 }  // namespace
 
-OutputSet::OutputSet(std::string dir, std::vector<std::string> names, bool replace)
-    : dir_(std::move(dir)), names_(std::move(names)), replace_(replace) {
+OutputSet::OutputSet(std::string dir, std::vector<std::string> names, bool replace,
+                     bool created_dir)
+    : dir_(std::move(dir)), names_(std::move(names)), replace_(replace), created_dir_(created_dir) {
   remove_abandoned_staging(dir_);
   for (const std::string& name : names_) {
     const fs::path target = fs::path(dir_) / name;
@@ -61,11 +62,13 @@ OutputSet::OutputSet(std::string dir, std::vector<std::string> names, bool repla
   if (!fs::create_directory(staging_, error))
     throw Error("cannot write to output directory " + dir_ + ": " +
                 (error ? error.message() : "cannot create a staging directory"));
+  interrupt_cleanup_.emplace(staging_, created_dir_ ? dir_ : std::string());
 }
 
 OutputSet::~OutputSet() {
   std::error_code ignored;
   fs::remove_all(staging_, ignored);
+  if (created_dir_ && !committed_) fs::remove(dir_, ignored);  // only when empty
 }
 
 std::string OutputSet::path(const std::string& name) const {
@@ -100,6 +103,8 @@ void OutputSet::commit(const std::vector<std::string>& earlier_names) {
   for (const std::string& name : names_)
     if (!fs::is_regular_file(path(name)))
       throw Error("internal error: output " + name + " was not written");
+  interrupt_cleanup_->hold();  // the set goes in whole, then an interruption takes effect
+  committed_ = true;
   if (!replace_) {
     publish_all_new();
     return;

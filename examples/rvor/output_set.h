@@ -2,8 +2,11 @@
 // The output files of `rvor voronoi` as one set: they are written into a staging directory inside
 // the output directory and moved into place together once the run has succeeded, so a run that
 // fails (a bad input found late, a writer that throws) leaves the earlier outputs as they were.
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "interrupt_cleanup.h"
 
 namespace rvor::cli {
 
@@ -11,12 +14,14 @@ class OutputSet {
  public:
   // `names`: the files this run writes into `dir` (which must exist: prepare_output_directory).
   // `replace`: earlier files of those names may be replaced; otherwise their presence is an
-  // error. Throws rvor::Error before anything is written when a name is taken by something that
-  // is not a regular file, or exists without `replace`.
-  OutputSet(std::string dir, std::vector<std::string> names, bool replace);
+  // error. `created_dir`: this run created `dir`, so a run that fails or is interrupted removes it
+  // again when it is empty. Throws rvor::Error before anything is written when a name is taken by
+  // something that is not a regular file, or exists without `replace`.
+  OutputSet(std::string dir, std::vector<std::string> names, bool replace, bool created_dir);
   OutputSet(const OutputSet&) = delete;
   OutputSet& operator=(const OutputSet&) = delete;
-  ~OutputSet();  // removes what is still staged: before commit(), `dir` is as it was
+  ~OutputSet();  // removes what is still staged: before commit(), `dir` is as it was (also when
+                 // the run is interrupted by SIGINT, SIGTERM or SIGHUP: InterruptCleanup)
 
   // Where the writer of `name` (one of the names) writes it until commit().
   std::string path(const std::string& name) const;
@@ -33,7 +38,8 @@ class OutputSet {
 
   std::string dir_, staging_;
   std::vector<std::string> names_;
-  bool replace_;
+  bool replace_, created_dir_, committed_ = false;
+  std::optional<InterruptCleanup> interrupt_cleanup_;
 };
 
 }  // namespace rvor::cli

@@ -187,11 +187,12 @@ void write_voronoi(const VoronoiOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   Progress progress(o.quiet);
   const std::string out = o.out_dir;
-  prepare_output_directory(out);
+  const bool created_out = prepare_output_directory(out);
   const std::vector<std::string> earlier =
       o.overwrite ? earlier_outputs(out, o) : std::vector<std::string>{};
   refuse_replacing_inputs(o, earlier);
-  OutputSet outputs(out, output_names(o), o.overwrite);  // in place once everything succeeded
+  // In place once everything succeeded.
+  OutputSet outputs(out, output_names(o), o.overwrite, created_out);
   auto path = [&](const std::string& name) { return outputs.path(name); };
   try {
     progress.begin("building canvas");

@@ -144,6 +144,44 @@ TEST_F(CliErrors, TextInputsWithoutLineEndsAreRefusedEarly) {
       "/dev/zero: a binary file");
 }
 
+// A run interrupted by SIGTERM, SIGINT or SIGHUP (`timeout`, Ctrl-C, a closed terminal) removes
+// its staging directory, and the output directory it created, before it dies of the signal; they
+// stayed until a later run into the same --out. `timeout` signals the process and then its group,
+// whose second signal once killed the process while another thread cleaned. (SIGINT is left out
+// here: a shell's background job ignores it, and rvor keeps a signal its caller ignores.)
+TEST_F(CliErrors, InterruptedRunLeavesNoStagingBehind) {
+  struct Case {
+    const char* name;
+    int number;
+  };
+  for (const Case signal : {Case{"TERM", 15}, Case{"HUP", 1}}) {
+    const std::string parent = dir.file(std::string("interrupted-") + signal.name);
+    const std::string out_dir = parent + "/out";
+    // A CPU solve of seconds, signalled once its staging directory is there.
+    const std::string script =
+        "(" + rvor_binary() + " voronoi --quiet --device cpu --domain box:1,1,1,11,11,11 " +
+        "--metric radial_shock_3d --resolution 160 --random-seeds 50 --out " + out_dir +
+        " & pid=$!; for i in $(seq 100); do ls -a " + out_dir +
+        " 2>/dev/null | grep -q outputs && break; sleep 0.1; done; sleep 0.3; kill -" +
+        signal.name + " $pid; wait $pid; echo $?)";
+    const CommandResult result = run_command(script);
+    EXPECT_EQ(result.out, std::to_string(128 + signal.number) + "\n")
+        << signal.name << ": " << result.err;
+    EXPECT_FALSE(std::filesystem::exists(out_dir)) << signal.name;
+    EXPECT_TRUE(std::filesystem::exists(parent)) << "a directory the run did not create";
+  }
+}
+
+// A run that fails removes the output directory it created (an empty directory was left).
+TEST_F(CliErrors, FailedRunRemovesTheOutputDirectoryItCreated) {
+  ASSERT_FALSE(std::filesystem::exists(out()));
+  expect_error("--domain rect:-1,-1,1,1 --resolution 4 --random-seeds 100", "16 active voxels");
+  EXPECT_FALSE(std::filesystem::exists(out()));
+  std::filesystem::create_directory(out());
+  expect_error("--domain rect:-1,-1,1,1 --resolution 4 --random-seeds 100", "16 active voxels");
+  EXPECT_TRUE(std::filesystem::exists(out())) << "a directory the run did not create";
+}
+
 TEST_F(CliErrors, ZeroResolution) {
   expect_error("--domain rect:-1,-1,1,1 --resolution 0 --seeds " + seeds2d(), "resolution");
 }

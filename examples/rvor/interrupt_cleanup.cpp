@@ -1,0 +1,100 @@
+#include "interrupt_cleanup.h"
+
+#include <dirent.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <climits>
+#include <cstring>
+
+#include "rvor/error.h"
+
+namespace rvor::cli {
+
+namespace {
+
+constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP};
+
+// What the handler removes, in storage it can read without allocating.
+char staging_path[PATH_MAX];
+char created_dir_path[PATH_MAX];
+struct sigaction previous[sizeof kSignals / sizeof *kSignals];
+// hold(): a signal is kept in `pending` rather than acted on. (sigprocmask would block it for the
+// calling thread only, and PoCL's and TBB's threads can take it.)
+volatile sig_atomic_t holding = 0, pending = 0;
+std::atomic_flag cleaning = ATOMIC_FLAG_INIT;  // lock-free, so a handler may use it
+
+// A getdents64 record (the libc wrapper, readdir, allocates; a handler may not): inode and offset
+// (8 bytes each), the record's length (2), the entry's type (1), then its name.
+constexpr int kRecordLengthAt = 16, kNameAt = 19;
+
+// Only async-signal-safe calls: open, getdents64, unlinkat, close, rmdir, sigaction, raise.
+void remove_staging_and_die(int signal_number) {
+  if (holding) {
+    pending = signal_number;
+    return;
+  }
+  // `timeout` signals the process and then its group: the second signal can reach another thread
+  // while the first cleans, and must wait for it rather than kill the process midway.
+  if (cleaning.test_and_set())
+    for (;;) pause();
+  const int dir = open(staging_path, O_RDONLY | O_DIRECTORY);
+  if (dir >= 0) {
+    alignas(8) char buffer[4096];
+    for (long read; (read = syscall(SYS_getdents64, dir, buffer, sizeof buffer)) > 0;)
+      for (long at = 0; at < read;) {
+        const char* name = buffer + at + kNameAt;
+        if (std::strcmp(name, ".") != 0 && std::strcmp(name, "..") != 0) unlinkat(dir, name, 0);
+        unsigned short length;
+        std::memcpy(&length, buffer + at + kRecordLengthAt, sizeof length);
+        at += length;
+      }
+    close(dir);
+    rmdir(staging_path);
+  }
+  if (created_dir_path[0] != '\0') rmdir(created_dir_path);  // only when empty
+  // Death by this signal, as without the handler: the default action, pending until the handler
+  // returns (the signal is blocked while it runs).
+  struct sigaction default_action {};
+  default_action.sa_handler = SIG_DFL;
+  sigaction(signal_number, &default_action, nullptr);
+  raise(signal_number);
+}
+
+void copy_path(const std::string& path, char (&into)[PATH_MAX]) {
+  if (path.size() >= PATH_MAX) throw Error("output path too long: " + path);
+  std::memcpy(into, path.c_str(), path.size() + 1);
+}
+
+}  // namespace
+
+InterruptCleanup::InterruptCleanup(const std::string& staging, const std::string& created_dir) {
+  copy_path(staging, staging_path);
+  copy_path(created_dir, created_dir_path);
+  holding = pending = 0;
+  cleaning.clear();
+  struct sigaction action {};
+  action.sa_handler = remove_staging_and_die;
+  sigemptyset(&action.sa_mask);
+  for (int s : kSignals) sigaddset(&action.sa_mask, s);  // one cleanup at a time
+  for (std::size_t n = 0; n < sizeof kSignals / sizeof *kSignals; ++n) {
+    sigaction(kSignals[n], nullptr, &previous[n]);
+    // A signal the caller ignores (nohup) stays ignored.
+    if (previous[n].sa_handler != SIG_IGN) sigaction(kSignals[n], &action, nullptr);
+  }
+}
+
+void InterruptCleanup::hold() {
+  holding = 1;
+}
+
+InterruptCleanup::~InterruptCleanup() {
+  for (std::size_t n = 0; n < sizeof kSignals / sizeof *kSignals; ++n)
+    sigaction(kSignals[n], &previous[n], nullptr);
+  if (pending != 0) raise(pending);  // held during publication: acted on now, as its old handler
+}
+
+}  // namespace rvor::cli
