@@ -13,7 +13,9 @@ struct MeditSolTensors {
   std::vector<Mat3> tensors;  // 2D: the z row and column are those of the identity
 };
 
-// Same checks as read_medit_sol_tensors().
-MeditSolTensors read_medit_sol(const std::string& path, int expected_vertices);
+// Same checks as read_medit_sol_tensors(), and a Dimension other than `expected_dimension` (0:
+// any) is an error at its line.
+MeditSolTensors read_medit_sol(const std::string& path, int expected_vertices,
+                               int expected_dimension);
 
 }  // namespace rvor::detail

@@ -429,8 +429,10 @@ struct SolutionLayout {
 
 class SolReader {
  public:
-  SolReader(const std::string& path, int expected_vertices)
-      : tokens_(path), expected_vertices_(expected_vertices) {}
+  SolReader(const std::string& path, int expected_vertices, int expected_dimension)
+      : tokens_(path),
+        expected_vertices_(expected_vertices),
+        expected_dimension_(expected_dimension) {}
 
   detail::MeditSolTensors read() {
     bool found = false;
@@ -489,6 +491,11 @@ class SolReader {
     if (dimension != 2 && dimension != 3)
       tokens_.fail(tokens_.line(),
                    "unknown dimension " + std::to_string(dimension) + " (expected 2 or 3)");
+    // Before the tensors, which another dimension reads with the wrong number of values each.
+    if (expected_dimension_ != 0 && dimension != expected_dimension_)
+      tokens_.fail(tokens_.line(), "Dimension " + std::to_string(dimension) +
+                                       ", but the mesh's Dimension is " +
+                                       std::to_string(expected_dimension_));
     result_.dimension = static_cast<int>(dimension);
   }
 
@@ -562,6 +569,7 @@ class SolReader {
 
   MeditTokens tokens_;
   int expected_vertices_;
+  int expected_dimension_;  // 0: any
   detail::MeditSolTensors result_;
 };
 
@@ -620,8 +628,9 @@ void write_vertices(std::ostream& out, const MeditMesh& mesh) {
 
 namespace detail {
 
-MeditSolTensors read_medit_sol(const std::string& path, int expected_vertices) {
-  return SolReader(path, expected_vertices).read();
+MeditSolTensors read_medit_sol(const std::string& path, int expected_vertices,
+                               int expected_dimension) {
+  return SolReader(path, expected_vertices, expected_dimension).read();
 }
 
 }  // namespace detail
@@ -649,7 +658,7 @@ void write_medit_mesh(const std::string& path, const MeditMesh& mesh) {
 }
 
 std::vector<Mat3> read_medit_sol_tensors(const std::string& path, int expected_vertices) {
-  return detail::read_medit_sol(path, expected_vertices).tensors;
+  return detail::read_medit_sol(path, expected_vertices, 0).tensors;
 }
 
 void write_medit_sol_tensors(const std::string& path, int dimension,

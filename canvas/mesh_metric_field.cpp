@@ -428,11 +428,8 @@ std::unique_ptr<MetricField> load_mesh_metric(const std::string& mesh_path,
                                               const std::string& sol_path) {
   MeditMesh mesh = read_medit_mesh(mesh_path);
   auto cells = interpolation_cells(mesh, mesh_path);
-  const auto sol = detail::read_medit_sol(sol_path, static_cast<int>(mesh.vertices.size()));
-  if (sol.dimension != mesh.dimension)
-    throw Error(sol_path + ": dimension " + std::to_string(sol.dimension) +
-                " does not match the dimension " + std::to_string(mesh.dimension) + " of " +
-                mesh_path);
+  const auto sol =
+      detail::read_medit_sol(sol_path, static_cast<int>(mesh.vertices.size()), mesh.dimension);
   SimplexSet simplices(mesh.dimension, std::move(mesh.vertices), std::move(cells));
   bool any_valid = false;
   for (std::size_t e = 0; e < simplices.size() && !any_valid; ++e)

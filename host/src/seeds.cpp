@@ -17,10 +17,16 @@ namespace rvor {
 
 namespace {
 
-std::string format_point(const Vec3& p) {
+// Six significant digits, in exponent form where needed: "1e-300", not std::to_string's "0.000000".
+std::string format_number(double x) {
   std::ostringstream out;
-  out << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
+  out << x;
   return out.str();
+}
+
+std::string format_point(const Vec3& p) {
+  return "(" + format_number(p.x()) + ", " + format_number(p.y()) + ", " + format_number(p.z()) +
+         ")";
 }
 
 // Whether a separator (',' or ';') has no number before or after it: "1,,2", ",1,2", "1,2,".
@@ -59,12 +65,13 @@ int parse_point(std::string line, Vec3& point) {
 }
 
 // A line quoted in an error message, cut short, its control bytes (a lone '\r' of old Mac line
-// ends, NUL) written as \xNN so that the terminal shows them instead of acting on them.
+// ends, NUL) and non-ASCII bytes written as \xNN, so that the terminal shows them instead of
+// acting on them and the message stays valid UTF-8 (a binary file's bytes are not).
 std::string quoted_line(const std::string& line) {
   std::string text;
   for (const char c : line.substr(0, 80)) {
     const auto byte = static_cast<unsigned char>(c);
-    if (byte >= 0x20 && byte != 0x7F) {
+    if (byte >= 0x20 && byte < 0x7F) {
       text += c;
       continue;
     }
@@ -94,7 +101,8 @@ PointFile read_point_file(const std::string& path) {
     Vec3 point;
     const int columns = parse_point(line, point);
     if (columns == 0)
-      throw Error(where + "expected 2 or 3 finite numbers per line, got " + quoted_line(line));
+      throw Error(where + "expected 2 or 3 finite numbers (within double's range) per line, got " +
+                  quoted_line(line));
     if (file.columns != 0 && columns != file.columns)
       throw Error(where + std::to_string(columns) + " coordinates, but the lines before have " +
                   std::to_string(file.columns));
@@ -123,7 +131,7 @@ std::vector<Vec3> read_xyz(const std::string& path, int dimension) {
     for (std::size_t n = 0; n < file.points.size(); ++n)
       if (file.points[n].z() != 0.0)
         throw Error(path + ":" + std::to_string(file.lines[n]) + ": z = " +
-                    std::to_string(file.points[n].z()) + ", but the domain is 2D (z must be 0)");
+                    format_number(file.points[n].z()) + ", but the domain is 2D (z must be 0)");
   return std::move(file.points);
 }
 

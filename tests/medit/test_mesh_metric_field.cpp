@@ -325,7 +325,22 @@ TEST(MeshMetricFieldErrors, SolOfAnotherDimension) {
   std::vector<Mat3> tensors(8, Mat3::Identity());
   write_medit_sol_tensors(dir.file("flat.sol"), 2, tensors);
   expect_load_error(error_message([&] { load_mesh_metric(files.mesh, dir.file("flat.sol")); }),
-                    dir.file("flat.sol"), "dimension 2 does not match the dimension 3");
+                    dir.file("flat.sol"), "Dimension 2, but the mesh's Dimension is 3");
+}
+
+// The dimension is checked at its line, before the tensors: read with the other dimension's count
+// of values, they went wrong first ("not SPD" at a vertex).
+TEST(MeshMetricFieldErrors, SolClaimingAnotherDimensionIsRefusedAtItsLine) {
+  TempDir dir;
+  write_text(dir.file("flat.mesh"),
+             "MeshVersionFormatted 2\nDimension 2\nVertices\n3\n0 0 0\n1 0 0\n0 1 0\n"
+             "Triangles\n1\n1 2 3 0\nEnd\n");
+  write_text(dir.file("flat.sol"),
+             "MeshVersionFormatted 2\nDimension 3\nSolAtVertices\n3\n1 3\n4 0 1\n4 0 1\n4 0 1\n"
+             "End\n");
+  expect_load_error(
+      error_message([&] { load_mesh_metric(dir.file("flat.mesh"), dir.file("flat.sol")); }),
+      dir.file("flat.sol") + ":2:", "Dimension 3, but the mesh's Dimension is 2");
 }
 
 TEST(MeshMetricFieldErrors, MeshWithoutTetrahedra) {
