@@ -146,7 +146,8 @@ void require_chosen_device(const CLI::Option* option, const std::string& device)
 void print_voronoi_summary(std::ostream& out, const std::string& out_dir,
                            const std::vector<std::string>& outputs, std::size_t active_voxels,
                            std::size_t seeds, const FieldSummary& summary, const MetricReach& reach,
-                           double propagation_seconds, double total_seconds) {
+                           std::size_t far_probes, double propagation_seconds,
+                           double total_seconds) {
   out << "rvor voronoi: " << active_voxels << " voxels, " << seeds << " seeds, "
       << summary.non_empty_cells << " non-empty cells (" << summary.smallest_cell << " to "
       << summary.largest_cell << " voxels each)\n";
@@ -162,6 +163,10 @@ void print_voronoi_summary(std::ostream& out, const std::string& out_dir,
         << kValidatedAnisotropy
         << " up to which the tests validate the scheme at any angle: expect distances off by "
            "percents, more where the stencils reach across the canvas\n";
+  if (far_probes > 0)
+    out << "  warning: " << far_probes << " probe" << (far_probes > 1 ? "s lie" : " lies")
+        << " more than a voxel from the canvas: probe.csv gives the nearest active voxel's "
+           "values (and its centre)\n";
   if (summary.unreached_voxels > 0)
     out << "  warning: " << summary.unreached_voxels
         << " voxels were reached by no seed (a domain component without seeds, or, under strong "

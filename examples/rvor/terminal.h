@@ -70,6 +70,7 @@ void require_chosen_device(const CLI::Option* option, const std::string& device)
 void print_voronoi_summary(std::ostream& out, const std::string& out_dir,
                            const std::vector<std::string>& outputs, std::size_t active_voxels,
                            std::size_t seeds, const FieldSummary& summary, const MetricReach& reach,
-                           double propagation_seconds, double total_seconds);
+                           std::size_t far_probes, double propagation_seconds,
+                           double total_seconds);
 
 }  // namespace rvor::cli

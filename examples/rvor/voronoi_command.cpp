@@ -228,8 +228,13 @@ void write_voronoi(const VoronoiOptions& o) {
     write_voronoi_vdb(path("voronoi.vdb"), canvas, field);
     write_xyz(path("seeds.xyz"), seeds, canvas.dimension);
     if (o.vtu) write_canvas_vtu(path("canvas.vtu"), canvas, field);
-    if (!o.probe_file.empty())
-      write_probe_csv(path("probe.csv"), probe_field(canvas, field, probes));
+    std::size_t far_probes = 0;  // more than a voxel from the voxel that answers them
+    if (!o.probe_file.empty()) {
+      const std::vector<ProbeSample> samples = probe_field(canvas, field, probes);
+      for (const ProbeSample& sample : samples)
+        far_probes += (sample.query - sample.voxel_centre).norm() > canvas.voxel_size;
+      write_probe_csv(path("probe.csv"), samples);
+    }
     const FieldSummary summary = summarize_field(canvas, field, seeds.size());
     const double output_seconds = progress.end("");
 
@@ -293,6 +298,7 @@ void write_voronoi(const VoronoiOptions& o) {
           {"total", total}}},
         {"field", summary_json(summary)},
         {"outputs", output_names(o)}};
+    if (!o.probe_file.empty()) report["probes_beyond_a_voxel"] = far_probes;
     if (!dual_report.is_null()) report["dual"] = dual_report;
     if (!curved_report.is_null()) report["curved_dual"] = curved_report;
     write_file_atomically(path("report.json"),
@@ -300,7 +306,7 @@ void write_voronoi(const VoronoiOptions& o) {
     outputs.commit(earlier);
     if (!o.quiet)
       print_voronoi_summary(std::cout, out, output_names(o), canvas.active_voxel_count,
-                            seeds.size(), summary, reach, propagation_seconds, total);
+                            seeds.size(), summary, reach, far_probes, propagation_seconds, total);
   } catch (const Error& error) {
     throw Error(outputs.shown(error.what()));  // the output's name, not its staging path
   }

@@ -54,6 +54,24 @@ TEST_F(CliOutputs, ReportHoldsTheRunFacts) {
   EXPECT_EQ(report["field"]["unreached_voxels"].get<int>(), 0);
   EXPECT_DOUBLE_EQ(report["max_anisotropy"].get<double>(), 3.0);  // sqrt(9 / 1)
   EXPECT_EQ(report["longest_stencil_offset"].get<int>(), 1);
+  EXPECT_EQ(report["probes_beyond_a_voxel"].get<int>(), 0);
+}
+
+// A probe far outside the canvas is answered by its nearest voxel, as documented, but no longer
+// silently: the summary warns and report.json counts it.
+TEST_F(CliOutputs, ProbesBeyondTheCanvasAreWarned) {
+  write_text(dir.file("seeds.xyz"), "0 0\n");
+  write_text(dir.file("probe.xyz"), "0.5 0.25\n1e300 1e300\n1.02 0\n");  // last: half a voxel
+  const CommandResult result =
+      run_command(rvor_binary() + " voronoi --device cpu --out " + out() +
+                  " --domain rect:-1,-1,1,1 --resolution 32 --seeds " + dir.file("seeds.xyz") +
+                  " --probe " + dir.file("probe.xyz"));
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find("warning: 1 probe lies more than a voxel from the canvas"),
+            std::string::npos)
+      << result.out;
+  std::ifstream in(out() + "/report.json");
+  EXPECT_EQ(nlohmann::json::parse(in)["probes_beyond_a_voxel"].get<int>(), 1);
 }
 
 // Beyond the anisotropy the tests validate at any angle, with stencils longer than a voxel, the
