@@ -57,6 +57,25 @@ TEST_F(CliOutputs, ReportHoldsTheRunFacts) {
   EXPECT_EQ(report["probes_beyond_a_voxel"].get<int>(), 0);
 }
 
+// The straight dual under a strongly varying metric with coarse seeds (the README's picture): a
+// near-degenerate simplex's configuration was triangulated in the metric frozen at its witness
+// even where the seeds' own metrics measure its sphere tens of voxels otherwise, which removed
+// witnessed triangles and added overlapping ones (325 triangles, 164 intersecting, 124
+// non-manifold edges; the canvas's own nerve: 257, 40 and 0). Now those stay as witnessed.
+TEST_F(CliOutputs, StraightDualOfAStronglyVaryingMetricKeepsWhatTheCanvasWitnessed) {
+  const CommandResult result =
+      run_command(rvor_binary() + " voronoi --device cpu --quiet --out " + out() +
+                  " --domain rect:-1,-1,1,1 --metric hyperbolic_shock --resolution 512 "
+                  "--random-seeds 150 --rng-seed 5 --dual straight");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  std::ifstream in(out() + "/report.json");
+  const nlohmann::json dual = nlohmann::json::parse(in)["dual"];
+  EXPECT_EQ(dual["non_manifold"].get<int>(), 0) << dual.dump();
+  EXPECT_LE(dual["intersecting"].get<int>(), 45) << dual.dump();
+  EXPECT_LE(dual["inverted"].get<int>(), 10) << dual.dump();
+  EXPECT_EQ(dual["euler_characteristic"].get<int>(), 1) << dual.dump();
+}
+
 // A probe far outside the canvas is answered by its nearest voxel, as documented, but no longer
 // silently: the summary warns and report.json counts it.
 TEST_F(CliOutputs, ProbesBeyondTheCanvasAreWarned) {

@@ -6,9 +6,10 @@
 // carry no more information, but the metric does: with G frozen at the witness, the empty-sphere
 // test in G decides which simplices of the configuration are Delaunay. For a uniform metric this
 // is the exact anisotropic Delaunay triangulation; for a varying one it is the locally uniform
-// approximation, accurate to the metric's variation over a voxel or two, which is what the canvas
-// resolves anyway. Simplices whose Voronoi vertex the canvas places without ambiguity are kept as
-// witnessed.
+// approximation, decided only where G is within the canvas's resolution of every seed's metric
+// over the configuration's sphere (elsewhere the frozen metric errs by more than the canvas does,
+// and the simplex is kept as witnessed). Simplices whose Voronoi vertex the canvas places without
+// ambiguity are kept as witnessed.
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -182,6 +183,11 @@ class Resolver {
     if (sphere && margin < kSearchVoxels * d.voxel) {
       d.sphere = *sphere;
       d.configuration = configuration(t, *sphere, d.G, d.voxel);
+      if (!frozen_metric_resolves(d)) {  // the canvas's labels are the better guess: as witnessed
+        d.configuration.clear();
+        d.kept = true;
+        return d;
+      }
       d.empty_outside =
           empty_margin(seeds_, t, d_, *sphere, d.G, without(ring, d.configuration)) >= 0.0;
     }
@@ -204,6 +210,21 @@ class Resolver {
           near.push_back(e);
     std::sort(near.begin(), near.end());
     return near;
+  }
+
+  // Whether G, frozen at the witness, measures the configuration's sphere as the seeds' own
+  // metrics do, to within the search band: a length r in G is between r / psi and r psi in a
+  // metric at distortion psi from G, so the sphere's radius is off by up to (psi - 1) r. Under a
+  // strongly varying metric with coarse seeds (hyperbolic_shock, 150 seeds at 512^2: radii ~15
+  // voxel diameters, seeds' metrics typically 4x the witness's in length) that is tens of voxels,
+  // and the frozen test both removed witnessed simplices and added overlapping ones; uniform
+  // metrics (psi = 1) are always decided.
+  bool frozen_metric_resolves(const Decision& d) const {
+    double psi = 1.0;
+    for (int32_t e : d.configuration)
+      psi =
+          std::max(psi, distortion(seed_metric(canvas_, seeds_, static_cast<std::size_t>(e)), d.G));
+    return (psi - 1.0) * d.sphere.radius <= kSearchVoxels * d.voxel;
   }
 
   // The Delaunay simplices (in G) on the seeds nearly cospherical with the decided simplex, whose
