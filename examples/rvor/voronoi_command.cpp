@@ -144,12 +144,12 @@ void refuse_replacing_inputs(const VoronoiOptions& o, const std::vector<std::str
 
 // The seeds of a --seeds file, read before the canvas is built (a bad file is reported at once,
 // not after a long build); none with --random-seeds, which are drawn on the canvas.
-std::vector<Vec3> seeds_from_file(const VoronoiOptions& o, int dimension) {
+XyzPoints seeds_from_file(const VoronoiOptions& o, int dimension) {
   if (!o.seeds_file.empty() && o.random_seed_count > 0)
     throw Error("give either --seeds or --random-seeds, not both");
   if (o.seeds_file.empty() && o.random_seed_count == 0)
     throw Error("no seeds: give --seeds FILE.xyz or --random-seeds N");
-  return o.seeds_file.empty() ? std::vector<Vec3>{} : read_xyz(o.seeds_file, dimension);
+  return o.seeds_file.empty() ? XyzPoints{} : read_xyz_with_lines(o.seeds_file, dimension);
 }
 
 nlohmann::json summary_json(const FieldSummary& s) {
@@ -203,7 +203,7 @@ void write_voronoi(const VoronoiOptions& o) {
           "(3D results: --vtu for ParaView)");
     const std::vector<Vec3> probes =
         o.probe_file.empty() ? std::vector<Vec3>{} : read_xyz(o.probe_file, domain.dimension());
-    const std::vector<Vec3> given_seeds = seeds_from_file(o, domain.dimension());
+    const XyzPoints given_seeds = seeds_from_file(o, domain.dimension());
     CanvasOptions canvas_options;
     canvas_options.resolution = o.resolution;
     if (o.memory_budget) canvas_options.memory_budget = parse_byte_size(*o.memory_budget);
@@ -216,8 +216,14 @@ void write_voronoi(const VoronoiOptions& o) {
 
     const std::vector<Vec3> seeds = o.random_seed_count > 0
                                         ? random_seeds(canvas, o.random_seed_count, o.rng_seed)
-                                        : given_seeds;
-    validate_seeds(canvas, seeds);
+                                        : given_seeds.points;
+    // A given seed is named by its file and line as well as its label (which counts from 0).
+    validate_seeds(canvas, seeds, 0, [&](std::size_t n) {
+      const std::string label = "seed " + std::to_string(n);
+      return given_seeds.lines.empty()
+                 ? label
+                 : o.seeds_file + ":" + std::to_string(given_seeds.lines[n]) + ": " + label;
+    });
     progress.begin("propagating from " + std::to_string(seeds.size()) + " seeds");
     std::unique_ptr<Propagator> propagator = make_propagator(o.device);
     VoronoiField field;

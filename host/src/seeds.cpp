@@ -124,6 +124,10 @@ std::vector<Vec3> read_xyz(const std::string& path) {
 }
 
 std::vector<Vec3> read_xyz(const std::string& path, int dimension) {
+  return read_xyz_with_lines(path, dimension).points;
+}
+
+XyzPoints read_xyz_with_lines(const std::string& path, int dimension) {
   PointFile file = read_point_file(path);
   if (dimension == 3 && file.columns != 3)
     throw Error(path + ": 2 coordinates per point, but the domain is 3D (give x y z)");
@@ -132,7 +136,7 @@ std::vector<Vec3> read_xyz(const std::string& path, int dimension) {
       if (file.points[n].z() != 0.0)
         throw Error(path + ":" + std::to_string(file.lines[n]) + ": z = " +
                     format_number(file.points[n].z()) + ", but the domain is 2D (z must be 0)");
-  return std::move(file.points);
+  return {std::move(file.points), std::move(file.lines)};
 }
 
 void write_xyz(const std::string& path, const std::vector<Vec3>& points, int dimension) {
@@ -148,6 +152,13 @@ void write_xyz(const std::string& path, const std::vector<Vec3>& points, int dim
 
 void validate_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds,
                     std::size_t first_unchecked) {
+  validate_seeds(canvas, seeds, first_unchecked,
+                 [](std::size_t n) { return "seed " + std::to_string(n); });
+}
+
+void validate_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                    std::size_t first_unchecked,
+                    const std::function<std::string(std::size_t)>& name) {
   if (seeds.empty()) throw Error("no seeds given");
   // More seeds than voxels leave some without a cell, and the seed blocks' claims cost the square
   // of the seeds around a voxel (20 000 seeds on a 32^2 canvas ran for minutes).
@@ -158,10 +169,9 @@ void validate_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds,
                 " would share a voxel and own none; raise the resolution or give fewer seeds");
   for (std::size_t n = first_unchecked; n < seeds.size(); ++n) {
     const Vec3& s = seeds[n];
-    if (!s.allFinite())
-      throw Error("seed " + std::to_string(n) + " has a coordinate that is not finite");
+    if (!s.allFinite()) throw Error(name(n) + " has a coordinate that is not finite");
     if (canvas.slot_of(canvas.voxel_containing(s)) < 0)
-      throw Error("seed " + std::to_string(n) + " at " + format_point(s) +
+      throw Error(name(n) + " at " + format_point(s) +
                   " is outside the domain (its voxel is not an active canvas voxel: the canvas "
                   "holds the voxels whose centres lie in the domain, so a point within half a "
                   "voxel of its boundary can fall outside)");

@@ -99,9 +99,9 @@ TEST_F(CliErrors, EmptySeedFile) {
 }
 
 TEST_F(CliErrors, SeedOutsideDomain) {
-  write_text(dir.file("far.xyz"), "0 0\n5 5\n");
+  write_text(dir.file("far.xyz"), "0 0\n# a comment\n5 5\n");
   expect_error("--domain rect:-1,-1,1,1 --resolution 16 --seeds " + dir.file("far.xyz"),
-               "seed 1 at (5, 5, 0) is outside the domain");
+               "far.xyz:3: seed 1 at (5, 5, 0) is outside the domain");
 }
 
 // An empty file name (an unset shell variable) used to mean "not given": --metric-vdb '' ran

@@ -1,6 +1,7 @@
 #pragma once
 // Seeds: points in the domain; seed i carries label i.
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,12 @@ namespace rvor {
 std::vector<Vec3> read_xyz(const std::string& path);
 // The same for a domain of `dimension`: 3D needs 3 coordinates; 2D takes 2, or 3 with z = 0.
 std::vector<Vec3> read_xyz(const std::string& path, int dimension);
+// read_xyz with a dimension, and the line each point came from (for messages about a point).
+struct XyzPoints {
+  std::vector<Vec3> points;
+  std::vector<int> lines;
+};
+XyzPoints read_xyz_with_lines(const std::string& path, int dimension);
 // Writes points atomically, 2 or 3 coordinates per line (by dimension), full precision.
 void write_xyz(const std::string& path, const std::vector<Vec3>& points, int dimension);
 
@@ -24,6 +31,10 @@ void write_xyz(const std::string& path, const std::vector<Vec3>& points, int dim
 // are taken as checked already (an insertion's solved seeds); the count is always checked.
 void validate_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds,
                     std::size_t first_unchecked = 0);
+// The same, naming seed n by name(n) instead of "seed N" (say, "seeds.xyz:4: seed 2").
+void validate_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds,
+                    std::size_t first_unchecked,
+                    const std::function<std::string(std::size_t)>& name);
 
 // `count` points: distinct active voxels drawn uniformly, then in each a point within 0.49 voxel
 // of its centre along each axis, so the seed's containing voxel is that active voxel;
