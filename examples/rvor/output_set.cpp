@@ -1,6 +1,8 @@
 #include "output_set.h"
 
+#include <fcntl.h>
 #include <signal.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -39,6 +41,23 @@ void remove_abandoned_staging(const std::string& dir) {
     fs::remove_all(entry->path(), ignored);
   }
 }
+
+// An exclusive lock on a directory for the scope (flock on the directory itself: advisory, between
+// rvor runs). A file system without locks leaves it unlocked, as before.
+class DirectoryLock {
+ public:
+  explicit DirectoryLock(const std::string& dir) : fd_(open(dir.c_str(), O_RDONLY | O_DIRECTORY)) {
+    if (fd_ >= 0) flock(fd_, LOCK_EX);
+  }
+  DirectoryLock(const DirectoryLock&) = delete;
+  DirectoryLock& operator=(const DirectoryLock&) = delete;
+  ~DirectoryLock() {
+    if (fd_ >= 0) close(fd_);  // releases the lock
+  }
+
+ private:
+  int fd_;
+};
 
 }  // namespace
 
@@ -99,10 +118,12 @@ std::string OutputSet::shown(std::string message) const {
   return message;
 }
 
-void OutputSet::commit(const std::vector<std::string>& earlier_names) {
+void OutputSet::commit(const std::function<std::vector<std::string>()>& earlier_names) {
   for (const std::string& name : names_)
     if (!fs::is_regular_file(path(name)))
       throw Error("internal error: output " + name + " was not written");
+  const DirectoryLock lock(dir_);
+  const std::vector<std::string> earlier = earlier_names();
   interrupt_cleanup_->hold();  // the set goes in whole, then an interruption takes effect
   committed_ = true;
   if (!replace_) {
@@ -111,7 +132,7 @@ void OutputSet::commit(const std::vector<std::string>& earlier_names) {
   }
   for (const std::string& name : names_)
     publish_temporary(path(name), (fs::path(dir_) / name).string());
-  for (const std::string& name : earlier_names) {
+  for (const std::string& name : earlier) {
     if (std::find(names_.begin(), names_.end(), name) != names_.end()) continue;
     const fs::path stale = fs::path(dir_) / name;
     std::error_code error;

@@ -2,6 +2,7 @@
 // The output files of `rvor voronoi` as one set: they are written into a staging directory inside
 // the output directory and moved into place together once the run has succeeded, so a run that
 // fails (a bad input found late, a writer that throws) leaves the earlier outputs as they were.
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -29,9 +30,12 @@ class OutputSet {
   // name the file the user will look for, not a directory that is gone when they read it.
   std::string shown(std::string message) const;
   // Moves every staged file into `dir`; then, when replacing, removes the files of
-  // `earlier_names` that this run did not write (the rest of an earlier run's set). Throws
-  // rvor::Error when a name was not written.
-  void commit(const std::vector<std::string>& earlier_names = {});
+  // earlier_names() that this run did not write (the rest of an earlier run's set). Throws
+  // rvor::Error when a name was not written. Runs into the same `dir` commit one at a time (a
+  // lock on the directory), and earlier_names is asked under that lock: a run that published
+  // while this one computed is the earlier run (it was read when the run began, and two
+  // --overwrite runs left a mixed set).
+  void commit(const std::function<std::vector<std::string>()>& earlier_names);
 
  private:
   void publish_all_new();

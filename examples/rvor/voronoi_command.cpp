@@ -309,7 +309,12 @@ void write_voronoi(const VoronoiOptions& o) {
     if (!curved_report.is_null()) report["curved_dual"] = curved_report;
     write_file_atomically(path("report.json"),
                           [&](std::ostream& s) { s << report.dump(2) << "\n"; });
-    outputs.commit(earlier);
+    outputs.commit([&] {  // the earlier run is the last to publish, maybe while this one ran
+      std::vector<std::string> last =
+          o.overwrite ? earlier_outputs(out, o) : std::vector<std::string>{};
+      refuse_replacing_inputs(o, last);
+      return last;
+    });
     if (!o.quiet)
       print_voronoi_summary(std::cout, out, output_names(o), canvas.active_voxel_count,
                             seeds.size(), summary, reach, far_probes, propagation_seconds, total);

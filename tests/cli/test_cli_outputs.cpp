@@ -76,6 +76,28 @@ TEST_F(CliOutputs, StraightDualOfAStronglyVaryingMetricKeepsWhatTheCanvasWitness
   EXPECT_EQ(dual["euler_characteristic"].get<int>(), 1) << dual.dump();
 }
 
+// Two --overwrite runs into one directory, the second started and finished while the first ran:
+// the first publishes last, and removes what the second wrote and it does not (canvas.vtu), as
+// the report it then sees lists it. It read the earlier set when it began, and left a mixed one.
+TEST_F(CliOutputs, OverlappingOverwriteRunsLeaveTheLastRunsSet) {
+  const std::string slow = rvor_binary() +
+                           " voronoi --quiet --device cpu --domain box:1,1,1,11,11,11 --metric "
+                           "radial_shock_3d --resolution 90 --random-seeds 50 --overwrite --out " +
+                           out();
+  const std::string fast = rvor_binary() +
+                           " voronoi --quiet --device cpu --domain rect:-1,-1,1,1 --resolution 16 "
+                           "--random-seeds 3 --vtu --overwrite --out " +
+                           out();
+  const CommandResult result = run_command(
+      "(" + slow + " & pid=$!; for i in $(seq 100); do ls -a " + out() +
+      " 2>/dev/null | grep -q outputs && break; sleep 0.1; done; " + fast +
+      " && echo fast done; kill -0 $pid && echo slow still running; wait $pid && echo slow done)");
+  ASSERT_EQ(result.out, "fast done\nslow still running\nslow done\n") << result.err;
+  std::ifstream in(out() + "/report.json");
+  EXPECT_EQ(nlohmann::json::parse(in)["dimension"].get<int>(), 3);  // the slow run's
+  EXPECT_FALSE(std::filesystem::exists(out() + "/canvas.vtu"));
+}
+
 // A probe far outside the canvas is answered by its nearest voxel, as documented, but no longer
 // silently: the summary warns and report.json counts it.
 TEST_F(CliOutputs, ProbesBeyondTheCanvasAreWarned) {
