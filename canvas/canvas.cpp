@@ -59,6 +59,67 @@ std::uint64_t hash_geometry(const Canvas& canvas) {
   }
   return sum;
 }
+[[noreturn]] void fail_geometry(const std::string& problem) {
+  throw Error("canvas: " + problem + " (a canvas changed by hand? build_canvas or allocate() " +
+              "keep its bricks consistent)");
+}
+
+// What the solvers index by without checking: the dimension, the voxel size and origin, the index
+// box and brick grid, and a brick table that holds every brick once, at its origin's cell.
+void require_consistent_geometry(const Canvas& c) {
+  if (c.dimension != 2 && c.dimension != 3) fail_geometry("dimension must be 2 or 3");
+  if (!(std::isfinite(c.voxel_size) && c.voxel_size > 0) || !c.origin.allFinite())
+    fail_geometry("voxel size must be positive and origin finite");
+  for (int a = 0; a < 3; ++a) {
+    const int edge = a == 2 ? c.brick_edge_z() : Canvas::kBrickEdge;
+    if (c.dims[a] < 1 || c.brick_grid_dims[a] != (c.dims[a] + edge - 1) / edge)
+      fail_geometry("index box and brick grid do not match along axis " + std::to_string(a));
+  }
+  if (c.dimension == 2 && c.dims[2] != 1) fail_geometry("a 2D index box has one layer");
+  const auto& g = c.brick_grid_dims;
+  if (c.brick_table.size() != static_cast<std::size_t>(g[0]) * g[1] * g[2])
+    fail_geometry("brick table of " + std::to_string(c.brick_table.size()) +
+                  " cells for a brick grid of " + std::to_string(g[0]) + "x" +
+                  std::to_string(g[1]) + "x" + std::to_string(g[2]));
+  std::size_t listed = 0;
+  for (std::size_t cell = 0; cell < c.brick_table.size(); ++cell) {
+    const int32_t brick = c.brick_table[cell];
+    if (brick == -1) continue;
+    if (brick < 0 || static_cast<std::size_t>(brick) >= c.brick_count())
+      fail_geometry("brick table cell " + std::to_string(cell) + " holds brick " +
+                    std::to_string(brick) + " of " + std::to_string(c.brick_count()));
+    const VoxelIndex& o = c.brick_origins[brick];
+    const int bi = static_cast<int>(cell % g[0]), bj = static_cast<int>(cell / g[0] % g[1]);
+    const int bk = static_cast<int>(cell / g[0] / g[1]);
+    if (o.i != bi * Canvas::kBrickEdge || o.j != bj * Canvas::kBrickEdge ||
+        o.k != bk * c.brick_edge_z())
+      fail_geometry("brick " + std::to_string(brick) + " is listed at brick cell (" +
+                    std::to_string(bi) + ", " + std::to_string(bj) + ", " + std::to_string(bk) +
+                    ") but its origin is voxel (" + std::to_string(o.i) + ", " +
+                    std::to_string(o.j) + ", " + std::to_string(o.k) + ")");
+    ++listed;
+  }
+  // Each listed brick matches its cell's origin, so no brick is listed twice; every one must be.
+  if (listed != c.brick_count())
+    fail_geometry(std::to_string(c.brick_count() - listed) + " of " +
+                  std::to_string(c.brick_count()) + " bricks are missing from the brick table");
+}
+
+// A 2D canvas's tensors are their xy block, with the identity along z (set_active's form): the
+// engines read the z row differently, so another one would make them disagree.
+void require_planar_tensors(const Canvas& c) {
+  for (std::size_t slot = 0; slot < c.slot_count(); ++slot) {
+    const float* m = &c.metric[6 * slot];
+    if (c.active[slot] && (m[3] != 0.0f || m[4] != 0.0f || m[5] != 1.0f)) {
+      const VoxelIndex v = c.voxel_of(slot);
+      throw Error("canvas voxel (" + std::to_string(v.i) + ", " + std::to_string(v.j) +
+                  ") of a 2D canvas: m13, m23, m33 must be 0, 0, 1 (set_active stores the xy " +
+                  "block so), got " + std::to_string(m[3]) + ", " + std::to_string(m[4]) + ", " +
+                  std::to_string(m[5]));
+    }
+  }
+}
+
 }  // namespace
 
 int32_t Canvas::brick_at(int bi, int bj, int bk) const {
@@ -122,6 +183,8 @@ void Canvas::allocate(int dim, double h, const Vec3& world_origin,
                       const std::array<int, 3>& index_dims,
                       const std::vector<VoxelIndex>& origins) {
   if (dim != 2 && dim != 3) throw Error("canvas dimension must be 2 or 3");
+  if (std::any_of(index_dims.begin(), index_dims.begin() + dim, [](int n) { return n < 1; }))
+    throw Error("canvas index box must have at least one voxel along each axis");
   dimension = dim;
   voxel_size = h;
   origin = world_origin;
@@ -160,12 +223,15 @@ void Canvas::set_active(std::size_t slot, const Mat3& G) {
 }
 
 void Canvas::finalize() {
+  content_hash_.reset();
+  require_consistent_geometry(*this);
   active_voxel_count = 0;
   for (uint8_t a : active) active_voxel_count += a;
   if (active.size() != slot_count() || metric.size() != 6 * slot_count())
     throw Error("canvas: " + std::to_string(active.size()) + " activity flags and " +
                 std::to_string(metric.size()) + " metric floats for " +
                 std::to_string(slot_count()) + " slots (6 floats each)");
+  if (dimension == 2) require_planar_tensors(*this);
   content_hash_ = hash_geometry(*this) +
                   sum_over_slot_ranges(slot_count(), [&](std::size_t begin, std::size_t end) {
                     return hash_slots(active.data(), metric.data(), begin, end);

@@ -25,6 +25,15 @@ namespace {
 constexpr float kDistanceBackground = std::numeric_limits<float>::infinity();
 constexpr std::int32_t kLabelBackground = -1;
 
+// OpenVDB transforms need a positive voxel size (a default Canvas has 0, and OpenVDB's own
+// exception said only "Non-zero scale values required").
+void require_placed(const Canvas& canvas, const std::string& what) {
+  if (!(canvas.voxel_size > 0) || !std::isfinite(canvas.voxel_size) || !canvas.origin.allFinite())
+    throw Error(what + ": the canvas has no placement (voxel size " +
+                std::to_string(canvas.voxel_size) +
+                "): build it with build_canvas, or allocate() it");
+}
+
 template <typename GridType>
 typename GridType::Ptr make_canvas_grid(const Canvas& canvas, const std::string& name,
                                         typename GridType::ValueType background) {
@@ -88,6 +97,7 @@ void require_same_placement(const openvdb::GridBase& grid, const Canvas& canvas,
 }  // namespace
 
 void write_voronoi_vdb(const std::string& path, const Canvas& canvas, const VoronoiField& field) {
+  require_placed(canvas, "cannot write VDB file " + path);
   require_field_for(canvas, field, "cannot write VDB file " + path);
   auto distance = make_canvas_grid<openvdb::FloatGrid>(canvas, "distance", kDistanceBackground);
   auto label = make_canvas_grid<openvdb::Int32Grid>(canvas, "label", kLabelBackground);
@@ -97,6 +107,7 @@ void write_voronoi_vdb(const std::string& path, const Canvas& canvas, const Voro
 }
 
 VoronoiField read_voronoi_vdb(const std::string& path, const Canvas& canvas) {
+  require_placed(canvas, "cannot read VDB file " + path + " onto the canvas");
   const auto grids = read_grids(path);
   const auto distance = find_grid<openvdb::FloatGrid>(grids, path, "distance", "float");
   const auto label = find_grid<openvdb::Int32Grid>(grids, path, "label", "int32");
@@ -117,6 +128,7 @@ VoronoiField read_voronoi_vdb(const std::string& path, const Canvas& canvas) {
 }
 
 void write_metric_vdb(const std::string& path, const Canvas& canvas) {
+  require_placed(canvas, "cannot write VDB file " + path);
   openvdb::GridPtrVec grids;
   for (int component = 0; component < 6; ++component) {
     auto grid = make_canvas_grid<openvdb::FloatGrid>(canvas, kMetricGridNames[component], 0.0f);

@@ -24,7 +24,7 @@ MetricReach sampled_metric_reach(const Canvas& canvas) {
     const Eigen::VectorXd lambda = metric_eigenvalues(G, canvas.dimension);
     reach.max_anisotropy =
         std::max(reach.max_anisotropy, std::sqrt(lambda.maxCoeff() / lambda.minCoeff()));
-    const SellingStencil stencil = selling_decomposition(G.inverse(), canvas.dimension);
+    const SellingStencil stencil = canvas_selling_decomposition(canvas, slot, G.inverse());
     for (int i = 0; i < stencil.size; ++i)
       for (int component : stencil.offset[i])
         reach.longest_offset = std::max(reach.longest_offset, std::abs(component));

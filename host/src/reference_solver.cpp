@@ -142,7 +142,7 @@ void ReferenceSolver::compute_stencils(const Canvas& canvas) {
     // Uniform regions repeat the same tensor: share the previous stencil instead of recomputing.
     if (!previous_metric || std::memcmp(metric, previous_metric, 6 * sizeof(float)) != 0) {
       const Mat3 D = dual_metric(canvas, slot);
-      stencils_.push_back(to_voxel_stencil(selling_decomposition(D, dimension_), D));
+      stencils_.push_back(to_voxel_stencil(canvas_selling_decomposition(canvas, slot, D), D));
     }
     state_[slot].stencil = static_cast<int32_t>(stencils_.size() - 1);
     previous_metric = metric;

@@ -128,6 +128,8 @@ std::vector<Vec3> read_xyz(const std::string& path, int dimension) {
 }
 
 XyzPoints read_xyz_with_lines(const std::string& path, int dimension) {
+  if (dimension != 2 && dimension != 3)
+    throw Error("reading " + path + ": dimension must be 2 or 3, not " + std::to_string(dimension));
   PointFile file = read_point_file(path);
   if (dimension == 3 && file.columns != 3)
     throw Error(path + ": 2 coordinates per point, but the domain is 3D (give x y z)");
@@ -140,6 +142,9 @@ XyzPoints read_xyz_with_lines(const std::string& path, int dimension) {
 }
 
 void write_xyz(const std::string& path, const std::vector<Vec3>& points, int dimension) {
+  if (dimension != 2 && dimension != 3)
+    throw Error("cannot write " + path + ": dimension must be 2 or 3, not " +
+                std::to_string(dimension));
   write_file_atomically(path, [&](std::ostream& out) {
     out << std::setprecision(17);
     for (const Vec3& p : points) {

@@ -174,4 +174,18 @@ SellingStencil selling_decomposition(const Mat3& D_in, int dimension) {
   return stencil;
 }
 
+SellingStencil canvas_selling_decomposition(const Canvas& canvas, std::size_t slot, const Mat3& D) {
+  try {
+    return selling_decomposition(D, canvas.dimension);
+  } catch (const Error&) {
+    const VoxelIndex v = canvas.voxel_of(slot);
+    const Vec3 p = canvas.world_of(v);
+    std::ostringstream where;
+    where << "canvas voxel (" << v.i << ", " << v.j << ", " << v.k << ") at (" << p.x() << ", "
+          << p.y() << ", " << p.z() << "): metric";
+    const std::string problem = metric_problem(canvas.metric_at(slot), canvas.dimension);
+    throw Error(where.str() + " " + (problem.empty() ? "has no Selling decomposition" : problem));
+  }
+}
+
 }  // namespace rvor

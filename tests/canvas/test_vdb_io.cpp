@@ -4,7 +4,10 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include "rvor/canvas_builder.h"
 #include "rvor/error.h"
@@ -175,6 +178,25 @@ TEST(VdbIo, MissingFilesAndGridsAreNamed) {
   test::write_text(dir.file("garbage.vdb"), "not a vdb file");
   EXPECT_NE(error_of([&] { load_vdb_metric(dir.file("garbage.vdb")); }).find("garbage.vdb"),
             std::string::npos);
+}
+
+// A canvas without placement (a default Canvas: voxel size 0) is an rvor::Error; OpenVDB's own
+// exception escaped ("Non-zero scale values required").
+TEST(VdbIo, ACanvasWithoutPlacementIsRefused) {
+  const Canvas unplaced;
+  const VoronoiField field;
+  for (const auto& call : std::vector<std::function<void()>>{
+           [&] { write_voronoi_vdb("/tmp/never-written.vdb", unplaced, field); },
+           [&] { write_metric_vdb("/tmp/never-written.vdb", unplaced); },
+           [&] { read_voronoi_vdb("/tmp/never-read.vdb", unplaced); }}) {
+    try {
+      call();
+      ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("the canvas has no placement"), std::string::npos)
+          << e.what();
+    }
+  }
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -14,8 +15,11 @@
 
 #include "dual/dual_fixtures.h"
 #include "rvor/canvas_builder.h"
+#include "rvor/curved_dual.h"
 #include "rvor/domain.h"
 #include "rvor/dual.h"
+#include "rvor/error.h"
+#include "rvor/local_fields.h"
 #include "rvor/metric_field.h"
 #include "rvor/seeds.h"
 #include "support/box_canvas.h"
@@ -190,6 +194,41 @@ TEST(DualChecks, RegularTetrahedronHasQualityOne) {
 // Cospherical seeds (a square, a grid, a cube, an octahedron) under the Euclidean metric: every
 // simplex of them passes the empty-sphere test in floating point, and the dual held them all,
 // overlapping (4 triangles for a square); CGAL's triangulation of the configuration picks one.
+// Every dual entry point reads 2D seeds as the propagators do (z ignored: a seed given with z = 3
+// made edges 3 long and changed the triangles), and refuses a nerve naming seeds that are not
+// there (a negative index crashed the straight dual, the local fields and decided_nerve).
+TEST(DualChecks, EntryPointsReadSeedsAsThePropagatorsDoAndCheckTheNerve) {
+  const Canvas canvas = test::make_uniform_box_canvas(2, Vec3(-1, -1, 0), Vec3(1, 1, 0), 64,
+                                                      Mat3(Vec3(4, 1, 1).asDiagonal()));
+  const std::vector<Vec3> seeds = random_seeds(canvas, 12, 3);
+  const VoronoiField field = test::solve_reference(canvas, seeds);
+  const Nerve nerve = extract_nerve(canvas, field, seeds.size());
+  std::vector<Vec3> lifted = seeds;
+  for (std::size_t n = 0; n < lifted.size(); n += 2) lifted[n].z() = 3.0;
+  const StraightDual flat = build_straight_dual(canvas, nerve, seeds);
+  const StraightDual given = build_straight_dual(canvas, nerve, lifted);
+  EXPECT_EQ(given.top_count(), flat.top_count());
+  EXPECT_EQ(given.vertices, flat.vertices);
+  EXPECT_EQ(decided_nerve(canvas, nerve, lifted).top_simplices().size(),
+            decided_nerve(canvas, nerve, seeds).top_simplices().size());
+
+  Nerve broken = nerve;
+  broken.edges[0].seeds[1] = -3;
+  const auto expect_refused = [&](const std::function<void()>& call, const std::string& who) {
+    try {
+      call();
+      ADD_FAILURE() << who << " accepted a nerve edge naming seed -3";
+    } catch (const Error& e) {
+      EXPECT_EQ(std::string(e.what()).rfind(who + ": a nerve simplex (", 0), 0u) << e.what();
+    }
+  };
+  expect_refused([&] { build_straight_dual(canvas, broken, seeds); }, "straight dual");
+  expect_refused([&] { decided_nerve(canvas, broken, seeds); }, "decided nerve");
+  expect_refused([&] { compute_local_fields(canvas, broken, seeds); }, "local fields");
+  expect_refused([&] { build_curved_dual(canvas, field, broken, seeds); }, "curved dual");
+  EXPECT_THROW(decided_nerve(canvas, nerve, {}), Error);
+}
+
 TEST(DualChecks, CosphericalSeedsGiveOneTriangulation) {
   struct Case {
     int dimension;

@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <string>
 
+#include "rvor/error.h"
+#include "rvor/propagation.h"
 #include "rvor/seeds.h"
 #include "solver_fixtures.h"
 #include "support/bad_fields.h"
@@ -272,6 +274,25 @@ INSTANTIATE_TEST_SUITE_P(Reference, SeedsByDimension, ::testing::Values(2, 3),
                          [](const ::testing::TestParamInfo<int>& info) {
                            return "D" + std::to_string(info.param);
                          });
+
+// A tensor written into canvas.metric after the builder checked it reaches the stencils
+// unchecked: the error names its voxel and the tensor as stored, where it gave the inverse of its
+// xy block with no place ("selling_decomposition: matrix [-0.0104 0.104 ...]").
+TEST(CanvasTensors, ATensorThatIsNotSpdIsNamedByItsVoxel) {
+  Canvas canvas = make_uniform_box_canvas(2, Vec3(-1, -1, 0), Vec3(1, 1, 0), 16, Mat3::Identity());
+  const float not_spd[6] = {4, 10, 1, 0, 0, 1};
+  std::copy(not_spd, not_spd + 6, &canvas.metric[6 * 5]);
+  canvas.finalize();
+  VoronoiField field;
+  try {
+    make_reference_propagator()->solve(canvas, {Vec3(0.1, 0.1, 0)}, field);
+    ADD_FAILURE() << "solved on a tensor that is not SPD";
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_EQ(message.rfind("canvas voxel (5, 0, 0) at (", 0), 0u) << message;
+    EXPECT_NE(message.find("not symmetric positive definite"), std::string::npos) << message;
+  }
+}
 
 }  // namespace
 }  // namespace rvor::test

@@ -4,6 +4,7 @@
 // from an obtuse superbase found by Selling's iterative algorithm (Mirebeau 2019).
 #include <array>
 
+#include "rvor/canvas.h"
 #include "rvor/metric.h"
 
 namespace rvor {
@@ -22,5 +23,10 @@ struct SellingStencil {
 // `dimension` 2 uses the upper-left 2x2 block. Terms with rho == 0 are dropped. Throws rvor::Error
 // if D is not SPD or the iteration does not terminate (which only happens for non-SPD input).
 SellingStencil selling_decomposition(const Mat3& D, int dimension);
+
+// selling_decomposition of D, the dual of `canvas`'s tensor at `slot`, for the engines: a tensor
+// that is not SPD (written into canvas.metric after the builder checked it) is an rvor::Error
+// naming the voxel, its world position and the tensor as stored, not its inverse.
+SellingStencil canvas_selling_decomposition(const Canvas& canvas, std::size_t slot, const Mat3& D);
 
 }  // namespace rvor

@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "curved_faces.h"
+#include "dual/dual_internal.h"
 #include "geodesic_tracer.h"
 #include "parallel_for.h"
 #include "rvor/error.h"
@@ -58,24 +59,15 @@ CurvedEdge trace_edge(const Canvas& canvas, const GeodesicTracer& tracer, const 
   return out;
 }
 
-void check_inputs(const Canvas& canvas, const VoronoiField& field, const Nerve& nerve,
-                  const std::vector<Vec3>& seeds, const LocalFields* locals) {
+void check_inputs(const Canvas& canvas, const VoronoiField& field, const std::vector<Vec3>& seeds,
+                  const LocalFields* locals) {
   if (field.distance.size() != canvas.slot_count() || field.label.size() != canvas.slot_count())
     throw Error("curved dual: the field has " + std::to_string(field.distance.size()) +
                 " distances and " + std::to_string(field.label.size()) + " labels, the canvas " +
                 std::to_string(canvas.slot_count()) + " slots");
-  if (nerve.seed_count != seeds.size())
-    throw Error("curved dual: the nerve has " + std::to_string(nerve.seed_count) + " seeds, " +
-                std::to_string(seeds.size()) + " given");
   if (locals && locals->fields.size() != seeds.size())
     throw Error("curved dual: " + std::to_string(locals->fields.size()) + " local fields for " +
                 std::to_string(seeds.size()) + " seeds");
-  for (const NerveSimplex& e : nerve.edges)
-    if (e.vertex_count != 2 || e.seeds[0] < 0 || e.seeds[1] < 0 ||
-        static_cast<std::size_t>(std::max(e.seeds[0], e.seeds[1])) >= seeds.size())
-      throw Error("curved dual: nerve edge (" + std::to_string(e.seeds[0]) + ", " +
-                  std::to_string(e.seeds[1]) + ") does not name two of the " +
-                  std::to_string(seeds.size()) + " seeds");
 }
 
 // Faces need u_a beyond a's cell: only with local fields. The opposite edge of a triangle is a
@@ -99,9 +91,11 @@ void build_faces(const Canvas& canvas, const GeodesicTracer& tracer, const Nerve
 }  // namespace
 
 CurvedDual build_curved_dual(const Canvas& canvas, const VoronoiField& field, const Nerve& nerve,
-                             const std::vector<Vec3>& seeds, const LocalFields* locals) {
+                             const std::vector<Vec3>& given_seeds, const LocalFields* locals) {
   const auto t0 = std::chrono::steady_clock::now();
-  check_inputs(canvas, field, nerve, seeds, locals);
+  const std::vector<Vec3> seeds =
+      dual::checked_dual_seeds(canvas, nerve, given_seeds, "curved dual");
+  check_inputs(canvas, field, seeds, locals);
   CurvedDual dual;
   dual.dimension = canvas.dimension;
   dual.vertices = seeds;

@@ -4,6 +4,7 @@
 // code), quality in the metric.
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "rvor/dual.h"
@@ -48,6 +49,12 @@ struct LocalDelaunay {
   std::size_t removed = 0;  // witnessed top simplices with a seed inside their circumsphere
   std::size_t added = 0;    // Delaunay simplices of near-degenerate configurations not witnessed
 };
+
+// What every dual entry point checks (`who` starts its messages): the nerve is the canvas's and
+// the seeds' (dimension, seed count, every simplex naming seeds in range) and the seeds are finite.
+// Returns the seeds as the propagators read them: z = 0 on a 2D canvas, whatever z was given.
+std::vector<Vec3> checked_dual_seeds(const Canvas& canvas, const Nerve& nerve,
+                                     const std::vector<Vec3>& seeds, const std::string& who);
 
 // The metric of the voxel holding seeds[seed]; throws if that voxel is not active.
 Mat3 seed_metric(const Canvas& canvas, const std::vector<Vec3>& seeds, std::size_t seed);

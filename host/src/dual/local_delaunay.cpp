@@ -384,7 +384,10 @@ LocalDelaunay witnessed_as_is(const Nerve& nerve) {
 
 namespace rvor {
 
-Nerve decided_nerve(const Canvas& canvas, const Nerve& nerve, const std::vector<Vec3>& seeds) {
+Nerve decided_nerve(const Canvas& canvas, const Nerve& nerve,
+                    const std::vector<Vec3>& given_seeds) {
+  const std::vector<Vec3> seeds =
+      dual::checked_dual_seeds(canvas, nerve, given_seeds, "decided nerve");
   const dual::LocalDelaunay decided = dual::resolve_near_degenerate(canvas, nerve, seeds);
   const int d = canvas.dimension;
   std::set<std::vector<int32_t>> kept_faces, removed_faces;

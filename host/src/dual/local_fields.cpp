@@ -172,11 +172,11 @@ LocalField solve_local(const Canvas& canvas, const IndexBox& box,
 }  // namespace
 
 LocalFields compute_local_fields(const Canvas& canvas, const Nerve& nerve,
-                                 const std::vector<Vec3>& seeds, const LocalFieldOptions& options) {
+                                 const std::vector<Vec3>& given_seeds,
+                                 const LocalFieldOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
-  if (nerve.seed_count != seeds.size())
-    throw Error("local fields: the nerve has " + std::to_string(nerve.seed_count) + " seeds, " +
-                std::to_string(seeds.size()) + " given");
+  const std::vector<Vec3> seeds =
+      dual::checked_dual_seeds(canvas, nerve, given_seeds, "local fields");
   const std::vector<IndexBox> boxes = star_boxes(canvas, nerve, seeds, options);
   const std::vector<double> limits = distance_limits(canvas, nerve, seeds, options);
   const std::vector<std::vector<detail::StarSimplex>> stars =

@@ -153,13 +153,11 @@ std::array<int32_t, 4> StraightDual::top_simplex(std::size_t t) const {
 }
 
 StraightDual build_straight_dual(const Canvas& canvas, const Nerve& nerve,
-                                 const std::vector<Vec3>& seeds,
+                                 const std::vector<Vec3>& given_seeds,
                                  const StraightDualOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  if (nerve.seed_count != seeds.size() || nerve.dimension != canvas.dimension)
-    throw Error("straight dual: the nerve was extracted for " + std::to_string(nerve.seed_count) +
-                " seeds in " + std::to_string(nerve.dimension) + "D, not " +
-                std::to_string(seeds.size()) + " in " + std::to_string(canvas.dimension) + "D");
+  const std::vector<Vec3> seeds =
+      dual::checked_dual_seeds(canvas, nerve, given_seeds, "straight dual");
   StraightDual dual;
   dual.dimension = canvas.dimension;
   dual.vertices = seeds;

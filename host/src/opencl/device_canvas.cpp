@@ -68,7 +68,7 @@ struct StencilPacker {
     std::array<float, 6> m;
     std::memcpy(m.data(), &canvas.metric[6 * slot], sizeof m);
     if (!has_last || m != last_metric) {
-      last_stencil = selling_decomposition(canvas.metric_at(slot).inverse(), canvas.dimension);
+      last_stencil = canvas_selling_decomposition(canvas, slot, canvas.metric_at(slot).inverse());
       last_metric = m;
       last_shape = shape_index(slot);
       has_last = true;
