@@ -69,7 +69,11 @@ class Canvas {
   // reference judged the fit with it and the kernels without, and their fields differed by 10%.)
   void set_active(std::size_t slot, const Mat3& G);
   // Recounts active voxels and records the content hash (after set_active calls, or after writing
-  // `active` or `metric` directly).
+  // `active` or `metric` directly). Throws rvor::Error for a geometry the solvers cannot index by
+  // (dimension, voxel size, index box, brick grid and table, brick origins not as allocate() made
+  // them) and, on a 2D canvas, an active tensor whose z row is not (0, 0, 1). Tensors are not
+  // checked here (the builder checks them): one that is not SPD is an error of the solve that
+  // meets it, naming its voxel.
   void finalize();
   // A hash of what the propagators read: the geometry (h, origin, dims, bricks) and every slot's
   // activity and tensor; a canvas changed in one of them always hashes differently, one changed in

@@ -101,12 +101,16 @@ struct StraightDual {
 };
 
 // Builds and checks the straight dual of the nerve. `seeds` are the propagation's seeds (label
-// i = seeds[i]); each must lie in an active voxel. Throws rvor::Error on a nerve/seed mismatch.
-// Top simplices are the nerve's, except where d+2 or more seeds are cospherical to within about
-// a voxel (a Voronoi edge the canvas cannot resolve): there the Delaunay triangulation of the
-// configuration in the metric at the witness (CGAL, exact predicates, so that exactly cospherical
-// seeds get one triangulation) decides which of its simplices are Delaunay (exact for uniform
-// metrics, the locally uniform approximation otherwise), and they are flagged near-degenerate.
+// i = seeds[i]; on a 2D canvas their z is read as 0, as the propagators read it); each must lie
+// in an active voxel. Throws rvor::Error on a nerve/seed mismatch (counts, dimension, a simplex
+// naming a seed that is not there). Top simplices are the nerve's, except where d+2 or more seeds
+// are cospherical to within about a voxel (a Voronoi edge the canvas cannot resolve): there the
+// Delaunay triangulation of the configuration in the metric at the witness (CGAL, exact
+// predicates, so that exactly cospherical seeds get one triangulation) decides which of its
+// simplices are Delaunay (exact for uniform metrics, the locally uniform approximation
+// otherwise), and they are flagged near-degenerate. The metric is frozen only where it measures
+// the configuration's sphere as every seed's own metric does to within that voxel; elsewhere (a
+// strongly varying metric, coarse seeds) the simplex stays as witnessed.
 // Lower simplices: the faces of the top simplices and the nerve's dangling ones.
 struct StraightDualOptions {
   // Decide near-degenerate configurations in the metric (above). Off: the top simplices are
