@@ -556,6 +556,28 @@ TEST(OpenCLInsertion, RefusesAFieldNotSolvedForTheOldSeeds) {
   }
 }
 
+// The engine's own field with other old seeds (a seed moved, or a count that is not the solve's)
+// gave a field no solve of any seeds gives, silently: the engine knows which seeds it solved.
+TEST(OpenCLInsertion, RefusesItsOwnFieldWithOtherOldSeeds) {
+  REQUIRE_ENGINE(RelaxationVariant::automatic);
+  const Canvas canvas = test::make_uniform_box_canvas(3, kLo, kHi, 16, rotated_metric(3, 4.0));
+  const std::vector<Vec3> seeds = test::random_points(kLo, kHi, 3, 6, 11);
+  VoronoiField solved;
+  engine->solve(canvas, {seeds.begin(), seeds.end() - 1}, solved);
+  std::vector<Vec3> moved = seeds;
+  moved[2] = Vec3(0.3, -0.2, 0.1);
+  VoronoiField field = solved;
+  EXPECT_THROW(engine->insert(canvas, moved, seeds.size() - 1, field), Error);
+  field = solved;
+  EXPECT_THROW(engine->insert(canvas, seeds, seeds.size() - 2, field), Error);
+  field = solved;
+  engine->solve(canvas, {seeds.begin(), seeds.end() - 1}, field);
+  VoronoiField all;
+  engine->insert(canvas, seeds, seeds.size() - 1, field);
+  make_reference_propagator()->solve(canvas, seeds, all);
+  test::expect_same_field(canvas, all, field);
+}
+
 // Insertions relax neighbouring bricks in the same round (every pending brick each round), which
 // read each other's state from the round's snapshot: what a relaxation evaluates must not depend
 // on how far its neighbours got meanwhile. Two engines, the same insertions: the same evaluations
