@@ -1,6 +1,5 @@
 #include "interrupt_cleanup.h"
 
-#include <dirent.h>
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/syscall.h>
