@@ -14,10 +14,17 @@ VoronoiSession::VoronoiSession(std::unique_ptr<Propagator> propagator)
 
 PropagationStats VoronoiSession::solve(const Canvas& canvas, std::vector<Vec3> seeds) {
   solved_ = returned_last_ = false;
-  const PropagationStats stats = propagator_->solve(canvas, seeds, field_);
-  seeds_ = std::move(seeds);
-  solved_ = returned_last_ = true;
-  return stats;
+  try {
+    const PropagationStats stats = propagator_->solve(canvas, seeds, field_);
+    seeds_ = std::move(seeds);
+    solved_ = returned_last_ = true;
+    return stats;
+  } catch (...) {
+    // What field_ holds now is neither the last solve's nor this one's: nothing is shown.
+    seeds_.clear();
+    field_ = VoronoiField{};
+    throw;
+  }
 }
 
 PropagationStats VoronoiSession::insert(const Canvas& canvas, const std::vector<Vec3>& new_seeds) {

@@ -64,6 +64,20 @@ TEST(VoronoiSession, InsertionBeforeASolveIsAnError) {
   EXPECT_THROW(VoronoiSession(nullptr), Error);
 }
 
+// A failed solve leaves nothing to read (seeds() and field() still showed the solve before it,
+// while insert() refused), and the next solve starts over.
+TEST(VoronoiSession, AFailedSolveLeavesNoSeedsAndNoField) {
+  VoronoiSession session(make_reference_propagator());
+  const Canvas canvas = sheared_box();
+  session.solve(canvas, {Vec3(0.1, 0.2, 0.3)});
+  EXPECT_THROW(session.solve(canvas, {Vec3(3, 0, 0)}), Error);
+  EXPECT_TRUE(session.seeds().empty());
+  EXPECT_TRUE(session.field().distance.empty());
+  EXPECT_THROW(session.insert(canvas, {Vec3::Zero()}), Error);
+  session.solve(canvas, {Vec3(0.1, 0.2, 0.3)});
+  EXPECT_EQ(session.seeds().size(), 1u);
+}
+
 // A seed outside the domain is refused before anything is written: the session keeps its seeds
 // and field, and the next insertions continue them.
 TEST(VoronoiSession, ARefusedInsertionLeavesTheSessionAsItWas) {

@@ -17,7 +17,8 @@ class VoronoiSession {
   // Throws rvor::Error for a null propagator.
   explicit VoronoiSession(std::unique_ptr<Propagator> propagator);
 
-  // Solves `seeds` on `canvas` from scratch (Propagator::solve); seed i gets label i.
+  // Solves `seeds` on `canvas` from scratch (Propagator::solve); seed i gets label i. After a
+  // failed solve, seeds() and field() are empty and insert() refuses until a solve succeeds.
   PropagationStats solve(const Canvas& canvas, std::vector<Vec3> seeds);
   // Appends `new_seeds` to seeds() and propagates them into field() (Propagator::insert: the
   // result equals a solve with all seeds). `canvas` is the one of the last solve(), or one equal to
