@@ -60,9 +60,10 @@ struct CurvedEdge {
 };
 
 // A triangulated geodesic patch for the nerve triangle seeds[0..2]: geodesics from the points of
-// the curved edge (seeds[1], seeds[2]) to the apex seeds[0].
+// the curved edge (seeds[1], seeds[2]) to the apex seeds[0]. The apex is the triangle's smallest
+// seed unless some of its geodesics missed it and another seed's missed fewer (build_curved_dual).
 struct CurvedFace {
-  std::array<int32_t, 3> seeds{-1, -1, -1};        // ascending, as in the nerve
+  std::array<int32_t, 3> seeds{-1, -1, -1};        // the apex, then its opposite edge ascending
   std::vector<Vec3> points;                        // world; points[0] is the apex seed
   std::vector<std::array<uint32_t, 3>> triangles;  // indices into points
   std::size_t geodesics = 0;                       // traced from the opposite edge

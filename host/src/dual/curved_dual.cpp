@@ -71,19 +71,35 @@ void check_inputs(const Canvas& canvas, const VoronoiField& field, const std::ve
 }
 
 // Faces need u_a beyond a's cell: only with local fields. The opposite edge of a triangle is a
-// face of it, hence a nerve edge (the nerve is closed under faces).
+// face of it, hence a nerve edge (the nerve is closed under faces). A face traced towards the
+// apex seeds[0] with geodesics that missed it is traced again towards each other seed of the
+// triangle, from that seed's opposite edge, and the patch with the smallest share of missed
+// geodesics is kept: the smallest seed is an arbitrary apex, and its opposite edge can lie where
+// its local field is not known or its descent does not lead back (3D hyperbolic_shock, 48^3, 400
+// seeds: 378 unreached faces of 5440 with seeds[0] as apex, 85 with the best of the three).
 void build_faces(const Canvas& canvas, const GeodesicTracer& tracer, const Nerve& nerve,
                  const std::vector<Vec3>& seeds, CurvedDual& dual) {
   dual.faces.resize(nerve.triangles.size());
   detail::parallel_for(nerve.triangles.size(), 16, [&](std::size_t t) {
     const NerveSimplex& triangle = nerve.triangles[t];
-    const NerveSimplex* opposite = nerve.find({triangle.seeds[1], triangle.seeds[2]});
-    if (!opposite)
-      throw Error("curved dual: the nerve has triangle (" + std::to_string(triangle.seeds[0]) +
-                  ", " + std::to_string(triangle.seeds[1]) + ", " +
-                  std::to_string(triangle.seeds[2]) + ") but not its edge");
-    const auto e = static_cast<std::size_t>(opposite - nerve.edges.data());
-    dual.faces[t] = detail::build_curved_face(canvas, tracer, triangle, dual.edges[e], seeds);
+    CurvedFace& face = dual.faces[t];
+    for (int apex = 0; apex < 3 && !face.reached(); ++apex) {
+      NerveSimplex rotated = triangle;  // the apex first, its opposite edge ascending
+      rotated.seeds = {triangle.seeds[apex], triangle.seeds[apex == 0 ? 1 : 0],
+                       triangle.seeds[apex == 2 ? 1 : 2], -1};
+      const NerveSimplex* opposite = nerve.find({rotated.seeds[1], rotated.seeds[2]});
+      if (!opposite)
+        throw Error("curved dual: the nerve has triangle (" + std::to_string(triangle.seeds[0]) +
+                    ", " + std::to_string(triangle.seeds[1]) + ", " +
+                    std::to_string(triangle.seeds[2]) + ") but not its edge (" +
+                    std::to_string(rotated.seeds[1]) + ", " + std::to_string(rotated.seeds[2]) +
+                    ")");
+      const auto e = static_cast<std::size_t>(opposite - nerve.edges.data());
+      CurvedFace traced = detail::build_curved_face(canvas, tracer, rotated, dual.edges[e], seeds);
+      if (apex == 0 ||
+          traced.unreached_geodesics * face.geodesics < face.unreached_geodesics * traced.geodesics)
+        face = std::move(traced);
+    }
   });
   for (const CurvedFace& f : dual.faces) dual.unreached_faces += f.reached() ? 0 : 1;
 }
