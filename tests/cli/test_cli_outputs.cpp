@@ -26,6 +26,16 @@ class CliOutputs : public ::testing::Test {
   TempDir dir;
   std::string out() const { return dir.file("out"); }
 
+  // Runs `rvor voronoi --quiet --out OUT ARGS`; its report.json, null when the run failed.
+  nlohmann::json report_of(const std::string& args) const {
+    const CommandResult result =
+        run_command(rvor_binary() + " voronoi --quiet --out " + out() + " " + args);
+    EXPECT_EQ(result.exit_code, 0) << args << ": " << result.err;
+    if (result.exit_code != 0) return nullptr;
+    std::ifstream in(out() + "/report.json");
+    return nlohmann::json::parse(in);
+  }
+
   CommandResult run_uniform_2d(const std::string& extra) const {
     write_text(dir.file("seeds.xyz"), "0 0\n");
     write_text(dir.file("probe.xyz"), "0.5 0.25\n-0.7,0.6\n0.05 -0.9\n");
@@ -63,13 +73,11 @@ TEST_F(CliOutputs, ReportHoldsTheRunFacts) {
 // witnessed triangles and added overlapping ones (325 triangles, 164 intersecting, 124
 // non-manifold edges; the canvas's own nerve: 257, 40 and 0). Now those stay as witnessed.
 TEST_F(CliOutputs, StraightDualOfAStronglyVaryingMetricKeepsWhatTheCanvasWitnessed) {
-  const CommandResult result =
-      run_command(rvor_binary() + " voronoi --device cpu --quiet --out " + out() +
-                  " --domain rect:-1,-1,1,1 --metric hyperbolic_shock --resolution 512 "
-                  "--random-seeds 150 --rng-seed 5 --dual straight");
-  ASSERT_EQ(result.exit_code, 0) << result.err;
-  std::ifstream in(out() + "/report.json");
-  const nlohmann::json dual = nlohmann::json::parse(in)["dual"];
+  const nlohmann::json report = report_of(
+      "--device cpu --domain rect:-1,-1,1,1 --metric hyperbolic_shock --resolution 512 "
+      "--random-seeds 150 --rng-seed 5 --dual straight");
+  ASSERT_FALSE(report.is_null());
+  const nlohmann::json& dual = report["dual"];
   EXPECT_EQ(dual["non_manifold"].get<int>(), 0) << dual.dump();
   EXPECT_LE(dual["intersecting"].get<int>(), 45) << dual.dump();
   EXPECT_LE(dual["inverted"].get<int>(), 10) << dual.dump();
@@ -102,13 +110,11 @@ TEST_F(CliOutputs, OverlappingOverwriteRunsLeaveTheLastRunsSet) {
 // triangle's smallest seed only, many missed it (378 of 5440 faces unreached, 3D
 // hyperbolic_shock with 400 seeds); a face that misses is traced towards its other seeds too.
 TEST_F(CliOutputs, CurvedFacesTryEverySeedOfTheirTriangleAsApex) {
-  const CommandResult result =
-      run_command(rvor_binary() + " voronoi --quiet --out " + out() +
-                  " --domain box:-1,-1,-1,1,1,1 --metric hyperbolic_shock --resolution 48 "
-                  "--random-seeds 400 --dual curved");
-  ASSERT_EQ(result.exit_code, 0) << result.err;
-  std::ifstream in(out() + "/report.json");
-  const nlohmann::json curved = nlohmann::json::parse(in)["curved_dual"];
+  const nlohmann::json report = report_of(
+      "--domain box:-1,-1,-1,1,1,1 --metric hyperbolic_shock --resolution 48 --random-seeds 400 "
+      "--dual curved");
+  ASSERT_FALSE(report.is_null());
+  const nlohmann::json& curved = report["curved_dual"];
   EXPECT_GT(curved["faces"].get<int>(), 4000) << curved.dump();
   EXPECT_LE(curved["unreached_faces"].get<int>(), 150) << curved.dump();
 }
