@@ -37,7 +37,7 @@ void BM_ReferenceSolve(benchmark::State& state) {
     state.SetIterationTime(stats.seconds);
     voxels += static_cast<double>(canvas.active_voxel_count);
   }
-  state.counters["voxels/s"] = benchmark::Counter(voxels, benchmark::Counter::kIsRate);
+  state.counters["voxels"] = benchmark::Counter(voxels, benchmark::Counter::kIsRate);
   state.SetLabel(kind == kEuclidean ? "euclidean" : "anisotropic 10, rotated");
 }
 

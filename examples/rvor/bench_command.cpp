@@ -262,6 +262,10 @@ nlohmann::json case_json(const BenchResult& r) {
           {"insert_batch", r.bench_case.insert_batch},
           {"insertions", r.insertions},
           {"checked_insert", r.bench_case.checked_insert},
+          {"variant", variant_name(r.bench_case.variant)},  // as asked; device_description: ran
+          {"front_step", r.bench_case.front_step < 0 ? nlohmann::json(nullptr)  // automatic
+                                                     : nlohmann::json(r.bench_case.front_step)},
+          {"repeat", r.bench_case.repetitions},
           {"phase_iterations", r.bench_case.phase_iterations},
           {"insertion_phase_iterations", r.bench_case.insertion_phase_iterations},
           {"insert_mean_seconds", or_null(r.insert_mean_seconds)},

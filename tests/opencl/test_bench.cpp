@@ -206,7 +206,10 @@ TEST(BenchCommand, JsonHasTheRequiredKeysPerCase) {
                                              "visits_per_relaxation",
                                              "bytes_per_voxel",
                                              "fastsweeping_voxels_per_second",
-                                             "cpu_reference_voxels_per_second"};
+                                             "cpu_reference_voxels_per_second",
+                                             "variant",
+                                             "front_step",
+                                             "repeat"};
   for (const nlohmann::json& c : report["cases"]) {
     for (const std::string& key : required) EXPECT_TRUE(c.contains(key)) << key;
     EXPECT_EQ(c.at("resolution"), 24);
