@@ -354,7 +354,8 @@ void add_bench_command(CLI::App& app) {
   cmd->add_option("--repeat", options->repetitions,
                   "Solves per case with the same engine; the fastest counts (the first also "
                   "uploads the canvas, and compiles the kernels where PoCL's cache lacks them: "
-                  "seconds at small sizes)")
+                  "seconds at small sizes; with --insert and 2 or more, an untimed insertion "
+                  "follows it, so that the timed ones find their kernels built)")
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
   CLI::Option* insert =
