@@ -13,8 +13,9 @@
 namespace rvor {
 
 namespace {
-int floor_div(int a, int b) {
-  return a >= 0 ? a / b : -((-a + b - 1) / b);
+// Bricks along an axis of `voxels` (at least 1, allocate() checks) with `edge` voxels each.
+int bricks_along(int voxels, int edge) {
+  return (voxels + edge - 1) / edge;
 }
 
 std::uint64_t bits_of(double value) {
@@ -72,7 +73,7 @@ void require_consistent_geometry(const Canvas& c) {
     fail_geometry("voxel size must be positive and origin finite");
   for (int a = 0; a < 3; ++a) {
     const int edge = a == 2 ? c.brick_edge_z() : Canvas::kBrickEdge;
-    if (c.dims[a] < 1 || c.brick_grid_dims[a] != (c.dims[a] + edge - 1) / edge)
+    if (c.dims[a] < 1 || c.brick_grid_dims[a] != bricks_along(c.dims[a], edge))
       fail_geometry("index box and brick grid do not match along axis " + std::to_string(a));
   }
   if (c.dimension == 2 && c.dims[2] != 1) fail_geometry("a 2D index box has one layer");
@@ -108,9 +109,21 @@ void require_consistent_geometry(const Canvas& c) {
 // A 2D canvas's tensors are their xy block, with the identity along z (set_active's form): the
 // engines read the z row differently, so another one would make them disagree.
 void require_planar_tensors(const Canvas& c) {
-  for (std::size_t slot = 0; slot < c.slot_count(); ++slot) {
+  const auto off_plane = [&](std::size_t slot) {
     const float* m = &c.metric[6 * slot];
-    if (c.active[slot] && (m[3] != 0.0f || m[4] != 0.0f || m[5] != 1.0f)) {
+    return c.active[slot] && (m[3] != 0.0f || m[4] != 0.0f || m[5] != 1.0f);
+  };
+  // Counted over slot ranges in parallel, as the content hash reads them; the first one only
+  // for the message.
+  if (sum_over_slot_ranges(c.slot_count(), [&](std::size_t begin, std::size_t end) {
+        std::uint64_t count = 0;
+        for (std::size_t slot = begin; slot < end; ++slot) count += off_plane(slot);
+        return count;
+      }) == 0)
+    return;
+  for (std::size_t slot = 0; slot < c.slot_count(); ++slot) {
+    if (off_plane(slot)) {
+      const float* m = &c.metric[6 * slot];
       const VoxelIndex v = c.voxel_of(slot);
       throw Error("canvas voxel (" + std::to_string(v.i) + ", " + std::to_string(v.j) +
                   ") of a 2D canvas: m13, m23, m33 must be 0, 0, 1 (set_active stores the xy " +
@@ -192,7 +205,7 @@ void Canvas::allocate(int dim, double h, const Vec3& world_origin,
   if (dimension == 2) dims[2] = 1;
   for (int a = 0; a < 3; ++a) {
     const int edge = a == 2 ? brick_edge_z() : kBrickEdge;
-    brick_grid_dims[a] = floor_div(dims[a] + edge - 1, edge);
+    brick_grid_dims[a] = bricks_along(dims[a], edge);
   }
   brick_table.assign(
       static_cast<std::size_t>(brick_grid_dims[0]) * brick_grid_dims[1] * brick_grid_dims[2], -1);

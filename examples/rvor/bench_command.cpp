@@ -1,6 +1,5 @@
 // rvor bench: propagation throughput with OpenVDB FastSweeping and the CPU reference measured in
 // the same run on the same canvas and seeds (rvor/benchmark.h); a table, or JSON with --json.
-#include <charconv>
 #include <cstdio>
 #include <iostream>
 #include <map>
@@ -14,6 +13,7 @@
 #include "commands.h"
 #include "rvor/benchmark.h"
 #include "rvor/devices.h"
+#include "rvor/domain.h"
 #include "rvor/error.h"
 #include "rvor/metric_field.h"
 #include "rvor/opencl_propagator.h"
@@ -74,15 +74,10 @@ std::unique_ptr<MetricField> field_for_default_domain(const std::string& metric)
 std::string domain_for(const std::string& metric) {
   const std::unique_ptr<MetricField> field = field_for_default_domain(metric);
   const Box box = field->natural_domain().value_or(Box{Vec3(-1, -1, -1), Vec3(1, 1, 1)});
-  auto text = [](double x) {  // the shortest text that reads back as x: "-1", not "-1.000000"
-    char digits[32];
-    return std::string(digits, std::to_chars(digits, digits + sizeof digits, x).ptr);
-  };
-  if (field->dimension() == 2)
-    return "rect:" + text(box.lo.x()) + "," + text(box.lo.y()) + "," + text(box.hi.x()) + "," +
-           text(box.hi.y());
-  return "box:" + text(box.lo.x()) + "," + text(box.lo.y()) + "," + text(box.lo.z()) + "," +
-         text(box.hi.x()) + "," + text(box.hi.y()) + "," + text(box.hi.z());
+  DomainSpec domain;  // its description() writes the numbers as parse_domain reads them back
+  domain.kind = field->dimension() == 2 ? DomainSpec::Kind::Rectangle : DomainSpec::Kind::Box;
+  domain.bounds = box;
+  return domain.description();
 }
 
 // --variant's names, which the errors below use too.

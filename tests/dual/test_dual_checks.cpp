@@ -227,6 +227,10 @@ TEST(DualChecks, EntryPointsReadSeedsAsThePropagatorsDoAndCheckTheNerve) {
   expect_refused([&] { compute_local_fields(canvas, broken, seeds); }, "local fields");
   expect_refused([&] { build_curved_dual(canvas, field, broken, seeds); }, "curved dual");
   EXPECT_THROW(decided_nerve(canvas, nerve, {}), Error);
+
+  VoronoiField unlabelled = field;  // -1 is "unreached"; no other negative label is a seed's
+  for (std::size_t slot = 0; slot < unlabelled.label.size(); slot += 2) unlabelled.label[slot] = -7;
+  EXPECT_THROW(extract_nerve(canvas, unlabelled, seeds.size()), Error);
 }
 
 TEST(DualChecks, CosphericalSeedsGiveOneTriangulation) {

@@ -155,9 +155,8 @@ class BrickScanner {
       for (int dy = 0; dy < 2; ++dy)
         for (int dx = 0; dx < 2; ++dx) {
           const int32_t l = block_.label[Block::index(a + dx, b + dy, c + dz)];
-          if (l < -1)  // -1: unreached; below it no label at all
-            throw Error("nerve: voxel label " + std::to_string(l) + " is not a seed index");
-          if (l >= 0 && std::find(labels.begin(), labels.begin() + n, l) == labels.begin() + n)
+          // -1: unreached; any other label, negative ones too, is checked below
+          if (l != -1 && std::find(labels.begin(), labels.begin() + n, l) == labels.begin() + n)
             labels[n++] = l;
         }
     if (n < 2) return;
