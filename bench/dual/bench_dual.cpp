@@ -44,7 +44,7 @@ Labeled& labeled(int resolution, int seeds) {
   const char* device = std::getenv("RVOR_BENCH_DEVICE");
   l.propagator = rvor::make_propagator(device ? device : "auto");
   // A first solve and flagging, untimed: they upload the canvas and have PoCL generate the
-  // kernels' code at their first launch (a cold kernel cache made multi_label_s 26 times longer).
+  // kernels' code at their first launch, which multi_label_s and propagation_s would time.
   l.propagator->solve(l.canvas, l.seeds, l.field);
   l.propagator->multi_label_bricks(l.canvas, l.field);
   l.propagation_seconds = l.propagator->solve(l.canvas, l.seeds, l.field).seconds;

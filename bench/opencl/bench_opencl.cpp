@@ -90,9 +90,9 @@ void opencl_insertion(benchmark::State& state, const std::string& metric) {
     return state.SkipWithError(e.what());
   }
   rvor::VoronoiSession session(std::move(engine));
-  // Uploads the canvas and builds the program; the insertion launches its own kernels for the
-  // first time (PoCL generates a kernel's code at its first launch: 124 ms against 1.8 ms with a
-  // cold kernel cache), so one untimed insertion goes first too.
+  // Uploads the canvas and builds the program, then one untimed insertion: an insertion launches
+  // kernels a solve does not, whose code PoCL generates at their first launch (README,
+  // "Throughput": with a cold kernel cache an insertion took 127 ms against 2 ms).
   session.solve(c.canvas, c.seeds);
   session.insert(c.canvas, extra);
   double solve_seconds = 0, insert_seconds = 0, rounds = 0;

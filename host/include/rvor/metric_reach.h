@@ -10,7 +10,9 @@ struct MetricReach {
   int longest_offset = 0;       // the largest |component| of a stencil offset, in voxels
 };
 
-// At most about 20 000 samples, so a 256^3 canvas takes ~20 ms.
+// At most about 20 000 samples: a few milliseconds at any size (`perf record` of `rvor voronoi
+// --domain box:1,1,1,11,11,11 --metric radial_shock_3d --resolution 256 --random-seeds 1000`:
+// under 0.01% of the run's samples).
 MetricReach sampled_metric_reach(const Canvas& canvas);
 
 // The anisotropy up to which the tests check that every engine settles and agrees at any angle

@@ -216,7 +216,8 @@ class Resolver {
   // metrics do, to within the search band: a length r in G is between r / psi and r psi in a
   // metric at distortion psi from G, so the sphere's radius is off by up to (psi - 1) r. Under a
   // strongly varying metric with coarse seeds (hyperbolic_shock, 150 seeds at 512^2: radii ~15
-  // voxel diameters, seeds' metrics typically 4x the witness's in length) that is tens of voxels,
+  // voxel diameters, seeds' metrics typically 4x the witness's in length, by a temporary count
+  // not kept) that is tens of voxels,
   // and the frozen test both removed witnessed simplices and added overlapping ones; uniform
   // metrics (psi = 1) are always decided.
   bool frozen_metric_resolves(const Decision& d) const {

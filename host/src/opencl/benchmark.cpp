@@ -95,7 +95,8 @@ void record_solve(const PropagationStats& stats, const Canvas& canvas, BenchResu
 // Records the fastest of the case's solves by solve_once(). With insertions to time and more
 // than one solve, the first solve is followed by warm_up(), an untimed insertion into it: an
 // insertion launches kernels a solve does not, and PoCL generates a kernel's code at its first
-// launch (a cold kernel cache made the first insertion 10-50 times slower). The next solve
+// launch (with a cold kernel cache the largest of 4 insertions at 48^3 took 127 ms, against 2 ms;
+// README, "Throughput"). The next solve
 // starts over.
 void time_solves(const BenchCase& c, const Canvas& canvas,
                  const std::function<PropagationStats()>& solve_once,
