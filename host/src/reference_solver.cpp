@@ -200,12 +200,17 @@ PropagationStats ReferenceSolver::propagate(const Canvas& canvas, const std::vec
   validate_seeds(canvas, seeds);
   load_seeds(canvas, seeds);
   load_field(field);
+  const bool single_source =
+      keep_single_source_terms_ && seeds.size() == 1 && slot_count_ <= kMostSingleSourceSlots;
+  single_source_terms_.resize(single_source ? slot_count_ : 0);
+  single_source_ready_.assign(single_source ? slot_count_ : 0, 0);
   if (exact_start) start_at_nearest_seeds(canvas, seeds);
   PropagationStats stats;
   stats.exact_start = exact_start;
   initialise_seed_blocks(canvas, first_new, foreign_seed_claims(canvas, seeds, first_new));
   if (exact_start) evaluate_all_once(stats);
   run_queue(stats);
+  single_source_ready_.clear();
   store_field(field);
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return stats;
@@ -354,11 +359,17 @@ inline Vec3 ReferenceSolver::stencil_step(int32_t voxel, int term) const {
 inline double ReferenceSolver::corrected_value(const SourceFrame& frame, const Vec3& step,
                                                double sign, double value, double weight) const {
   if (!(weight > 0)) return value;
+  return value + correction(frame, step, sign, weight);
+}
+
+inline double ReferenceSolver::correction(const SourceFrame& frame, const Vec3& step, double sign,
+                                          double weight) const {
+  if (!(weight > 0)) return 0;
   const double step_dot_Gp = step.dot(frame.Gp);        // h e^T G_s p
   const double step_norm2 = step.dot(*frame.G * step);  // h^2 e^T G_s e
   const double u0_y =
       std::sqrt(std::max(0.0, frame.u0_squared + 2 * sign * step_dot_Gp + step_norm2));
-  return value + weight * (frame.u0 - u0_y + sign * step_dot_Gp * frame.inverse_u0);
+  return weight * (frame.u0 - u0_y + sign * step_dot_Gp * frame.inverse_u0);
 }
 
 // The weight of the correction for a term with this step: the frame's times the offset's
@@ -400,29 +411,39 @@ void ReferenceSolver::run_queue(PropagationStats& stats) {
   }
 }
 
+void ReferenceSolver::neighbour_slots(int32_t voxel, int32_t* neighbours) const {
+  const VoxelStencil& stencil = stencil_of(voxel);
+  const VoxelIndex x = index_of(voxel);
+  for (int t = 0; t < stencil.size; ++t)
+    for (int side = 0; side < 2; ++side)
+      neighbours[2 * t + side] = neighbour_slot(x, stencil.offset[t], side == 0 ? 1 : -1);
+}
+
 bool ReferenceSolver::recompute(int32_t voxel) {
+  if (!single_source_ready_.empty()) return recompute_single_source(voxel);
   // Candidate labels: the distinct labels of the stencil neighbours (at most 12).
   int32_t labels[12];
   int label_count = 0;
-  const VoxelStencil& stencil = stencil_of(voxel);
-  const VoxelIndex x = index_of(voxel);
   // The neighbours' slots, found once for every label's solve (entry 2 t + side, -1: none).
   int32_t neighbours[12];
-  for (int t = 0; t < stencil.size; ++t)
-    for (int side = 0; side < 2; ++side) {
-      const int32_t y = neighbour_slot(x, stencil.offset[t], side == 0 ? 1 : -1);
-      neighbours[2 * t + side] = y;
-      if (y < 0 || state_[y].label < 0) continue;
-      const int32_t label = state_[y].label;
-      if (std::find(labels, labels + label_count, label) == labels + label_count)
-        labels[label_count++] = label;
-    }
+  neighbour_slots(voxel, neighbours);
+  for (int n = 0; n < 2 * stencil_of(voxel).size; ++n) {
+    const int32_t y = neighbours[n];
+    if (y < 0 || state_[y].label < 0) continue;
+    const int32_t label = state_[y].label;
+    if (std::find(labels, labels + label_count, label) == labels + label_count)
+      labels[label_count++] = label;
+  }
   double best = kInfinity;
   int32_t best_label = -1;
   for (int n = 0; n < label_count; ++n) {
     const double t = local_solve(voxel, labels[n], neighbours);
     if (t < best || (t == best && labels[n] < best_label)) best = t, best_label = labels[n];
   }
+  return store_recomputed(voxel, best, best_label);
+}
+
+bool ReferenceSolver::store_recomputed(int32_t voxel, double best, int32_t best_label) {
   VoxelState& state = state_[voxel];
   if (best_label < 0) best = kInfinity;
   const bool same_label = best_label == state.label;
@@ -434,25 +455,61 @@ bool ReferenceSolver::recompute(int32_t voxel) {
   return true;
 }
 
+const ReferenceSolver::SingleSourceTerms& ReferenceSolver::single_source_terms(int32_t voxel) {
+  SingleSourceTerms& terms = single_source_terms_[static_cast<std::size_t>(voxel)];
+  if (single_source_ready_[static_cast<std::size_t>(voxel)]) return terms;
+  single_source_ready_[static_cast<std::size_t>(voxel)] = 1;
+  neighbour_slots(voxel, terms.neighbours);
+  const SourceFrame frame = source_frame(voxel, 0);
+  for (int t = 0; t < stencil_of(voxel).size; ++t) {
+    const Vec3 step = stencil_step(voxel, t);
+    const double weight = term_factorization_weight(frame, step);
+    for (int side = 0; side < 2; ++side)
+      terms.correction[2 * t + side] = correction(frame, step, side == 0 ? 1.0 : -1.0, weight);
+  }
+  return terms;
+}
+
+bool ReferenceSolver::recompute_single_source(int32_t voxel) {
+  const SingleSourceTerms& terms = single_source_terms(voxel);
+  const double best = solve_with(
+      voxel, 0, terms.neighbours,
+      [&terms](int t, int side, double value) { return value + terms.correction[2 * t + side]; });
+  return store_recomputed(voxel, best, best < kInfinity ? 0 : -1);  // as recompute's ties do
+}
+
 // The candidate value of `voxel` for `label` (docs/scheme.md, "Local update"), +inf if no
 // stencil neighbour carries that label.
 double ReferenceSolver::local_solve(int32_t voxel, int32_t label, const int32_t* neighbours) const {
   const SourceFrame frame = source_frame(voxel, label);
+  // The step and weight of the term last asked for: both sides of a term share them.
+  int term = -1;
+  Vec3 step = Vec3::Zero();
+  double weight = 0;
+  return solve_with(voxel, label, neighbours, [&](int t, int side, double value) {
+    if (t != term) {
+      term = t;
+      step = stencil_step(voxel, t);
+      weight = term_factorization_weight(frame, step);
+    }
+    return corrected_value(frame, step, side == 0 ? 1.0 : -1.0, value, weight);
+  });
+}
+
+template <typename Corrected>
+double ReferenceSolver::solve_with(int32_t voxel, int32_t label, const int32_t* neighbours,
+                                   Corrected&& corrected) const {
   const VoxelStencil& stencil = stencil_of(voxel);
   double w[6], rho[6];  // corrected neighbour value and weight, sorted by w
   int n = 0;
   double least_raw = kInfinity;  // the candidate's floor (docs/scheme.md, "Local update", 6)
   for (int t = 0; t < stencil.size; ++t) {
-    const Vec3 step = stencil_step(voxel, t);
-    const double weight = term_factorization_weight(frame, step);
     double best = kInfinity;
     for (int side = 0; side < 2; ++side) {
       const int32_t y = neighbours[2 * t + side];
       if (y < 0 || state_[y].label != label) continue;
       least_raw = std::min(least_raw, state_[y].value);
-      const double corrected =
-          corrected_value(frame, step, side == 0 ? 1.0 : -1.0, state_[y].value, weight);
-      best = std::min(best, corrected);
+      best = std::min(best, corrected(t, side, state_[y].value));
     }
     if (best == kInfinity) continue;
     // Insertion into the sorted arrays: at most 6 terms.

@@ -50,6 +50,9 @@ class ReferenceSolver {
   // increasing order, before the queue runs (docs/scheme.md, "Initialisation"). Off by default;
   // ignored under a distance limit, whose unsolved values must stay upper bounds.
   void set_exact_start(bool on) { exact_start_ = on; }
+  // Whether single-seed solves keep each voxel's neighbours and corrections (SingleSourceTerms);
+  // on by default. The same values bit for bit either way: off is for the tests that check it.
+  void keep_single_source_terms(bool on) { keep_single_source_terms_ = on; }
 
  private:
   struct Seed {
@@ -95,13 +98,34 @@ class ReferenceSolver {
   double term_factorization_weight(const SourceFrame& frame, const Vec3& step) const;
   double corrected_value(const SourceFrame& frame, const Vec3& step, double sign, double value,
                          double weight) const;
+  // What corrected_value adds to the value of a neighbour: it does not depend on the value.
+  double correction(const SourceFrame& frame, const Vec3& step, double sign, double weight) const;
   // Recomputes x from its neighbours: the smallest candidate over the labels of its stencil
   // neighbours (ties: smaller label). Returns whether (value, label) changed.
   bool recompute(int32_t x);
+  // Stores a recomputed (value, label) unless it is the voxel's own; returns whether it changed.
+  bool store_recomputed(int32_t voxel, double best, int32_t best_label);
   void mark_seed_block(const Canvas& canvas, std::size_t seed, bool assign_values);
   void offer_exact_value(int32_t voxel, int32_t seed, bool was_frozen);
   // `neighbours`: the slots of the voxel's stencil neighbours, entry 2 t + side (recompute).
   double local_solve(int32_t voxel, int32_t label, const int32_t* neighbours) const;
+  // local_solve with `corrected(t, side, value)` giving a neighbour's factorized value.
+  template <typename Corrected>
+  double solve_with(int32_t voxel, int32_t label, const int32_t* neighbours,
+                    Corrected&& corrected) const;
+  void neighbour_slots(int32_t voxel, int32_t* neighbours) const;
+
+  // Single-source solves (the dual's local fields) evaluate each voxel about 11 times, always for
+  // the one seed: the stencil neighbours' slots and what the factorization adds to their values
+  // are computed at a voxel's first evaluation and kept. Bit for bit the values of local_solve.
+  struct SingleSourceTerms {
+    int32_t neighbours[12];
+    double correction[12];
+  };
+  bool recompute_single_source(int32_t voxel);
+  const SingleSourceTerms& single_source_terms(int32_t voxel);
+  // Slots up to which a single-source solve keeps them (144 bytes per slot).
+  static constexpr std::size_t kMostSingleSourceSlots = std::size_t{1} << 20;
   // Voxel index and world position of a slot, and the slot of a stencil neighbour, by arithmetic
   // on the brick layout: no per-voxel memory access (the run time is dominated by cache misses).
   VoxelIndex index_of(int32_t slot) const {
@@ -160,8 +184,12 @@ class ReferenceSolver {
   // 1 for voxels of a seed's initialisation block: their exact values are boundary data.
   std::vector<uint8_t> frozen_;
   std::vector<QueueEntry> queue_;  // binary min-heap (std::push_heap with greater)
+  // SingleSourceTerms per slot, and whether computed, while a single-source solve runs.
+  std::vector<SingleSourceTerms> single_source_terms_;
+  std::vector<uint8_t> single_source_ready_;
   double distance_limit_ = std::numeric_limits<double>::infinity();
   bool exact_start_ = false;
+  bool keep_single_source_terms_ = true;
   // Where the exact start applies on the canvas (rvor/nearest_seeds.h), decided at the first
   // solve that wants it: the test can flood-fill the canvas.
   std::optional<ExactStartReach> exact_start_reach_;
