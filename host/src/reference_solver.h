@@ -121,8 +121,12 @@ class ReferenceSolver {
   struct SingleSourceTerms {
     int32_t neighbours[12];
     double correction[12];
+    double least_correction;  // the least of them, at most 0
   };
   bool recompute_single_source(int32_t voxel);
+  // Whether recomputing x cannot change it, in a single-source solve, when every neighbour
+  // changed since x's last evaluation now holds at least `lowest` (run_queue says why).
+  bool settled_below(int32_t x, double lowest) const;
   const SingleSourceTerms& single_source_terms(int32_t voxel);
   // Slots up to which a single-source solve keeps them (144 bytes per slot).
   static constexpr std::size_t kMostSingleSourceSlots = std::size_t{1} << 20;
@@ -190,6 +194,8 @@ class ReferenceSolver {
   double distance_limit_ = std::numeric_limits<double>::infinity();
   bool exact_start_ = false;
   bool keep_single_source_terms_ = true;
+  bool from_infinity_ = false;  // solve(), not insert(): the field starts at +inf
+  bool skip_settled_ = false;   // settled_below applies to the current solve
   // Where the exact start applies on the canvas (rvor/nearest_seeds.h), decided at the first
   // solve that wants it: the test can flood-fill the canvas.
   std::optional<ExactStartReach> exact_start_reach_;

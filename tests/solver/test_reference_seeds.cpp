@@ -272,8 +272,9 @@ TEST_P(SeedsByDimension, InsertRefusesAFieldNotSolvedForTheOldSeeds) {
 }
 
 // Single-seed solves (the dual's local fields) keep each voxel's neighbour slots and factorization
-// corrections between evaluations: the same fields bit for bit as evaluating them every time, on
-// a varying metric (factorization weights between 0 and 1), with and without a distance limit.
+// corrections between evaluations, and skip the evaluations that cannot change a voxel: the same
+// fields bit for bit as evaluating every voxel every time, on a varying metric (factorization
+// weights between 0 and 1), with and without a distance limit.
 TEST_P(SeedsByDimension, SingleSourceTermsKeptGiveTheSameFieldBitForBit) {
   const int dimension = GetParam();
   const PullBack pull_back{dimension, 0.6, 4.0};
@@ -289,7 +290,9 @@ TEST_P(SeedsByDimension, SingleSourceTermsKeptGiveTheSameFieldBitForBit) {
     evaluating.keep_single_source_terms(false);
     const PropagationStats kept_stats = keeping.solve(canvas, {seed}, kept);
     const PropagationStats evaluated_stats = evaluating.solve(canvas, {seed}, evaluated);
-    EXPECT_EQ(kept_stats.voxel_updates, evaluated_stats.voxel_updates);
+    EXPECT_EQ(kept_stats.iterations, evaluated_stats.iterations);
+    // Voxels that cannot change are skipped (settled_below): about half of the evaluations.
+    EXPECT_LT(kept_stats.voxel_updates, evaluated_stats.voxel_updates * 3 / 4);
     std::size_t reached = 0;
     for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
       ASSERT_EQ(kept.distance[slot], evaluated.distance[slot]) << "slot " << slot;
