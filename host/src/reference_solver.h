@@ -119,6 +119,8 @@ class ReferenceSolver {
   // the one seed: the stencil neighbours' slots and what the factorization adds to their values
   // are computed at a voxel's first evaluation and kept. Bit for bit the values of local_solve.
   struct SingleSourceTerms {
+    // Left unset (read once computed): a crop's table is 144 bytes per slot, zeroed for nothing.
+    SingleSourceTerms() {}  // NOLINT(modernize-use-equals-default): = default would zero it
     int32_t neighbours[12];
     double correction[12];
     double least_correction;  // the least of them, at most 0
