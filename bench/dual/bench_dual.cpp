@@ -5,7 +5,7 @@
 // and builds the kernels) and the ratio as dual_over_propagation. The
 // bricks to visit come from the propagator (Propagator::multi_label_bricks: a kernel on the
 // device state for the OpenCL engine), timed as multi_label_s and counted in the ratio;
-// scanned_bricks is the fraction of bricks it flags; nerve_all_bricks_s times the nerve scanning
+// scanned_brick_fraction is the fraction of bricks it flags; nerve_all_bricks_s times the nerve scanning
 // every brick (its own per-brick uniformity test instead of the flags), as the baseline.
 // The design's target: 10,000 seeds at 256^3 in <= 10% of the propagation time:
 //   bench_dual --benchmark_filter='NerveAndDual/256/10000'
@@ -70,7 +70,7 @@ void NerveAndDual(benchmark::State& state) {
   const double n = static_cast<double>(state.iterations());
   state.counters["propagation_s"] = l.propagation_seconds;
   state.counters["multi_label_s"] = flag_seconds / n;
-  state.counters["scanned_bricks"] =
+  state.counters["scanned_brick_fraction"] =
       static_cast<double>(flagged) / static_cast<double>(l.canvas.brick_count());
   state.counters["nerve_s"] = nerve_seconds / n;
   state.counters["nerve_all_bricks_s"] = all_bricks_seconds / n;
