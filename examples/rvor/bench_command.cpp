@@ -1,5 +1,6 @@
 // rvor bench: propagation throughput with OpenVDB FastSweeping and the CPU reference measured in
 // the same run on the same canvas and seeds (rvor/benchmark.h); a table, or JSON with --json.
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <map>
@@ -205,11 +206,12 @@ void print_table(std::ostream& out, const std::vector<BenchResult>& results) {
   const std::vector<std::string> header = {"case",     "voxels",    "seeds",   "seconds",
                                            "voxels/s", "upd/voxel", "B/voxel", "FS vox/s",
                                            "vs FS",    "ref vox/s", "vs ref",  "insert"};
-  const std::vector<int> widths = {24, 9, 6, 8, 9, 9, 8, 9, 7, 9, 7, 7};
+  std::vector<std::size_t> widths = {24, 9, 6, 8, 9, 9, 8, 9, 7, 9, 7, 7};
+  for (const BenchResult& r : results) widths[0] = std::max(widths[0], case_name(r).size());
   auto row = [&](const std::vector<std::string>& cells) {
     for (std::size_t n = 0; n < cells.size(); ++n) {
       const std::string& cell = cells[n];
-      const std::size_t width = static_cast<std::size_t>(widths[n]);
+      const std::size_t width = widths[n];
       const std::string pad(cell.size() < width ? width - cell.size() : 0, ' ');
       out << (n == 0 ? cell + pad : "  " + pad + cell);
     }
