@@ -421,15 +421,15 @@ void ReferenceSolver::run_queue(PropagationStats& stats) {
   }
 }
 
-// In a solve whose values only decrease (skip_settled_), every change of a neighbour of x since
-// x's last evaluation is queued (x is evaluated when a change is popped), so those neighbours hold
-// at least `lowest` now and held more before, and x's terms take them at least lowest +
-// least_correction. When that is not below x's value, the changed terms lie above the root that
-// x's last evaluation found, before and after: the root's terms and arithmetic, and its floor (the
-// least raw neighbour value), are those of that evaluation, so it would find the same value again,
-// not a change. The margin covers a last evaluation that found a value within kRelativeChange of
-// x's and kept x's. Checked in the solver tests: the same fields bit for bit as evaluating every
-// voxel every time.
+// In a solve whose values only decrease (skip_settled_), a neighbour of x changed since x's last
+// evaluation is either still queued, so it holds at least `lowest` now and held more before, or it
+// was popped when this test held for it. Either way x's term of it is at least the value tested
+// here (lowest + least_correction, at most the corrected neighbour), and when that is not below
+// x's value, every changed term lies above the root x's last evaluation found, before and after:
+// the root's terms and arithmetic, and its floor (the least raw neighbour value), are those of that
+// evaluation, so it would find the same value again, not a change. The margin covers a last
+// evaluation that found a value within kRelativeChange of x's and kept x's. Checked in the solver
+// tests: the same fields bit for bit as evaluating every voxel every time.
 bool ReferenceSolver::settled_below(int32_t x, double lowest) const {
   if (!skip_settled_ || !single_source_ready_[static_cast<std::size_t>(x)]) return false;
   const double least = lowest + single_source_terms_[static_cast<std::size_t>(x)].least_correction;
