@@ -8,6 +8,8 @@
 #include <cmath>
 #include <limits>
 
+#include "rvor/seed_blocks.h"
+
 namespace rvor::detail {
 
 namespace {
@@ -220,15 +222,101 @@ bool GeodesicTracer::sample(const Vec3& x, int32_t label, Vec3& gradient, Mat3& 
   return true;
 }
 
+Vec3 GeodesicTracer::inside_canvas(const Vec3& x) const {
+  Vec3 y = x;
+  for (int a = 0; a < dimension_; ++a) y[a] = std::clamp(y[a], -0.5, canvas_.dims[a] - 0.5);
+  return y;
+}
+
+bool GeodesicTracer::in_seed_block(const Vec3& x, const VoxelIndex& seed_voxel,
+                                   int32_t label) const {
+  const std::array<int, 3> centre{seed_voxel.i, seed_voxel.j, seed_voxel.k};
+  for (int a = 0; a < dimension_; ++a)
+    if (std::abs(x[a] - centre[static_cast<std::size_t>(a)]) > kSeedBlockRadius) return false;
+  bool all = true, any = false;
+  for_each_corner(x, [&](int64_t slot, double) {  // active corners only
+    const bool c = carries(slot, label);
+    all = all && c;
+    any = any || c;
+  });
+  return all && any;
+}
+
+// Steepest descent over voxels from the voxel of `label` nearest below x: each step moves to the
+// voxel within a Chebyshev radius of 1 (2 where none of those is lower) that lowers the distance
+// most per unit of metric length, until the seed's block (see in_seed_block).
+bool GeodesicTracer::discrete_descent(const Vec3& x, const Vec3& target,
+                                      const VoxelIndex& seed_voxel, int32_t label,
+                                      std::vector<Vec3>& path) const {
+  // The start: the least distance among the corners of x's cell, else within the 4^d block.
+  int64_t current = -1;
+  double u = std::numeric_limits<double>::infinity();
+  for (int reach = 1; reach <= 2 && current < 0; ++reach) {
+    const int bi = static_cast<int>(std::floor(x.x())), bj = static_cast<int>(std::floor(x.y()));
+    const int bk = dimension_ == 3 ? static_cast<int>(std::floor(x.z())) : 0;
+    const int k_lo = dimension_ == 3 ? 1 - reach : 0, k_hi = dimension_ == 3 ? reach : 0;
+    for (int dk = k_lo; dk <= k_hi; ++dk)
+      for (int dj = 1 - reach; dj <= reach; ++dj)
+        for (int di = 1 - reach; di <= reach; ++di) {
+          const int64_t slot = canvas_.slot_of(bi + di, bj + dj, bk + dk);
+          const double d = distance_of(slot, label);
+          if (d < u) u = d, current = slot;
+        }
+  }
+  if (current < 0) return false;
+  VoxelIndex v = canvas_.voxel_of(static_cast<std::size_t>(current));
+  path.push_back(Vec3(v.i, v.j, v.k));
+  const double h = canvas_.voxel_size;
+  for (;;) {  // u decreases strictly: it ends
+    const Vec3 here(v.i, v.j, v.k);
+    if ((target - here).norm() <= kArrival || in_seed_block(here, seed_voxel, label)) {
+      path.push_back(target);
+      return true;
+    }
+    const Mat3 G = canvas_.metric_at(static_cast<std::size_t>(current));
+    double best_slope = 0.0;
+    int64_t next = -1;
+    for (int reach = 1; reach <= 2 && next < 0; ++reach) {
+      const int kr = dimension_ == 3 ? reach : 0;
+      for (int dk = -kr; dk <= kr; ++dk)
+        for (int dj = -reach; dj <= reach; ++dj)
+          for (int di = -reach; di <= reach; ++di) {
+            const int64_t slot = canvas_.slot_of(v.i + di, v.j + dj, v.k + dk);
+            const double d = distance_of(slot, label);
+            if (!(d < u)) continue;
+            const Vec3 step(di, dj, dk);
+            const Mat3 M = 0.5 * (G + canvas_.metric_at(static_cast<std::size_t>(slot)));
+            const double slope = (u - d) / (h * std::sqrt(step.dot(M * step)));
+            if (slope > best_slope) best_slope = slope, next = slot;
+          }
+    }
+    if (next < 0) return false;  // a discrete local minimum away from the seed
+    current = next;
+    u = distance_of(current, label);
+    v = canvas_.voxel_of(static_cast<std::size_t>(current));
+    path.push_back(Vec3(v.i, v.j, v.k));
+  }
+}
+
 bool GeodesicTracer::trace(const Vec3& start, const Vec3& target, int32_t label,
                            std::vector<Vec3>& path) const {
   Vec3 x = start;
+  const VoxelIndex seed_voxel = canvas_.voxel_containing(world_of_index(canvas_, target));
   const double straight = (target - x).norm();
   const std::size_t max_steps = static_cast<std::size_t>(8.0 * straight / kStep) + 64;
   Vec3 direction = Vec3::Zero();  // kept across cells without a voxel of the label
   int misses = 0;
+  const std::size_t first = path.size();
+  std::size_t known = first;  // path size at the last point where the label was sampled
+  Vec3 known_x = start;
+  // Where the descent stalls (it cycles, is pushed against the canvas's boundary, runs out of
+  // steps) or leaves the label's voxels, it goes on over voxels from the last point it sampled.
+  auto give_up = [&]() {
+    path.resize(known);
+    return discrete_descent(known_x, target, seed_voxel, label, path);
+  };
   for (std::size_t step = 0; step < max_steps; ++step) {
-    if ((target - x).norm() <= kArrival) {
+    if ((target - x).norm() <= kArrival || in_seed_block(x, seed_voxel, label)) {
       path.push_back(target);
       return true;
     }
@@ -240,17 +328,24 @@ bool GeodesicTracer::trace(const Vec3& start, const Vec3& target, int32_t label,
         (sample_wide(x, label, gradient, G, 4) && !gradient.isZero());
     if (sampled) {
       misses = 0;
+      known = path.size();
+      known_x = x;
       direction = -G.ldlt().solve(gradient);  // index units; only the direction matters
       if (dimension_ == 2) direction.z() = 0.0;
     } else if (++misses > kMaxMisses || direction.isZero()) {
-      return false;  // off the voxels of the label for too long
+      return give_up();  // off the voxels of the label for too long
     }
     const double norm = direction.norm();
-    if (!(norm > 1e-12)) return false;
-    x += (kStep / norm) * direction;
+    if (!(norm > 1e-12)) return give_up();
+    const Vec3 before = x;
+    x = inside_canvas(x + (kStep / norm) * direction);
+    if ((x - before).norm() < 1e-3 * kStep) return give_up();  // pushed against the boundary
+    // Back where it was two steps ago: the descent cycles (an interpolated minimum).
+    if (path.size() >= first + 2 && (x - path[path.size() - 2]).norm() < 0.1 * kStep)
+      return give_up();
     path.push_back(x);
   }
-  return false;
+  return give_up();
 }
 
 Vec3 GeodesicTracer::refine_bisector_point(const Vec3& start, int32_t a, int32_t b) const {
@@ -265,7 +360,7 @@ Vec3 GeodesicTracer::refine_bisector_point(const Vec3& start, int32_t a, int32_t
     if (norm > 1.0) delta /= norm;  // at most a voxel per iteration
     bool moved = false;             // halve the move until it stays on the face
     for (int halving = 0; halving < 6 && !moved; ++halving, delta *= 0.5) {
-      const Vec3 next = x + delta;
+      const Vec3 next = inside_canvas(x + delta);
       if (cell_carries(next, a) && cell_carries(next, b)) {
         x = next;
         moved = true;

@@ -22,7 +22,10 @@ class GeodesicTracer {
 
   // Traces from `start` (index coordinates) towards the seed at `target` (index coordinates) by
   // descending the distance of `label`. Appends the visited points (index coordinates, not
-  // `start`) to `path`, ending with `target` when reached (the return value).
+  // `start`) to `path`, ending with `target` when reached (the return value): within a voxel of it,
+  // or in the seed's block, whence the straight step is the exact field's. Stays in the canvas's
+  // index box; where the descent stalls (cycles across a shock, is pushed against the boundary,
+  // runs out of steps) or leaves the label's voxels, it ends by steepest descent over voxels.
   bool trace(const Vec3& start, const Vec3& target, int32_t label, std::vector<Vec3>& path) const;
 
   // Moves a bisector point of (a, b) (index coordinates) to where the geodesic from a to b
@@ -52,6 +55,15 @@ class GeodesicTracer {
   double squared_distance(int64_t slot, int32_t label) const;
   Vec3 voxel_gradient(int64_t slot, int32_t label, bool& complete) const;
   bool cell_carries(const Vec3& x, int32_t label) const;
+  // The fallback of trace where its descent stalls or leaves the label's voxels (see the .cpp).
+  bool discrete_descent(const Vec3& x, const Vec3& target, const VoxelIndex& seed_voxel,
+                        int32_t label, std::vector<Vec3>& path) const;
+  // x clamped to the canvas's index box (half a voxel beyond the voxel centres).
+  Vec3 inside_canvas(const Vec3& x) const;
+  // Whether x lies within the seed block (rvor/seed_blocks.h) around `seed_voxel`, in a cell whose
+  // active corners all carry `label`: there u is the seed's exact distance |F_s (x - s)|, whose
+  // descent is the straight segment to the seed.
+  bool in_seed_block(const Vec3& x, const VoxelIndex& seed_voxel, int32_t label) const;
   bool seed_estimate(const Vec3& x, int32_t label, Vec3& seed) const;
   bool sample_wide(const Vec3& x, int32_t label, Vec3& gradient, Mat3& G, int reach) const;
   bool sample(const Vec3& x, int32_t label, Vec3& gradient, Mat3& G) const;
