@@ -3,14 +3,13 @@
 #include <cstdint>
 #include <string>
 
+#include "rvor/memory_budget.h"
+
 namespace rvor {
 
 // Bytes a canvas of `active_voxels` voxels (plus a brick table of `brick_table_cells` entries)
 // and a propagation over it need.
 double estimated_canvas_bytes(double active_voxels, double brick_table_cells);
-
-// `budget`, or default_memory_budget() for 0 (the meaning of 0 in every budget option).
-std::uint64_t resolved_memory_budget(std::uint64_t budget);
 
 // Throws rvor::Error "canvas of ~N active voxels needs ~X, over the memory budget of Y
 // (--memory-budget)" when the estimate exceeds `budget` (0 = default_memory_budget()); with
@@ -18,8 +17,5 @@ std::uint64_t resolved_memory_budget(std::uint64_t budget);
 // count them too.
 void check_memory_budget(double active_voxels, double brick_table_cells, std::uint64_t budget,
                          std::uint64_t held_bytes = 0);
-
-// "1.2 GB", "120 TB": decimal units, three significant digits.
-std::string format_bytes(double bytes);
 
 }  // namespace rvor

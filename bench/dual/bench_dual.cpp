@@ -5,8 +5,8 @@
 // and builds the kernels) and the ratio as dual_over_propagation. The
 // bricks to visit come from the propagator (Propagator::multi_label_bricks: a kernel on the
 // device state for the OpenCL engine), timed as multi_label_s and counted in the ratio;
-// scanned_brick_fraction is the fraction of bricks it flags; nerve_all_bricks_s times the nerve scanning
-// every brick (its own per-brick uniformity test instead of the flags), as the baseline.
+// scanned_brick_fraction is the fraction of bricks it flags; nerve_all_bricks_s times the nerve
+// scanning every brick (its own per-brick uniformity test instead of the flags), as the baseline.
 // The design's target: 10,000 seeds at 256^3 in <= 10% of the propagation time:
 //   bench_dual --benchmark_filter='NerveAndDual/256/10000'
 #include <benchmark/benchmark.h>

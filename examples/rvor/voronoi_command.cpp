@@ -164,10 +164,12 @@ nlohmann::json summary_json(const FieldSummary& s) {
 // CPU), then the geodesics; writes curved_dual.vtu and curved_faces.vtu and fills `report`.
 template <typename PathOf>
 CurvedDual build_curved(const Canvas& canvas, const VoronoiField& field, const Nerve& witnessed,
-                        const std::vector<Vec3>& seeds, const PathOf& path,
-                        nlohmann::json& report) {
+                        const std::vector<Vec3>& seeds, std::uint64_t memory_budget,
+                        const PathOf& path, nlohmann::json& report) {
   const Nerve nerve = decided_nerve(canvas, witnessed, seeds);
-  const LocalFields locals = compute_local_fields(canvas, nerve, seeds);
+  LocalFieldOptions local_options;
+  local_options.memory_budget = memory_budget;
+  const LocalFields locals = compute_local_fields(canvas, nerve, seeds, local_options);
   CurvedDual curved = build_curved_dual(canvas, field, nerve, seeds, &locals);
   write_curved_dual_vtu(path("curved_dual.vtu"), curved);
   write_curved_faces_vtu(path("curved_faces.vtu"), curved);
@@ -264,7 +266,8 @@ void write_voronoi(const VoronoiOptions& o) {
             ", " + std::to_string(dual->top_count()) + " elements";
       }
       if (o.dual != "straight") {
-        curved = build_curved(canvas, field, nerve, seeds, path, curved_report);
+        curved = build_curved(canvas, field, nerve, seeds, canvas_options.memory_budget, path,
+                              curved_report);
         detail += (detail.empty() ? "" : "; ") + std::to_string(curved->edges.size()) +
                   " geodesic edges, " + std::to_string(curved->faces.size()) + " faces, " +
                   std::to_string(curved->unreached_edges + curved->unreached_faces) + " unreached";
@@ -418,7 +421,8 @@ void add_voronoi_command(CLI::App& app) {
                 "holds one run's outputs. An input file of this run is never replaced");
   cmd->add_option("--memory-budget", options->memory_budget,
                   "Refuse canvases (and --metric-vdb grids) needing more memory than this, "
-                  "a canvas counting the grids it is built from (bytes, or with K/M/G/T); "
+                  "a canvas counting the grids it is built from, and a curved dual whose "
+                  "local fields do not fit beside its canvas (bytes, or with K/M/G/T); "
                   "default 75% of physical memory");
   cmd->add_flag("--quiet", options->quiet, "Print nothing but errors");
   cmd->callback([options, device] {

@@ -195,6 +195,20 @@ TEST_F(CliErrors, MemoryBudgetOverride) {
                "memory budget");
 }
 
+// The curved dual keeps a field per seed over its star box (radial_shock_3d at 192^3 with 2000
+// seeds: 46 box voxels per canvas voxel, so ~25 GB of floats at 512^3) and solves them a few at a
+// time: where one solve does not fit beside the canvas it is refused before solving, and where
+// only some fit, fewer run at once.
+TEST_F(CliErrors, CurvedDualWhoseLocalFieldsDoNotFitIsRefused) {
+  const std::string args =
+      "--domain box:-1,-1,-1,1,1,1 --resolution 32 --random-seeds 5 --dual curved --memory-budget ";
+  expect_error(args + "8M", "curved dual: the seeds' local fields need");
+  expect_error(args + "8M", "over the memory budget of 8.39 MB (--memory-budget)");
+  const CommandResult fits = run_command(voronoi(args + "12M"));  // one solve at a time
+  EXPECT_EQ(fits.exit_code, 0) << fits.err;
+  EXPECT_TRUE(std::filesystem::exists(out() + "/curved_faces.vtu"));
+}
+
 TEST_F(CliErrors, MalformedDomain) {
   expect_error("--domain box:1,2,3 --resolution 16 --random-seeds 3", "box:1,2,3");
 }

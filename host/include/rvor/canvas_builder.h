@@ -7,6 +7,7 @@
 
 #include "rvor/canvas.h"
 #include "rvor/domain.h"
+#include "rvor/memory_budget.h"
 #include "rvor/metric_field.h"
 
 namespace rvor {
@@ -15,11 +16,6 @@ struct CanvasOptions {
   int resolution = 128;             // voxels along the longest side of the domain's bounding box
   std::uint64_t memory_budget = 0;  // bytes; 0 = 75% of physical memory
 };
-
-// Bytes the canvas and a propagation over it need per active voxel (packed metric, activity,
-// distance, label, solver work arrays), used for the up-front estimate.
-std::uint64_t estimated_bytes_per_active_voxel();
-std::uint64_t default_memory_budget();  // 75% of physical memory
 
 // Throws rvor::Error when the resolution is not in [2, 65536], the domain is empty, the estimate
 // and the metric's resident_bytes() together exceed the budget (the message gives the estimate,

@@ -22,6 +22,7 @@
 // a seed), 5.9 times, 365 MB peak. `solved_voxels` and `seconds` report what it was.
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <vector>
 
@@ -56,6 +57,10 @@ struct LocalFieldOptions {
   // segments with 0.1; 2.4 voxels with 0.05 (past the 2-voxel requirement).
   int margin = 2;
   double relative_margin = 0.1;
+  // Bytes the job may hold (rvor/memory_budget.h; 0: default_memory_budget()): the fields kept
+  // and the solves in flight, beside the canvas and its field. Fewer solves run at once where
+  // that fits; where one does not, compute_local_fields throws rvor::Error before solving.
+  std::uint64_t memory_budget = 0;
 };
 
 struct LocalFields {

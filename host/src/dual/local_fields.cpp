@@ -7,12 +7,14 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <string>
 
 #include "dual_internal.h"
 #include "parallel_for.h"
 #include "reference_solver.h"
 #include "rvor/error.h"
+#include "rvor/memory_budget.h"
 #include "star_mask.h"
 
 namespace rvor {
@@ -212,6 +214,53 @@ LocalField solve_local(const Canvas& canvas, const IndexBox& box,
   return local;
 }
 
+// Bytes a seed's solve holds per voxel of its star box while it runs: the cropped canvas (whole
+// bricks), the reference solver's state, stencils, reverse stencil graph and single-source terms,
+// and the double field. Measured: peak resident memory of `rvor voronoi --domain
+// box:1,1,1,11,11,11 --metric radial_shock_3d --random-seeds 10 --dual curved` less the same run
+// with `--dual straight` and the fields kept, over the two largest boxes (two solves in flight on
+// 2 cores): 240 B at --resolution 96 (boxes of 590k voxels, with single-source terms), 165 B at
+// 192 (3.3M, without). A third more, for what the measure does not see.
+constexpr double kSolveBytesPerBoxVoxel = 320;
+
+double box_voxels(const IndexBox& box) {
+  double voxels = 1;
+  for (int a = 0; a < 3; ++a) voxels *= box.hi[a] - box.lo[a] + 1;
+  return voxels;
+}
+
+// How many seeds' solves may run at once: the fields kept (a float per voxel of every star box)
+// and the largest solves in flight, beside the canvas and its field, within the budget. Throws
+// rvor::Error when one solve does not fit.
+std::size_t solves_within_budget(const Canvas& canvas, const std::vector<IndexBox>& boxes,
+                                 const std::vector<std::vector<detail::StarSimplex>>& stars,
+                                 std::uint64_t budget_option) {
+  const double budget = static_cast<double>(resolved_memory_budget(budget_option));
+  const double held = static_cast<double>(canvas.active_voxel_count) *
+                      static_cast<double>(estimated_bytes_per_active_voxel());
+  double kept = 0;
+  std::vector<double> solves;  // bytes of each seed's solve, largest first
+  for (std::size_t s = 0; s < boxes.size(); ++s) {
+    if (stars[s].empty()) continue;  // not solved (compute_local_fields)
+    kept += sizeof(float) * box_voxels(boxes[s]);
+    solves.push_back(kSolveBytesPerBoxVoxel * box_voxels(boxes[s]));
+  }
+  if (solves.empty()) return 1;
+  std::sort(solves.begin(), solves.end(), std::greater<double>());
+  if (held + kept + solves[0] > budget)
+    throw Error("curved dual: the seeds' local fields need ~" + format_bytes(kept) + " kept and ~" +
+                format_bytes(solves[0]) + " for the largest seed's solve, beside ~" +
+                format_bytes(held) + " for the canvas, over the memory budget of " +
+                format_bytes(budget) +
+                " (--memory-budget): use --dual straight, a coarser --resolution, or a larger "
+                "budget");
+  std::size_t threads = 1;
+  double in_flight = solves[0];
+  while (threads < solves.size() && held + kept + in_flight + solves[threads] <= budget)
+    in_flight += solves[threads++];
+  return threads;
+}
+
 }  // namespace
 
 LocalFields compute_local_fields(const Canvas& canvas, const Nerve& nerve,
@@ -228,12 +277,15 @@ LocalFields compute_local_fields(const Canvas& canvas, const Nerve& nerve,
   LocalFields out;
   out.fields.resize(seeds.size());
   // One seed per task: solves are independent and each is large enough to amortise a thread.
-  detail::parallel_for(seeds.size(), 1, [&](std::size_t s) {
-    // A seed without Delaunay neighbours (a lone seed, or one whose cell is empty: it shares its
-    // voxel with another) needs no geodesics: its field stays empty, +inf everywhere.
-    if (stars[s].empty()) return;
-    out.fields[s] = solve_local(canvas, boxes[s], stars[s], seeds[s], limits[s]);
-  });
+  detail::parallel_for(
+      seeds.size(), 1,
+      [&](std::size_t s) {
+        // A seed without Delaunay neighbours (a lone seed, or one whose cell is empty: it shares
+        // its voxel with another) needs no geodesics: its field stays empty, +inf everywhere.
+        if (stars[s].empty()) return;
+        out.fields[s] = solve_local(canvas, boxes[s], stars[s], seeds[s], limits[s]);
+      },
+      solves_within_budget(canvas, boxes, stars, options.memory_budget));
   for (const LocalField& f : out.fields) {
     out.voxels += f.distance.size();
     for (float u : f.distance) out.solved_voxels += std::isfinite(u) ? 1 : 0;

@@ -1,11 +1,13 @@
 #pragma once
-// Runs f(i) for i in [0, count) on up to hardware_concurrency threads (work shared through an
-// atomic counter; at least `per_thread` items per extra thread, so small jobs stay on the caller).
-// The first exception is rethrown on the calling thread once all threads have stopped.
+// Runs f(i) for i in [0, count) on up to hardware_concurrency threads, and at most `max_threads`
+// (work shared through an atomic counter; at least `per_thread` items per extra thread, so small
+// jobs stay on the caller). The first exception is rethrown on the calling thread once all
+// threads have stopped.
 #include <algorithm>
 #include <atomic>
 #include <cstddef>
 #include <exception>
+#include <limits>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -13,7 +15,8 @@
 namespace rvor::detail {
 
 template <typename F>
-void parallel_for(std::size_t count, std::size_t per_thread, F&& f) {
+void parallel_for(std::size_t count, std::size_t per_thread, F&& f,
+                  std::size_t max_threads = std::numeric_limits<std::size_t>::max()) {
   std::atomic<std::size_t> next{0};
   std::mutex error_mutex;
   std::exception_ptr error;
@@ -26,9 +29,9 @@ void parallel_for(std::size_t count, std::size_t per_thread, F&& f) {
       next = count;
     }
   };
-  const std::size_t threads =
-      std::min<std::size_t>(std::max(1u, std::thread::hardware_concurrency()),
-                            std::max<std::size_t>(1, count / std::max<std::size_t>(1, per_thread)));
+  const std::size_t threads = std::max<std::size_t>(
+      1, std::min({std::size_t{std::max(1u, std::thread::hardware_concurrency())},
+                   count / std::max<std::size_t>(1, per_thread), max_threads}));
   std::vector<std::thread> pool;
   for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(work);
   work();
