@@ -251,7 +251,8 @@ void write_voronoi(const VoronoiOptions& o) {
     std::optional<StraightDual> dual;
     std::optional<CurvedDual> curved;
     if (!o.dual.empty()) {
-      progress.begin("building the " + o.dual + " dual");
+      progress.begin(o.dual == "both" ? "building the straight and curved duals"
+                                      : "building the " + o.dual + " dual");
       const Nerve nerve =
           extract_nerve(canvas, field, seeds.size(), propagator->multi_label_bricks(canvas, field));
       std::string detail;
