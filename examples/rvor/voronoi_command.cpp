@@ -177,6 +177,8 @@ CurvedDual build_curved(const Canvas& canvas, const VoronoiField& field, const N
             {"unreached_edges", curved.unreached_edges},
             {"faces", curved.faces.size()},
             {"unreached_faces", curved.unreached_faces},
+            {"staircase_edges", curved.staircase_edges},
+            {"staircase_faces", curved.staircase_faces},
             {"local_fields",
              {{"voxels", locals.voxels},
               {"solved_voxels", locals.solved_voxels},

@@ -216,7 +216,9 @@ PropagationStats ReferenceSolver::propagate(const Canvas& canvas, const std::vec
   initialise_seed_blocks(canvas, first_new, foreign_seed_claims(canvas, seeds, first_new));
   if (exact_start) evaluate_all_once(stats);
   run_queue(stats);
-  single_source_ready_.clear();
+  // A solver kept for later solves keeps no per-slot terms (144 B per slot) between them.
+  std::vector<SingleSourceTerms>().swap(single_source_terms_);
+  std::vector<uint8_t>().swap(single_source_ready_);
   store_field(field);
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return stats;

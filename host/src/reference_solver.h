@@ -127,7 +127,7 @@ class ReferenceSolver {
   };
   bool recompute_single_source(int32_t voxel);
   // Whether recomputing x cannot change it, in a single-source solve, when every neighbour
-  // changed since x's last evaluation now holds at least `lowest` (run_queue says why).
+  // changed since x's last evaluation now holds at least `lowest` (its definition says why).
   bool settled_below(int32_t x, double lowest) const;
   const SingleSourceTerms& single_source_terms(int32_t voxel);
   // Slots up to which a single-source solve keeps them (144 bytes per slot).

@@ -96,6 +96,9 @@ CurvedMeasures run_case(const CurvedCase& c, const std::string& vtu_path) {
   const double F_max = Eigen::SelfAdjointEigenSolver<Mat3>(F).eigenvalues().maxCoeff();
   m.edges = dual.edges.size();
   m.unreached = dual.unreached_edges;
+  // A uniform metric's descent does not stall: no trace needs the staircase fallback.
+  EXPECT_EQ(dual.staircase_edges, 0u);
+  EXPECT_EQ(dual.staircase_faces, 0u);
   for (const CurvedEdge& e : dual.edges) {
     const Vec3& a = seeds[e.seeds[0]];
     const Vec3& b = seeds[e.seeds[1]];

@@ -54,8 +54,11 @@ struct CurvedEdge {
   std::size_t bisector_index = 0;
   // Sum of the segment lengths, each in the metric at its midpoint's voxel.
   double length = 0.0;
-  // Per side (seeds[0], seeds[1]): whether the trace came within 1 voxel of the seed.
+  // Per side (seeds[0], seeds[1]): whether the trace came within 1 voxel of the seed, and
+  // whether it got there by the tracer's fallback, a steepest descent over voxels (a staircase)
+  // where the descent of u stalled.
   std::array<bool, 2> side_reached{false, false};
+  std::array<bool, 2> side_staircase{false, false};
   bool reached() const { return side_reached[0] && side_reached[1]; }
 };
 
@@ -68,6 +71,7 @@ struct CurvedFace {
   std::vector<std::array<uint32_t, 3>> triangles;  // indices into points
   std::size_t geodesics = 0;                       // traced from the opposite edge
   std::size_t unreached_geodesics = 0;  // of which did not come within 1 voxel of the apex
+  std::size_t staircase_geodesics = 0;  // of which reached it by the fallback (CurvedEdge)
   bool reached() const { return geodesics > 0 && unreached_geodesics == 0; }
 };
 
@@ -79,6 +83,8 @@ struct CurvedDual {
       faces;  // one per nerve triangle, in its order; empty without local fields
   std::size_t unreached_edges = 0;
   std::size_t unreached_faces = 0;  // faces with an unreached geodesic
+  std::size_t staircase_edges = 0;  // edges with a side ended by the fallback (CurvedEdge)
+  std::size_t staircase_faces = 0;  // faces with a geodesic ended so
   bool local_fields = false;        // whether local fields were given
   double seconds = 0.0;             // edges and faces, not the local fields
 };

@@ -9,17 +9,19 @@
 // dual needs of u_a (the bisector point of smallest distance of each edge is on the segment, the
 // face geodesics are in the triangles); in a varying metric the margin leaves room for geodesics
 // that bend, and a geodesic that leaves the star is reported as not reached. The solve also stops
-// at a distance limit (twice the largest nearest-witness distance of a's edges, plus 10% and the
-// margin), beyond which u_a is not needed.
+// at a distance limit that bounds every point of a's curved edges and faces (distance_limits in
+// local_fields.cpp), beyond which u_a is not needed.
 //
 // Cost: one single-source CPU reference solve (docs/scheme.md, double precision) per seed on a
 // cropped copy of the canvas (the star's bounding box, active on the star only), seeds spread over
-// threads: time and transient memory of the reference solver on the star's voxels (about 100 B
-// per voxel while solving, per thread); kept: 4 B per voxel of the bounding box. Measured (3D,
-// uniform anisotropic metric, random seeds, 2 threads on a loaded 2-core machine): 150 seeds at
-// 64^3: the stars hold 12 times the canvas's voxels (about 20 cells' worth each), 30 s, 5.5 times
-// the single-threaded CPU solve of the labeled field; 500 seeds at 96^3: 14 times, 164 s (0.33 s
-// a seed), 5.9 times, 365 MB peak. `solved_voxels` and `seconds` report what it was.
+// threads, as many at once as LocalFieldOptions::memory_budget allows: about 320 B per voxel of
+// the bounding box while solving, per solve in flight; kept: 4 B per voxel of the bounding box.
+// The solve keeps each voxel's terms and skips the evaluations that cannot change it (reference
+// solver, SingleSourceTerms). Measured (README, "The curved dual"): `rvor voronoi --domain
+// box:0,0,0,1,1,1 --resolution 96 --metric uniform:10,3,5,2,1,4 --random-seeds 500 --dual curved
+// --device cpu`: the boxes hold 31 times the canvas's voxels, 14 times solved, 6.8 s on 2 cores
+// against 4.2 to 4.7 s for the CPU solve of the labeled field. `solved_voxels` and `seconds` report
+// what it was.
 #include <array>
 #include <cstddef>
 #include <cstdint>

@@ -38,7 +38,9 @@ CurvedEdge trace_edge(const Canvas& canvas, const GeodesicTracer& tracer, const 
   for (int s = 0; s < 2; ++s) {
     Vec3 target = canvas.index_coordinates(seeds[static_cast<std::size_t>(out.seeds[s])]);
     if (canvas.dimension == 2) target.z() = 0.0;
-    out.side_reached[s] = tracer.trace(start, target, out.seeds[s], sides[s]);
+    bool staircase = false;
+    out.side_reached[s] = tracer.trace(start, target, out.seeds[s], sides[s], &staircase);
+    out.side_staircase[s] = staircase;
   }
   std::vector<Vec3> index_points(sides[0].rbegin(), sides[0].rend());
   out.bisector_index = index_points.size();
@@ -101,7 +103,10 @@ void build_faces(const Canvas& canvas, const GeodesicTracer& tracer, const Nerve
         face = std::move(traced);
     }
   });
-  for (const CurvedFace& f : dual.faces) dual.unreached_faces += f.reached() ? 0 : 1;
+  for (const CurvedFace& f : dual.faces) {
+    dual.unreached_faces += f.reached() ? 0 : 1;
+    dual.staircase_faces += f.staircase_geodesics > 0 ? 1 : 0;
+  }
 }
 
 }  // namespace
@@ -121,7 +126,10 @@ CurvedDual build_curved_dual(const Canvas& canvas, const VoronoiField& field, co
   detail::parallel_for(nerve.edges.size(), 64, [&](std::size_t e) {
     dual.edges[e] = trace_edge(canvas, tracer, nerve.edges[e], seeds);
   });
-  for (const CurvedEdge& e : dual.edges) dual.unreached_edges += e.reached() ? 0 : 1;
+  for (const CurvedEdge& e : dual.edges) {
+    dual.unreached_edges += e.reached() ? 0 : 1;
+    dual.staircase_edges += e.side_staircase[0] || e.side_staircase[1] ? 1 : 0;
+  }
   if (locals) build_faces(canvas, tracer, nerve, seeds, dual);
   dual.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return dual;
@@ -130,7 +138,7 @@ CurvedDual build_curved_dual(const Canvas& canvas, const VoronoiField& field, co
 void write_curved_dual_vtu(const std::string& path, const CurvedDual& dual) {
   std::vector<float> points;
   std::vector<int64_t> connectivity, offsets;
-  std::vector<uint8_t> types, reached;
+  std::vector<uint8_t> types, reached, staircase;
   std::vector<double> length;
   std::vector<int32_t> seed_a, seed_b;
   for (const CurvedEdge& e : dual.edges) {
@@ -141,6 +149,7 @@ void write_curved_dual_vtu(const std::string& path, const CurvedDual& dual) {
     offsets.push_back(static_cast<int64_t>(connectivity.size()));
     types.push_back(kVtkPolyLine);
     reached.push_back(e.reached() ? 1 : 0);
+    staircase.push_back(e.side_staircase[0] || e.side_staircase[1] ? 1 : 0);
     length.push_back(e.length);
     seed_a.push_back(e.seeds[0]);
     seed_b.push_back(e.seeds[1]);
@@ -150,6 +159,7 @@ void write_curved_dual_vtu(const std::string& path, const CurvedDual& dual) {
   xml += "<CellData Scalars=\"length\">\n";
   xml += appended.declare("Float64", "length", 1, length);
   xml += appended.declare("UInt8", "reached", 1, reached);
+  xml += appended.declare("UInt8", "staircase", 1, staircase);
   xml += appended.declare("Int32", "seed_a", 1, seed_a);
   xml += appended.declare("Int32", "seed_b", 1, seed_b);
   xml += "</CellData>\n";

@@ -111,7 +111,9 @@ CurvedFace build_curved_face(const Canvas& canvas, const GeodesicTracer& tracer,
   double longest = 0.0;
   for (std::size_t i = 0; i < starts.size(); ++i) {
     geodesics[i].push_back(starts[i]);
-    reached[i] = tracer.trace(starts[i], apex, face.seeds[0], geodesics[i]);
+    bool staircase = false;
+    reached[i] = tracer.trace(starts[i], apex, face.seeds[0], geodesics[i], &staircase);
+    face.staircase_geodesics += staircase ? 1 : 0;
     longest = std::max(longest, polyline_length(geodesics[i]));
   }
   face.geodesics = starts.size();

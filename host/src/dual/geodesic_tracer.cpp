@@ -242,6 +242,36 @@ bool GeodesicTracer::in_seed_block(const Vec3& x, const VoxelIndex& seed_voxel,
   return all && any;
 }
 
+// Whether a step of the staircase from v (components in [-2, 2]) passes through a voxel of the
+// label: one of the voxels it crosses (per axis, v plus half the step rounded either way; none for
+// a step to a face neighbour). A diagonal step or one of two voxels could otherwise cross a
+// one-voxel wall of inactive voxels, or a strip of another label, into the label's voxels beyond.
+bool GeodesicTracer::crosses_label(const VoxelIndex& v, const std::array<int, 3>& step,
+                                   int32_t label) const {
+  const std::array<int, 3> from{v.i, v.j, v.k};
+  std::array<std::array<int, 2>, 3> along{};  // per axis, the coordinates crossed
+  for (std::size_t a = 0; a < 3; ++a) {
+    const int s = step[a];
+    const int floor_half = s >= 0 ? s / 2 : -((1 - s) / 2),
+              ceil_half = s >= 0 ? (s + 1) / 2 : s / 2;
+    along[a] = {from[a] + floor_half, from[a] + ceil_half};
+  }
+  bool any_between = false;
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i) {
+        const std::array<int, 3> c{along[0][static_cast<std::size_t>(i)],
+                                   along[1][static_cast<std::size_t>(j)],
+                                   along[2][static_cast<std::size_t>(k)]};
+        const bool endpoint = c == from || (c[0] == from[0] + step[0] &&
+                                            c[1] == from[1] + step[1] && c[2] == from[2] + step[2]);
+        if (endpoint) continue;
+        any_between = true;
+        if (carries(canvas_.slot_of(c[0], c[1], c[2]), label)) return true;
+      }
+  return !any_between;
+}
+
 // Steepest descent over voxels from the voxel of `label` nearest below x: each step moves to the
 // voxel within a Chebyshev radius of 1 (2 where none of those is lower) that lowers the distance
 // most per unit of metric length, until the seed's block (see in_seed_block).
@@ -283,7 +313,7 @@ bool GeodesicTracer::discrete_descent(const Vec3& x, const Vec3& target,
           for (int di = -reach; di <= reach; ++di) {
             const int64_t slot = canvas_.slot_of(v.i + di, v.j + dj, v.k + dk);
             const double d = distance_of(slot, label);
-            if (!(d < u)) continue;
+            if (!(d < u) || !crosses_label(v, {di, dj, dk}, label)) continue;
             const Vec3 step(di, dj, dk);
             const Mat3 M = 0.5 * (G + canvas_.metric_at(static_cast<std::size_t>(slot)));
             const double slope = (u - d) / (h * std::sqrt(step.dot(M * step)));
@@ -299,7 +329,8 @@ bool GeodesicTracer::discrete_descent(const Vec3& x, const Vec3& target,
 }
 
 bool GeodesicTracer::trace(const Vec3& start, const Vec3& target, int32_t label,
-                           std::vector<Vec3>& path) const {
+                           std::vector<Vec3>& path, bool* staircase) const {
+  if (staircase) *staircase = false;
   Vec3 x = start;
   const VoxelIndex seed_voxel = canvas_.voxel_containing(world_of_index(canvas_, target));
   const double straight = (target - x).norm();
@@ -313,7 +344,9 @@ bool GeodesicTracer::trace(const Vec3& start, const Vec3& target, int32_t label,
   // steps) or leaves the label's voxels, it goes on over voxels from the last point it sampled.
   auto give_up = [&]() {
     path.resize(known);
-    return discrete_descent(known_x, target, seed_voxel, label, path);
+    const bool reached = discrete_descent(known_x, target, seed_voxel, label, path);
+    if (staircase) *staircase = reached;
+    return reached;
   };
   for (std::size_t step = 0; step < max_steps; ++step) {
     if ((target - x).norm() <= kArrival || in_seed_block(x, seed_voxel, label)) {

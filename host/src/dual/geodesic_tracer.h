@@ -26,7 +26,9 @@ class GeodesicTracer {
   // or in the seed's block, whence the straight step is the exact field's. Stays in the canvas's
   // index box; where the descent stalls (cycles across a shock, is pushed against the boundary,
   // runs out of steps) or leaves the label's voxels, it ends by steepest descent over voxels.
-  bool trace(const Vec3& start, const Vec3& target, int32_t label, std::vector<Vec3>& path) const;
+  // `staircase`, when given, tells whether the trace ended by that fallback.
+  bool trace(const Vec3& start, const Vec3& target, int32_t label, std::vector<Vec3>& path,
+             bool* staircase = nullptr) const;
 
   // Moves a bisector point of (a, b) (index coordinates) to where the geodesic from a to b
   // crosses the bisector: the fixed point of x -> midpoint of the seeds as extrapolated from x,
@@ -58,6 +60,7 @@ class GeodesicTracer {
   // The fallback of trace where its descent stalls or leaves the label's voxels (see the .cpp).
   bool discrete_descent(const Vec3& x, const Vec3& target, const VoxelIndex& seed_voxel,
                         int32_t label, std::vector<Vec3>& path) const;
+  bool crosses_label(const VoxelIndex& v, const std::array<int, 3>& step, int32_t label) const;
   // x clamped to the canvas's index box (half a voxel beyond the voxel centres).
   Vec3 inside_canvas(const Vec3& x) const;
   // Whether x lies within the seed block (rvor/seed_blocks.h) around `seed_voxel`, in a cell whose

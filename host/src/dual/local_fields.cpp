@@ -69,7 +69,9 @@ double largest_scale(const Mat3& G) {
 // The distance within which each seed's field is solved. Each nerve edge (a, b) has a bound
 // D(a, b) of d(a, b): at its nearest witness, a canvas simplex with a vertex p_a labeled a and
 // p_b labeled b and u(w) the largest distance of its vertices, d(a, b) <= u(p_a) + d(p_a, p_b) +
-// u(p_b) <= 2 u(w) + sqrt(dim) voxels (the cell's diagonal) at the witness's largest metric scale.
+// u(p_b) <= 2 u(w) + sqrt(dim) voxels (the cell's diagonal) at the largest metric scale of the
+// witness's vertex of largest distance (the slot it records; a shock between the vertices is left
+// to the margin).
 // That step matters where the metric is large: with 2 u(w) alone, u_a(b) exceeded D on 80% of the
 // edges of 3D hyperbolic_shock (48^3, 400 seeds), by 11% at the median and 94% at the 90th
 // percentile. The geodesic from a to b stays within D(a, b) of a. A curved face of the triangle
