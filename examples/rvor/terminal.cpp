@@ -1,5 +1,7 @@
 #include "terminal.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -15,14 +17,34 @@
 
 namespace rvor::cli {
 
+Progress::Progress(bool quiet) : quiet_(quiet), terminal_(isatty(STDERR_FILENO) == 1) {}
+
 Progress::~Progress() {
-  if (open_ && !quiet_) std::cerr << " failed\n";
+  if (!open_ || quiet_) return;
+  restart_line();
+  std::cerr << " failed\n";
 }
 
 void Progress::begin(const std::string& stage) {
-  start_ = std::chrono::steady_clock::now();
+  start_ = last_update_ = std::chrono::steady_clock::now();
   open_ = true;
+  updated_ = false;
+  stage_ = stage;
   if (!quiet_) std::cerr << stage << " ..." << std::flush;
+}
+
+void Progress::update(const std::string& status, bool now) {
+  if (quiet_ || !open_ || !terminal_) return;
+  const auto time = std::chrono::steady_clock::now();
+  if (!now && time - last_update_ < std::chrono::milliseconds(500)) return;
+  last_update_ = time;
+  updated_ = true;
+  std::cerr << "\r" << stage_ << " ... " << status << "\x1b[K" << std::flush;  // clear to the end
+}
+
+void Progress::restart_line() {
+  if (updated_) std::cerr << "\r" << stage_ << " ...\x1b[K";
+  updated_ = false;
 }
 
 double Progress::end(const std::string& detail) {
@@ -30,6 +52,7 @@ double Progress::end(const std::string& detail) {
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   if (!quiet_) {
+    restart_line();
     std::cerr << " done in " << std::fixed << std::setprecision(2) << seconds << " s";
     if (!detail.empty()) std::cerr << " (" << detail << ")";
     std::cerr << std::defaultfloat << "\n";

@@ -19,17 +19,26 @@ namespace rvor::cli {
 // with "failed", so the error starts a line of its own.
 class Progress {
  public:
-  explicit Progress(bool quiet) : quiet_(quiet) {}
+  explicit Progress(bool quiet);
   Progress(const Progress&) = delete;
   Progress& operator=(const Progress&) = delete;
   ~Progress();
   void begin(const std::string& stage);
+  // Shows how far the open stage is, after its name: on a terminal only (a log keeps one line per
+  // stage), at most twice a second unless `now`.
+  void update(const std::string& status, bool now = false);
   double end(const std::string& detail);  // returns the stage's seconds
 
  private:
+  // Starts the stage's line again where an update wrote over it.
+  void restart_line();
+
   bool quiet_;
+  bool terminal_;  // stderr is a terminal
   bool open_ = false;
-  std::chrono::steady_clock::time_point start_;
+  bool updated_ = false;
+  std::string stage_;
+  std::chrono::steady_clock::time_point start_, last_update_;
 };
 
 // "512M", "2G", "1.5T" or plain bytes. Throws rvor::Error on anything else.

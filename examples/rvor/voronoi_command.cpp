@@ -165,10 +165,17 @@ nlohmann::json summary_json(const FieldSummary& s) {
 template <typename PathOf>
 CurvedDual build_curved(const Canvas& canvas, const VoronoiField& field, const Nerve& witnessed,
                         const std::vector<Vec3>& seeds, std::uint64_t memory_budget,
-                        const PathOf& path, nlohmann::json& report) {
+                        Progress& progress, const PathOf& path, nlohmann::json& report) {
   const Nerve nerve = decided_nerve(canvas, witnessed, seeds);
   LocalFieldOptions local_options;
   local_options.memory_budget = memory_budget;
+  local_options.progress = [&progress](std::size_t solved, std::size_t total) {
+    if (solved == total)
+      progress.update("tracing geodesics", /*now=*/true);
+    else
+      progress.update("local fields of " + std::to_string(solved) + " / " + std::to_string(total) +
+                      " seeds");
+  };
   const LocalFields locals = compute_local_fields(canvas, nerve, seeds, local_options);
   CurvedDual curved = build_curved_dual(canvas, field, nerve, seeds, &locals);
   write_curved_dual_vtu(path("curved_dual.vtu"), curved);
@@ -269,8 +276,8 @@ void write_voronoi(const VoronoiOptions& o) {
             ", " + std::to_string(dual->top_count()) + " elements";
       }
       if (o.dual != "straight") {
-        curved = build_curved(canvas, field, nerve, seeds, canvas_options.memory_budget, path,
-                              curved_report);
+        curved = build_curved(canvas, field, nerve, seeds, canvas_options.memory_budget, progress,
+                              path, curved_report);
         detail += (detail.empty() ? "" : "; ") + std::to_string(curved->edges.size()) +
                   " geodesic edges, " + std::to_string(curved->faces.size()) + " faces, " +
                   std::to_string(curved->unreached_edges + curved->unreached_faces) + " unreached";

@@ -84,6 +84,27 @@ TEST_F(CliOutputs, StraightDualOfAStronglyVaryingMetricKeepsWhatTheCanvasWitness
   EXPECT_EQ(dual["euler_characteristic"].get<int>(), 1) << dual.dump();
 }
 
+// A long stage shows how far it is on a terminal (the curved dual's local fields, then its
+// tracing), rewriting its line in place; a log (stderr not a terminal) keeps one line per stage.
+TEST_F(CliOutputs, CurvedDualShowsItsProgressOnATerminalOnly) {
+  const std::string run = rvor_binary() + " voronoi --overwrite --out " + out() +
+                          " --domain box:1,1,1,11,11,11 --metric radial_shock_3d --resolution 48"
+                          " --random-seeds 300 --dual curved";
+  const CommandResult log = run_command(run);
+  ASSERT_EQ(log.exit_code, 0) << log.err;
+  EXPECT_EQ(log.err.find('\r'), std::string::npos) << log.err;
+  EXPECT_NE(log.err.find("\nbuilding the curved dual ... done in"), std::string::npos) << log.err;
+  if (run_command("command -v script").exit_code != 0)
+    GTEST_SKIP() << "no script(1) to run it on a pseudo-terminal";
+  const CommandResult terminal = run_command("script -qec '" + run + "' /dev/null");
+  ASSERT_EQ(terminal.exit_code, 0) << terminal.out;
+  EXPECT_NE(terminal.out.find("\rbuilding the curved dual ... tracing geodesics\x1b[K"),
+            std::string::npos)
+      << terminal.out;
+  EXPECT_NE(terminal.out.find("\rbuilding the curved dual ...\x1b[K done in"), std::string::npos)
+      << terminal.out;
+}
+
 // Two --overwrite runs into one directory, the second started and finished while the first ran:
 // the first publishes last, and removes what the second wrote and it does not (canvas.vtu), as
 // the report it then sees lists it. It read the earlier set when it began, and left a mixed one.

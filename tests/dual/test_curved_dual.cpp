@@ -13,6 +13,8 @@
 #include <cstdio>
 #include <limits>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include "dual/curved_case.h"
 #include "dual/dual_fixtures.h"
@@ -271,9 +273,17 @@ TEST(CurvedDual, LocalFieldsAreTheSeedsOwnDistancesOverTheirStars) {
       2, lo, hi, 3 * canvas.voxel_size, F, test::poisson_radius(2, lo, hi, F, 15), 15, 71);
   const VoronoiField field = test::exact_uniform_field(canvas, seeds, F);
   const Nerve nerve = extract_nerve(canvas, field, seeds.size());
-  const LocalFields locals = compute_local_fields(canvas, nerve, seeds);
+  LocalFieldOptions options;
+  std::vector<std::pair<std::size_t, std::size_t>> reports;  // (solved, total) per call
+  options.progress = [&reports](std::size_t solved, std::size_t total) {
+    reports.emplace_back(solved, total);
+  };
+  const LocalFields locals = compute_local_fields(canvas, nerve, seeds, options);
   ASSERT_EQ(locals.fields.size(), seeds.size());
   EXPECT_GT(locals.solved_voxels, canvas.active_voxel_count);  // stars overlap
+  ASSERT_EQ(reports.size(), seeds.size());  // every seed has neighbours here
+  for (std::size_t n = 0; n < reports.size(); ++n)
+    EXPECT_EQ(reports[n], std::make_pair(n + 1, seeds.size()));
   double max_error = 0.0;
   for (const NerveSimplex& e : nerve.edges)
     for (double t = 0.0; t <= 1.0; t += 0.05) {

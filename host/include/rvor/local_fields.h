@@ -25,6 +25,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <vector>
 
@@ -63,6 +64,9 @@ struct LocalFieldOptions {
   // and the solves in flight, beside the canvas and its field. Fewer solves run at once where
   // that fits; where one does not, compute_local_fields throws rvor::Error before solving.
   std::uint64_t memory_budget = 0;
+  // Called after each seed's solve with the seeds solved so far and how many there are to solve
+  // (from the solving threads, one call at a time), for progress reports on long runs.
+  std::function<void(std::size_t solved, std::size_t total)> progress;
 };
 
 struct LocalFields {

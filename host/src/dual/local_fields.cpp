@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <functional>
+#include <mutex>
 #include <string>
 
 #include "dual_internal.h"
@@ -279,6 +280,10 @@ LocalFields compute_local_fields(const Canvas& canvas, const Nerve& nerve,
   LocalFields out;
   out.fields.resize(seeds.size());
   // One seed per task: solves are independent and each is large enough to amortise a thread.
+  const std::size_t to_solve = static_cast<std::size_t>(
+      std::count_if(stars.begin(), stars.end(), [](const auto& star) { return !star.empty(); }));
+  std::size_t solved = 0;
+  std::mutex progress_mutex;
   detail::parallel_for(
       seeds.size(), 1,
       [&](std::size_t s) {
@@ -286,6 +291,9 @@ LocalFields compute_local_fields(const Canvas& canvas, const Nerve& nerve,
         // its voxel with another) needs no geodesics: its field stays empty, +inf everywhere.
         if (stars[s].empty()) return;
         out.fields[s] = solve_local(canvas, boxes[s], stars[s], seeds[s], limits[s]);
+        const std::lock_guard<std::mutex> lock(progress_mutex);
+        ++solved;
+        if (options.progress) options.progress(solved, to_solve);
       },
       solves_within_budget(canvas, boxes, stars, options.memory_budget));
   for (const LocalField& f : out.fields) {
