@@ -262,6 +262,37 @@ TEST(CurvedDual, ShockMetricEdgesReachTheirSeedsThroughTheirBlocks) {
   }
 }
 
+// Where the radial shock's anisotropy reaches 40 and the shock is several voxels thick, a seed's
+// field has voxels with no lower voxel within a Chebyshev radius of 2: the lower neighbours the
+// solver computed them from (their Selling stencil) are 3 to 5 voxels away. The staircase stopped
+// there, 5 to 9 voxels from the seed (radial_shock_3d 192^3, 2000 seeds: 26 of 14187 edges
+// unreached; this zoom on the shock: 8), and now steps along the stencil.
+TEST(CurvedDual, StaircaseFollowsTheSolversStencilThroughAStrongShock) {
+  const std::unique_ptr<MetricField> metric = make_analytic_metric("radial_shock_3d", 3);
+  CanvasOptions options;
+  options.resolution = 48;
+  const Canvas canvas = build_canvas(parse_domain("box:4,4,1,6,6,3"), *metric, options);
+  const std::vector<Vec3> seeds = random_seeds(canvas, 100, 3);
+  const VoronoiField field = test::solve_reference(canvas, seeds);
+  const Nerve nerve = decided_nerve(canvas, extract_nerve(canvas, field, seeds.size()), seeds);
+  const LocalFields locals = compute_local_fields(canvas, nerve, seeds);
+  const CurvedDual dual = build_curved_dual(canvas, field, nerve, seeds, &locals);
+  ASSERT_GT(dual.edges.size(), 400u);
+  EXPECT_EQ(dual.unreached_edges, 0u);
+  EXPECT_EQ(dual.unreached_faces, 0u);
+  EXPECT_GT(dual.staircase_edges, 0u);      // the case exercises the fallback
+  for (const CurvedEdge& e : dual.edges) {  // the last traced point in the seed's block
+    if (!e.reached()) continue;
+    for (int side = 0; side < 2; ++side) {
+      const Vec3& last = side == 0 ? e.points[1] : e.points[e.points.size() - 2];
+      const VoxelIndex v = canvas.voxel_containing(seeds[static_cast<std::size_t>(e.seeds[side])]);
+      const Vec3 x = canvas.index_coordinates(last);
+      EXPECT_LE(std::max({std::abs(x.x() - v.i), std::abs(x.y() - v.j), std::abs(x.z() - v.k)}),
+                kSeedBlockRadius + 1e-6);
+    }
+  }
+}
+
 // Each local field is u_a itself (not the Voronoi minimum): in a uniform metric |F (x - a)| on
 // the segment of each of a's edges, which its star holds. Measured 7e-4 relative at most: stencils
 // near the star's boundary (hull edges) lose neighbours, first order there.
@@ -281,7 +312,7 @@ TEST(CurvedDual, LocalFieldsAreTheSeedsOwnDistancesOverTheirStars) {
   const LocalFields locals = compute_local_fields(canvas, nerve, seeds, options);
   ASSERT_EQ(locals.fields.size(), seeds.size());
   EXPECT_GT(locals.solved_voxels, canvas.active_voxel_count);  // stars overlap
-  ASSERT_EQ(reports.size(), seeds.size());  // every seed has neighbours here
+  ASSERT_EQ(reports.size(), seeds.size());                     // every seed has neighbours here
   for (std::size_t n = 0; n < reports.size(); ++n)
     EXPECT_EQ(reports[n], std::make_pair(n + 1, seeds.size()));
   double max_error = 0.0;
