@@ -220,46 +220,62 @@ TEST(CurvedDual, EveryEdgeReachesItsSeedsWith500Seeds3D) {
   EXPECT_EQ(m.unreached, 0u);
 }
 
+// The curved dual, with local fields, of random seeds on an analytic metric's canvas.
+struct AnalyticCase {
+  Canvas canvas;
+  std::vector<Vec3> seeds;
+  CurvedDual dual;
+};
+
+AnalyticCase analytic_curved_dual(const std::string& metric_name, const std::string& domain,
+                                  int resolution, std::size_t seed_count, std::uint64_t rng) {
+  const std::unique_ptr<MetricField> metric = make_analytic_metric(metric_name, 3);
+  CanvasOptions options;
+  options.resolution = resolution;
+  AnalyticCase c;
+  c.canvas = build_canvas(parse_domain(domain), *metric, options);
+  c.seeds = random_seeds(c.canvas, seed_count, rng);
+  const VoronoiField field = test::solve_reference(c.canvas, c.seeds);
+  const Nerve nerve =
+      decided_nerve(c.canvas, extract_nerve(c.canvas, field, c.seeds.size()), c.seeds);
+  const LocalFields locals = compute_local_fields(c.canvas, nerve, c.seeds);
+  c.dual = build_curved_dual(c.canvas, field, nerve, c.seeds, &locals);
+  return c;
+}
+
+// Every reached side ends at its seed, its last traced point inside the seed's block (the straight
+// step onto the seed is the exact field's), and a staircase side is a reached one.
+void expect_reached_sides_end_through_seed_blocks(const AnalyticCase& c) {
+  for (const CurvedEdge& e : c.dual.edges)
+    for (std::size_t side = 0; side < 2; ++side) {
+      EXPECT_TRUE(!e.side_staircase[side] || e.side_reached[side]);
+      if (!e.side_reached[side]) continue;
+      ASSERT_GE(e.points.size(), 3u);
+      const Vec3& seed = c.seeds[static_cast<std::size_t>(e.seeds[side])];
+      EXPECT_EQ(side == 0 ? e.points.front() : e.points.back(), seed);
+      const Vec3& last = side == 0 ? e.points[1] : e.points[e.points.size() - 2];
+      const VoxelIndex v = c.canvas.voxel_containing(seed);
+      const Vec3 x = c.canvas.index_coordinates(last);
+      EXPECT_LE(std::max({std::abs(x.x() - v.i), std::abs(x.y() - v.j), std::abs(x.z() - v.k)}),
+                kSeedBlockRadius + 1e-6)
+          << e.seeds[0] << "-" << e.seeds[1];
+    }
+}
+
 // Under a shock metric the descent stalled a few voxels from the seed: in the seed's block, where
 // u is the seed's exact |F_s (x - s)| with F_s the seed's own metric, the canvas's metric at the
 // voxel does not point -G^-1 grad u at the seed; outside it, the interpolated direction cycled
 // across the shock; and traces left the box. 3D hyperbolic_shock 48^3 with 400 seeds: 162 of
-// 3077 edges and 19 faces unreached before, none now. Every edge must end at its seeds, its last
-// traced point inside the seed's block (the straight step onto the seed is the exact field's).
+// 3077 edges and 19 faces unreached before, none now.
 TEST(CurvedDual, ShockMetricEdgesReachTheirSeedsThroughTheirBlocks) {
-  const std::unique_ptr<MetricField> metric = make_analytic_metric("hyperbolic_shock", 3);
-  CanvasOptions options;
-  options.resolution = 32;
-  const Canvas canvas = build_canvas(parse_domain("box:-1,-1,-1,1,1,1"), *metric, options);
-  const std::vector<Vec3> seeds = random_seeds(canvas, 200, 1);
-  const VoronoiField field = test::solve_reference(canvas, seeds);
-  const Nerve nerve = decided_nerve(canvas, extract_nerve(canvas, field, seeds.size()), seeds);
-  const LocalFields locals = compute_local_fields(canvas, nerve, seeds);
-  const CurvedDual dual = build_curved_dual(canvas, field, nerve, seeds, &locals);
-  ASSERT_GT(dual.edges.size(), 1000u);
-  EXPECT_EQ(dual.unreached_edges, 0u);
-  EXPECT_EQ(dual.unreached_faces, 0u);
+  const AnalyticCase c = analytic_curved_dual("hyperbolic_shock", "box:-1,-1,-1,1,1,1", 32, 200, 1);
+  ASSERT_GT(c.dual.edges.size(), 1000u);
+  EXPECT_EQ(c.dual.unreached_edges, 0u);
+  EXPECT_EQ(c.dual.unreached_faces, 0u);
   // The staircase fallback stays the exception (70 of 1374 edges, 160 of 2308 faces measured).
-  EXPECT_LT(dual.staircase_edges, dual.edges.size() / 10);
-  EXPECT_LT(dual.staircase_faces, dual.faces.size() / 10);
-  for (const CurvedEdge& e : dual.edges) {
-    for (int side = 0; side < 2; ++side)
-      EXPECT_TRUE(!e.side_staircase[static_cast<std::size_t>(side)] ||
-                  e.side_reached[static_cast<std::size_t>(side)]);
-    if (!e.reached()) continue;
-    ASSERT_GE(e.points.size(), 3u);
-    for (int side = 0; side < 2; ++side) {
-      const Vec3& seed = seeds[static_cast<std::size_t>(e.seeds[side])];
-      const Vec3& end = side == 0 ? e.points.front() : e.points.back();
-      const Vec3& last = side == 0 ? e.points[1] : e.points[e.points.size() - 2];
-      EXPECT_EQ(end, seed);
-      const VoxelIndex v = canvas.voxel_containing(seed);
-      const Vec3 x = canvas.index_coordinates(last);
-      const double chebyshev =
-          std::max({std::abs(x.x() - v.i), std::abs(x.y() - v.j), std::abs(x.z() - v.k)});
-      EXPECT_LE(chebyshev, kSeedBlockRadius + 1e-6) << e.seeds[0] << "-" << e.seeds[1];
-    }
-  }
+  EXPECT_LT(c.dual.staircase_edges, c.dual.edges.size() / 10);
+  EXPECT_LT(c.dual.staircase_faces, c.dual.faces.size() / 10);
+  expect_reached_sides_end_through_seed_blocks(c);
 }
 
 // Where the radial shock's anisotropy reaches 40 and the shock is several voxels thick, a seed's
@@ -268,29 +284,12 @@ TEST(CurvedDual, ShockMetricEdgesReachTheirSeedsThroughTheirBlocks) {
 // there, 5 to 9 voxels from the seed (radial_shock_3d 192^3, 2000 seeds: 26 of 14187 edges
 // unreached; this zoom on the shock: 8), and now steps along the stencil.
 TEST(CurvedDual, StaircaseFollowsTheSolversStencilThroughAStrongShock) {
-  const std::unique_ptr<MetricField> metric = make_analytic_metric("radial_shock_3d", 3);
-  CanvasOptions options;
-  options.resolution = 48;
-  const Canvas canvas = build_canvas(parse_domain("box:4,4,1,6,6,3"), *metric, options);
-  const std::vector<Vec3> seeds = random_seeds(canvas, 100, 3);
-  const VoronoiField field = test::solve_reference(canvas, seeds);
-  const Nerve nerve = decided_nerve(canvas, extract_nerve(canvas, field, seeds.size()), seeds);
-  const LocalFields locals = compute_local_fields(canvas, nerve, seeds);
-  const CurvedDual dual = build_curved_dual(canvas, field, nerve, seeds, &locals);
-  ASSERT_GT(dual.edges.size(), 400u);
-  EXPECT_EQ(dual.unreached_edges, 0u);
-  EXPECT_EQ(dual.unreached_faces, 0u);
-  EXPECT_GT(dual.staircase_edges, 0u);      // the case exercises the fallback
-  for (const CurvedEdge& e : dual.edges) {  // the last traced point in the seed's block
-    if (!e.reached()) continue;
-    for (int side = 0; side < 2; ++side) {
-      const Vec3& last = side == 0 ? e.points[1] : e.points[e.points.size() - 2];
-      const VoxelIndex v = canvas.voxel_containing(seeds[static_cast<std::size_t>(e.seeds[side])]);
-      const Vec3 x = canvas.index_coordinates(last);
-      EXPECT_LE(std::max({std::abs(x.x() - v.i), std::abs(x.y() - v.j), std::abs(x.z() - v.k)}),
-                kSeedBlockRadius + 1e-6);
-    }
-  }
+  const AnalyticCase c = analytic_curved_dual("radial_shock_3d", "box:4,4,1,6,6,3", 48, 100, 3);
+  ASSERT_GT(c.dual.edges.size(), 400u);
+  EXPECT_EQ(c.dual.unreached_edges, 0u);
+  EXPECT_EQ(c.dual.unreached_faces, 0u);
+  EXPECT_GT(c.dual.staircase_edges, 0u);  // the case exercises the fallback
+  expect_reached_sides_end_through_seed_blocks(c);
 }
 
 // Each local field is u_a itself (not the Voronoi minimum): in a uniform metric |F (x - a)| on
