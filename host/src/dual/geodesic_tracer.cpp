@@ -243,57 +243,33 @@ bool GeodesicTracer::in_seed_block(const Vec3& x, const VoxelIndex& seed_voxel,
   return all && any;
 }
 
-// Whether a step of the staircase from v (components in [-2, 2]) passes through a voxel of the
-// label: one of the voxels it crosses (per axis, v plus half the step rounded either way; none for
-// a step to a face neighbour). A diagonal step or one of two voxels could otherwise cross a
-// one-voxel wall of inactive voxels, or a strip of another label, into the label's voxels beyond.
-bool GeodesicTracer::crosses_label(const VoxelIndex& v, const std::array<int, 3>& step,
-                                   int32_t label) const {
-  const std::array<int, 3> from{v.i, v.j, v.k};
-  std::array<std::array<int, 2>, 3> along{};  // per axis, the coordinates crossed
-  for (std::size_t a = 0; a < 3; ++a) {
-    const int s = step[a];
-    const int floor_half = s >= 0 ? s / 2 : -((1 - s) / 2),
-              ceil_half = s >= 0 ? (s + 1) / 2 : s / 2;
-    along[a] = {from[a] + floor_half, from[a] + ceil_half};
-  }
-  bool any_between = false;
-  for (int k = 0; k < 2; ++k)
-    for (int j = 0; j < 2; ++j)
-      for (int i = 0; i < 2; ++i) {
-        const std::array<int, 3> c{along[0][static_cast<std::size_t>(i)],
-                                   along[1][static_cast<std::size_t>(j)],
-                                   along[2][static_cast<std::size_t>(k)]};
-        const bool endpoint = c == from || (c[0] == from[0] + step[0] &&
-                                            c[1] == from[1] + step[1] && c[2] == from[2] + step[2]);
-        if (endpoint) continue;
-        any_between = true;
-        if (carries(canvas_.slot_of(c[0], c[1], c[2]), label)) return true;
-      }
-  return !any_between;
-}
-
-// Whether the segment of a step from v passes through voxels of the label only: at every half
-// voxel of its longest axis, one of the voxels nearest the point (both, per axis, at a tie)
-// carries it. For the stencil steps of discrete_descent, which can be several voxels long.
+// Whether a step of the staircase from v passes through voxels of the label: at every half voxel
+// of its longest axis, one of the voxels nearest the point (both, per axis, at a tie) other than
+// the step's two ends carries it, where there is such a voxel (none halfway along a step to a face
+// neighbour). Otherwise a diagonal step, or one of several voxels (stencil steps are up to 0.71
+// times the anisotropy long), could cross a one-voxel wall of inactive voxels, or a strip of
+// another label, into the label's voxels beyond.
 bool GeodesicTracer::segment_carries(const VoxelIndex& v, const std::array<int, 3>& step,
                                      int32_t label) const {
-  const int longest = std::max({std::abs(step[0]), std::abs(step[1]), std::abs(step[2])});
-  const int samples = 2 * longest;
+  const std::array<int, 3> from{v.i, v.j, v.k}, to{v.i + step[0], v.j + step[1], v.k + step[2]};
+  const int samples = 2 * std::max({std::abs(step[0]), std::abs(step[1]), std::abs(step[2])});
   for (int q = 1; q < samples; ++q) {
     std::array<std::array<int, 2>, 3> nearest{};  // per axis, the voxels nearest the point
-    const std::array<int, 3> from{v.i, v.j, v.k};
     for (std::size_t a = 0; a < 3; ++a) {
       // Exact: a quotient of integers that is a half-integer is representable.
       const double p = from[a] + static_cast<double>(q * step[a]) / samples;
       nearest[a] = {static_cast<int>(std::ceil(p - 0.5)), static_cast<int>(std::floor(p + 0.5))};
     }
-    bool carried = false;
+    bool between = false, carried = false;
     for (int k = nearest[2][0]; k <= nearest[2][1] && !carried; ++k)
       for (int j = nearest[1][0]; j <= nearest[1][1] && !carried; ++j)
-        for (int i = nearest[0][0]; i <= nearest[0][1] && !carried; ++i)
+        for (int i = nearest[0][0]; i <= nearest[0][1] && !carried; ++i) {
+          const std::array<int, 3> c{i, j, k};
+          if (c == from || c == to) continue;
+          between = true;
           carried = carries(canvas_.slot_of(i, j, k), label);
-    if (!carried) return false;
+        }
+    if (between && !carried) return false;
   }
   return true;
 }
@@ -339,34 +315,29 @@ bool GeodesicTracer::discrete_descent(const Vec3& x, const Vec3& target,
     const Mat3 G = canvas_.metric_at(static_cast<std::size_t>(current));
     double best_slope = 0.0;
     int64_t next = -1;
+    // The step to v + offset if it lowers u most per unit of metric length so far.
+    auto consider = [&](const std::array<int, 3>& offset) {
+      const int64_t slot = canvas_.slot_of(v.i + offset[0], v.j + offset[1], v.k + offset[2]);
+      const double d = distance_of(slot, label);
+      if (!(d < u) || !segment_carries(v, offset, label)) return;
+      const Vec3 step(offset[0], offset[1], offset[2]);
+      const Mat3 M = 0.5 * (G + canvas_.metric_at(static_cast<std::size_t>(slot)));
+      const double slope = (u - d) / (h * std::sqrt(step.dot(M * step)));
+      if (slope > best_slope) best_slope = slope, next = slot;
+    };
     for (int reach = 1; reach <= 2 && next < 0; ++reach) {
       const int kr = dimension_ == 3 ? reach : 0;
       for (int dk = -kr; dk <= kr; ++dk)
         for (int dj = -reach; dj <= reach; ++dj)
-          for (int di = -reach; di <= reach; ++di) {
-            const int64_t slot = canvas_.slot_of(v.i + di, v.j + dj, v.k + dk);
-            const double d = distance_of(slot, label);
-            if (!(d < u) || !crosses_label(v, {di, dj, dk}, label)) continue;
-            const Vec3 step(di, dj, dk);
-            const Mat3 M = 0.5 * (G + canvas_.metric_at(static_cast<std::size_t>(slot)));
-            const double slope = (u - d) / (h * std::sqrt(step.dot(M * step)));
-            if (slope > best_slope) best_slope = slope, next = slot;
-          }
+          for (int di = -reach; di <= reach; ++di) consider({di, dj, dk});
     }
-    if (next < 0) {
-      const SellingStencil stencil = canvas_selling_decomposition(
-          canvas_, static_cast<std::size_t>(current), dual_metric(current));
+    if (next < 0) {  // the solver's stencil, as the engines build it (device_canvas.cpp)
+      const SellingStencil stencil =
+          canvas_selling_decomposition(canvas_, static_cast<std::size_t>(current), G.inverse());
       for (int t = 0; t < stencil.size; ++t)
         for (int sign = -1; sign <= 1; sign += 2) {
           const auto& e = stencil.offset[static_cast<std::size_t>(t)];
-          const std::array<int, 3> offset{sign * e[0], sign * e[1], sign * e[2]};
-          const int64_t slot = canvas_.slot_of(v.i + offset[0], v.j + offset[1], v.k + offset[2]);
-          const double d = distance_of(slot, label);
-          if (!(d < u) || !segment_carries(v, offset, label)) continue;
-          const Vec3 step(offset[0], offset[1], offset[2]);
-          const Mat3 M = 0.5 * (G + canvas_.metric_at(static_cast<std::size_t>(slot)));
-          const double slope = (u - d) / (h * std::sqrt(step.dot(M * step)));
-          if (slope > best_slope) best_slope = slope, next = slot;
+          consider({sign * e[0], sign * e[1], sign * e[2]});
         }
     }
     if (next < 0) return false;  // a discrete local minimum away from the seed
@@ -451,14 +422,6 @@ Vec3 GeodesicTracer::refine_bisector_point(const Vec3& start, int32_t a, int32_t
     if (!moved) break;
   }
   return x;
-}
-
-Mat3 GeodesicTracer::dual_metric(int64_t slot) const {
-  const Mat3 G = canvas_.metric_at(static_cast<std::size_t>(slot));
-  if (dimension_ == 3) return G.inverse();
-  Mat3 D = Mat3::Identity();  // in 2D only the 2x2 block is meaningful
-  D.topLeftCorner<2, 2>() = G.topLeftCorner<2, 2>().inverse();
-  return D;
 }
 
 Mat3 GeodesicTracer::metric_near(const Vec3& x) const {

@@ -60,10 +60,7 @@ class GeodesicTracer {
   // The fallback of trace where its descent stalls or leaves the label's voxels (see the .cpp).
   bool discrete_descent(const Vec3& x, const Vec3& target, const VoxelIndex& seed_voxel,
                         int32_t label, std::vector<Vec3>& path) const;
-  bool crosses_label(const VoxelIndex& v, const std::array<int, 3>& step, int32_t label) const;
   bool segment_carries(const VoxelIndex& v, const std::array<int, 3>& step, int32_t label) const;
-  // G^-1 at a slot (the solver's D; in 2D the 2x2 block, identity beyond), for Selling stencils.
-  Mat3 dual_metric(int64_t slot) const;
   // x clamped to the canvas's index box (half a voxel beyond the voxel centres).
   Vec3 inside_canvas(const Vec3& x) const;
   // Whether x lies within the seed block (rvor/seed_blocks.h) around `seed_voxel`, in a cell whose
