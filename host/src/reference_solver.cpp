@@ -180,19 +180,17 @@ PropagationStats ReferenceSolver::solve(const Canvas& canvas, const std::vector<
   const bool wanted = exact_start_ && !seeds.empty() && distance_limit_ == kInfinity;
   if (wanted && !exact_start_reach_) exact_start_reach_ = exact_start_reach(canvas);
   const bool exact_start = wanted && *exact_start_reach_ != ExactStartReach::none;
-  from_infinity_ = true;
-  return propagate(canvas, seeds, 0, field, exact_start);
+  return propagate(canvas, seeds, 0, field, exact_start, /*from_infinity=*/true);
 }
 
 PropagationStats ReferenceSolver::insert(const Canvas& canvas, const std::vector<Vec3>& seeds,
                                          std::size_t first_new, ExactField& field) {
-  from_infinity_ = false;
-  return propagate(canvas, seeds, first_new, field, false);
+  return propagate(canvas, seeds, first_new, field, false, /*from_infinity=*/false);
 }
 
 PropagationStats ReferenceSolver::propagate(const Canvas& canvas, const std::vector<Vec3>& seeds,
                                             std::size_t first_new, ExactField& field,
-                                            bool exact_start) {
+                                            bool exact_start, bool from_infinity) {
   const auto start = std::chrono::steady_clock::now();
   if (canvas.slot_count() != slot_count_ || field.distance.size() != slot_count_ ||
       field.label.size() != slot_count_)
@@ -209,7 +207,7 @@ PropagationStats ReferenceSolver::propagate(const Canvas& canvas, const std::vec
   // From +inf everywhere but the seed block, every evaluation's neighbours hold at most what they
   // held at the one before, so values only decrease (the update is monotone): settled_below needs
   // that. A field loaded for insert(), or the exact start's values, may still rise.
-  skip_settled_ = single_source && first_new == 0 && !exact_start && from_infinity_;
+  skip_settled_ = single_source && !exact_start && from_infinity;
   if (exact_start) start_at_nearest_seeds(canvas, seeds);
   PropagationStats stats;
   stats.exact_start = exact_start;

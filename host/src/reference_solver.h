@@ -75,8 +75,10 @@ class ReferenceSolver {
   void store_field(ExactField& field) const;
   void initialise_seed_blocks(const Canvas& canvas, std::size_t first_seed,
                               const std::vector<SeedClaim>& claims);
+  // `from_infinity`: the field holds +inf everywhere (solve(), not insert()).
   PropagationStats propagate(const Canvas& canvas, const std::vector<Vec3>& seeds,
-                             std::size_t first_new, ExactField& field, bool exact_start);
+                             std::size_t first_new, ExactField& field, bool exact_start,
+                             bool from_infinity);
   void start_at_nearest_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds);
   void evaluate_all_once(PropagationStats& stats);
   void run_queue(PropagationStats& stats);
@@ -196,8 +198,7 @@ class ReferenceSolver {
   double distance_limit_ = std::numeric_limits<double>::infinity();
   bool exact_start_ = false;
   bool keep_single_source_terms_ = true;
-  bool from_infinity_ = false;  // solve(), not insert(): the field starts at +inf
-  bool skip_settled_ = false;   // settled_below applies to the current solve
+  bool skip_settled_ = false;  // settled_below applies to the current solve
   // Where the exact start applies on the canvas (rvor/nearest_seeds.h), decided at the first
   // solve that wants it: the test can flood-fill the canvas.
   std::optional<ExactStartReach> exact_start_reach_;
