@@ -36,6 +36,18 @@ class CliOutputs : public ::testing::Test {
     return nlohmann::json::parse(in);
   }
 
+  // The curved dual of `seeds` random seeds on 3D hyperbolic_shock at `resolution`: at least
+  // `least_faces` faces, none unreached.
+  void expect_every_curved_face_reached(int resolution, int seeds, int least_faces) const {
+    const nlohmann::json report = report_of(
+        "--domain box:-1,-1,-1,1,1,1 --metric hyperbolic_shock --resolution " +
+        std::to_string(resolution) + " --random-seeds " + std::to_string(seeds) + " --dual curved");
+    ASSERT_FALSE(report.is_null());
+    const nlohmann::json& curved = report["curved_dual"];
+    EXPECT_GT(curved["faces"].get<int>(), least_faces) << curved.dump();
+    EXPECT_EQ(curved["unreached_faces"].get<int>(), 0) << curved.dump();
+  }
+
   CommandResult run_uniform_2d(const std::string& extra) const {
     write_text(dir.file("seeds.xyz"), "0 0\n");
     write_text(dir.file("probe.xyz"), "0.5 0.25\n-0.7,0.6\n0.05 -0.9\n");
@@ -132,13 +144,7 @@ TEST_F(CliOutputs, OverlappingOverwriteRunsLeaveTheLastRunsSet) {
 // hyperbolic_shock with 400 seeds; 3 since the tracer arrives through the seed blocks); a face
 // that misses is traced towards its other seeds too, and none is left.
 TEST_F(CliOutputs, CurvedFacesTryEverySeedOfTheirTriangleAsApex) {
-  const nlohmann::json report = report_of(
-      "--domain box:-1,-1,-1,1,1,1 --metric hyperbolic_shock --resolution 48 --random-seeds 400 "
-      "--dual curved");
-  ASSERT_FALSE(report.is_null());
-  const nlohmann::json& curved = report["curved_dual"];
-  EXPECT_GT(curved["faces"].get<int>(), 4000) << curved.dump();
-  EXPECT_EQ(curved["unreached_faces"].get<int>(), 0) << curved.dump();
+  expect_every_curved_face_reached(48, 400, 4000);
 }
 
 // Each seed's local field is solved within a bound of the distance to every point of its
@@ -146,13 +152,7 @@ TEST_F(CliOutputs, CurvedFacesTryEverySeedOfTheirTriangleAsApex) {
 // twice the nearest witness's distance of its edges, 5 faces of 2308 are unreached here (24
 // before the tracer's arrival in the seed blocks); with the bound, none.
 TEST_F(CliOutputs, LocalFieldsReachEveryPointOfTheirCurvedFaces) {
-  const nlohmann::json report = report_of(
-      "--domain box:-1,-1,-1,1,1,1 --metric hyperbolic_shock --resolution 32 --random-seeds 200 "
-      "--dual curved");
-  ASSERT_FALSE(report.is_null());
-  const nlohmann::json& curved = report["curved_dual"];
-  EXPECT_GT(curved["faces"].get<int>(), 2000) << curved.dump();
-  EXPECT_EQ(curved["unreached_faces"].get<int>(), 0) << curved.dump();
+  expect_every_curved_face_reached(32, 200, 2000);
 }
 
 // A probe far outside the canvas is answered by its nearest voxel, as documented, but no longer
