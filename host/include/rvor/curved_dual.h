@@ -60,6 +60,7 @@ struct CurvedEdge {
   std::array<bool, 2> side_reached{false, false};
   std::array<bool, 2> side_staircase{false, false};
   bool reached() const { return side_reached[0] && side_reached[1]; }
+  bool staircase() const { return side_staircase[0] || side_staircase[1]; }
 };
 
 // A triangulated geodesic patch for the nerve triangle seeds[0..2]: geodesics from the points of

@@ -128,7 +128,7 @@ CurvedDual build_curved_dual(const Canvas& canvas, const VoronoiField& field, co
   });
   for (const CurvedEdge& e : dual.edges) {
     dual.unreached_edges += e.reached() ? 0 : 1;
-    dual.staircase_edges += e.side_staircase[0] || e.side_staircase[1] ? 1 : 0;
+    dual.staircase_edges += e.staircase() ? 1 : 0;
   }
   if (locals) build_faces(canvas, tracer, nerve, seeds, dual);
   dual.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -149,7 +149,7 @@ void write_curved_dual_vtu(const std::string& path, const CurvedDual& dual) {
     offsets.push_back(static_cast<int64_t>(connectivity.size()));
     types.push_back(kVtkPolyLine);
     reached.push_back(e.reached() ? 1 : 0);
-    staircase.push_back(e.side_staircase[0] || e.side_staircase[1] ? 1 : 0);
+    staircase.push_back(e.staircase() ? 1 : 0);
     length.push_back(e.length);
     seed_a.push_back(e.seeds[0]);
     seed_b.push_back(e.seeds[1]);
