@@ -131,15 +131,19 @@ std::vector<double> distance_limits(const Canvas& canvas, const Nerve& nerve,
   return limits;
 }
 
-// The simplices of each seed's star in index coordinates: its top simplices and its edges (an
-// edge without a top simplex still needs its segment), each with the margin plus a fraction of
-// its longest edge (room for geodesics that bend).
+// The simplices of each seed's star in index coordinates, each with its margin (voxels, plus a
+// fraction of its longest edge: room for geodesics that bend). Every edge goes to both its seeds,
+// for its geodesic descends both fields. A top simplex goes only to the apexes of its triangles
+// (a face is traced towards its smallest seed first, curved_dual.cpp): its smallest seed, and in
+// 3D its second smallest, the apex of the triangle opposite the smallest; the others never trace
+// a geodesic through it. Edges take a wider margin than top simplices: where no top simplex
+// surrounds an edge, its capsule alone holds the stencils that its segment's values read.
 std::vector<std::vector<detail::StarSimplex>> star_simplices(const Canvas& canvas,
                                                              const Nerve& nerve,
                                                              const std::vector<Vec3>& seeds,
                                                              const LocalFieldOptions& options) {
   std::vector<std::vector<detail::StarSimplex>> stars(seeds.size());
-  auto add = [&](const NerveSimplex& simplex) {
+  auto add = [&](const NerveSimplex& simplex, int owners, double relative_margin) {
     detail::StarSimplex star;
     for (int v = 0; v < simplex.vertex_count; ++v) {
       Vec3 x = canvas.index_coordinates(seeds[static_cast<std::size_t>(simplex.seeds[v])]);
@@ -149,12 +153,13 @@ std::vector<std::vector<detail::StarSimplex>> star_simplices(const Canvas& canva
     double longest = 0.0;
     for (const Vec3& p : star.vertices)
       for (const Vec3& q : star.vertices) longest = std::max(longest, (p - q).norm());
-    star.margin = options.margin + options.relative_margin * longest;
-    for (int v = 0; v < simplex.vertex_count; ++v)
+    star.margin = options.margin + relative_margin * longest;
+    for (int v = 0; v < owners; ++v)  // seeds ascending (nerve.h)
       stars[static_cast<std::size_t>(simplex.seeds[v])].push_back(star);
   };
-  for (const NerveSimplex& top : nerve.top_simplices()) add(top);
-  for (const NerveSimplex& edge : nerve.edges) add(edge);
+  for (const NerveSimplex& top : nerve.top_simplices())
+    add(top, std::max(1, top.vertex_count - 2), options.relative_margin);
+  for (const NerveSimplex& edge : nerve.edges) add(edge, 2, options.edge_relative_margin);
   return stars;
 }
 
