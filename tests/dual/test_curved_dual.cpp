@@ -292,6 +292,58 @@ TEST(CurvedDual, StaircaseFollowsTheSolversStencilThroughAStrongShock) {
   expect_reached_sides_end_through_seed_blocks(c);
 }
 
+// Every point of every edge lies in the canvas's index box (voxel centres and half a voxel).
+void expect_every_side_in_the_canvas(const Canvas& canvas, const CurvedDual& dual) {
+  for (const CurvedEdge& e : dual.edges)
+    for (const Vec3& p : e.points) {
+      const Vec3 x = canvas.index_coordinates(p);
+      for (int a = 0; a < canvas.dimension; ++a) {
+        EXPECT_GE(x[a], -0.5 - 1e-9) << e.seeds[0] << "-" << e.seeds[1];
+        EXPECT_LE(x[a], canvas.dims[static_cast<std::size_t>(a)] - 0.5 + 1e-9);
+      }
+    }
+}
+
+// A staircase is the discrete field's steepest descent from voxel to voxel; pulled taut, each of
+// its points is replaced by a straight segment wherever that is no longer in the metric. Every
+// edge is then at most as long as its staircase, the edges without one are untouched, and the
+// pulling shortens the staircases measurably (radial zoom at 48^3, 100 seeds: 26 staircase edges,
+// their length 8.3% shorter in all, one edge 24%).
+TEST(CurvedDual, StaircasesArePulledTautNeverLonger) {
+  const std::unique_ptr<MetricField> metric = make_analytic_metric("radial_shock_3d", 3);
+  CanvasOptions canvas_options;
+  canvas_options.resolution = 48;
+  const Canvas canvas = build_canvas(parse_domain("box:4,4,1,6,6,3"), *metric, canvas_options);
+  const std::vector<Vec3> seeds = random_seeds(canvas, 100, 3);
+  const VoronoiField field = test::solve_reference(canvas, seeds);
+  const Nerve nerve = decided_nerve(canvas, extract_nerve(canvas, field, seeds.size()), seeds);
+  const LocalFields locals = compute_local_fields(canvas, nerve, seeds);
+  CurvedDualOptions stairs_options;
+  stairs_options.pull_staircases = false;
+  const CurvedDual stairs = build_curved_dual(canvas, field, nerve, seeds, &locals, stairs_options);
+  const CurvedDual pulled = build_curved_dual(canvas, field, nerve, seeds, &locals);
+  ASSERT_EQ(pulled.edges.size(), stairs.edges.size());
+  EXPECT_EQ(pulled.unreached_edges, 0u);
+  EXPECT_EQ(pulled.staircase_edges, stairs.staircase_edges);
+  double stairs_length = 0.0, pulled_length = 0.0, most = 0.0;
+  for (std::size_t e = 0; e < pulled.edges.size(); ++e) {
+    const CurvedEdge &p = pulled.edges[e], &s = stairs.edges[e];
+    if (!s.staircase()) {
+      EXPECT_EQ(p.points, s.points) << e;
+      continue;
+    }
+    EXPECT_LE(p.length, s.length * (1 + 1e-12)) << e;
+    stairs_length += s.length;
+    pulled_length += p.length;
+    most = std::max(most, 1 - p.length / s.length);
+  }
+  std::printf("[pulled staircases] %zu edges, %.2f%% shorter in all, %.2f%% the most\n",
+              pulled.staircase_edges, 100 * (1 - pulled_length / stairs_length), 100 * most);
+  EXPECT_GT(pulled.staircase_edges, 0u);
+  EXPECT_GT(most, 0.01);
+  expect_every_side_in_the_canvas(canvas, pulled);
+}
+
 // Each local field is u_a itself (not the Voronoi minimum): in a uniform metric |F (x - a)| on
 // the segment of each of a's edges, which its star holds. Measured 4.7e-4 relative at most:
 // stencils near the star's boundary (the edges' capsules, hull edges) lose neighbours, first order

@@ -25,9 +25,13 @@
 // one-sided of second order, else of first order corrected by h^2 G_aa; voxels with no such
 // neighbour along some axis are skipped) and interpolated (bi/trilinearly, weights renormalised
 // over the cell corners where u_L is known; where none is, inverse-distance weighted over the
-// 4^d, then 8^d block around the cell). The trace stops within 1 voxel of the seed, which is then
-// appended; a trace that runs out of steps or off the known voxels (for more than a few steps,
-// crossed in its last direction) is reported as not reached (the polyline ends where it stopped).
+// 4^d, then 8^d block around the cell). The trace stops within 1 voxel of the seed or in its seed
+// block, and the seed is then appended. A trace that stalls (cycles, runs out of steps, is pushed
+// against the canvas's boundary, or stays off the known voxels for more than a few steps) goes on
+// by steepest descent over voxels (a staircase), which is then pulled taut: a later point replaces
+// the points before it where a straight segment through known voxels is no longer in the metric.
+// A trace that no descent brings to its seed is reported as not reached (the polyline ends where
+// it stopped).
 //
 // Faces (local fields only): the curved edge (b, c) is sampled every ~2 voxels of its length
 // (2 to 16 intervals); from each sample a geodesic to a is traced by descending u_a; the
@@ -52,7 +56,8 @@ struct CurvedEdge {
   // World points from seeds[0] to seeds[1]; points[bisector_index] is the bisector point.
   std::vector<Vec3> points;
   std::size_t bisector_index = 0;
-  // Sum of the segment lengths, each in the metric at its midpoint's voxel.
+  // Sum of the segment lengths, each cut into pieces of at most half a voxel, each piece in the
+  // metric interpolated at its midpoint.
   double length = 0.0;
   // Per side (seeds[0], seeds[1]): whether the trace came within 1 voxel of the seed, and
   // whether it got there by the tracer's fallback, a steepest descent over voxels (a staircase)
@@ -90,12 +95,18 @@ struct CurvedDual {
   double seconds = 0.0;             // edges and faces, not the local fields
 };
 
+struct CurvedDualOptions {
+  // Pull staircases taut (above). Off only to measure what the pulling changes.
+  bool pull_staircases = true;
+};
+
 // Traces every nerve edge and, with `locals` (compute_local_fields on the same canvas, field,
 // nerve and seeds), every nerve triangle. `field` is the labeled canvas the nerve was extracted
 // from and `seeds` the propagation's seeds (label i = seeds[i]). Throws rvor::Error when the field
 // does not match the canvas, or the nerve or the local fields do not match the seeds.
 CurvedDual build_curved_dual(const Canvas& canvas, const VoronoiField& field, const Nerve& nerve,
-                             const std::vector<Vec3>& seeds, const LocalFields* locals = nullptr);
+                             const std::vector<Vec3>& seeds, const LocalFields* locals = nullptr,
+                             const CurvedDualOptions& options = {});
 
 // VTK .vtu of the curved edges as polylines (VTK_POLY_LINE, cell type 4). Cell data: length
 // (Float64, in the metric), reached (UInt8, 1 when both sides reached their seed), seed_a, seed_b

@@ -54,10 +54,8 @@ CurvedEdge trace_edge(const Canvas& canvas, const GeodesicTracer& tracer, const 
     out.points.push_back(seed_end ? seeds[static_cast<std::size_t>(out.seeds[p == 0 ? 0 : 1])]
                                   : world_of_index(canvas, index_points[p]));
   }
-  for (std::size_t p = 1; p < out.points.size(); ++p) {
-    const Mat3 G = tracer.metric_near(0.5 * (index_points[p - 1] + index_points[p]));
-    out.length += metric_length(G, out.points[p] - out.points[p - 1]);
-  }
+  for (std::size_t p = 1; p < index_points.size(); ++p)
+    out.length += canvas.voxel_size * tracer.segment_length(index_points[p - 1], index_points[p]);
   return out;
 }
 
@@ -114,7 +112,8 @@ void build_faces(const Canvas& canvas, const GeodesicTracer& tracer, const Nerve
 }  // namespace
 
 CurvedDual build_curved_dual(const Canvas& canvas, const VoronoiField& field, const Nerve& nerve,
-                             const std::vector<Vec3>& given_seeds, const LocalFields* locals) {
+                             const std::vector<Vec3>& given_seeds, const LocalFields* locals,
+                             const CurvedDualOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<Vec3> seeds =
       dual::checked_dual_seeds(canvas, nerve, given_seeds, "curved dual");
@@ -124,7 +123,8 @@ CurvedDual build_curved_dual(const Canvas& canvas, const VoronoiField& field, co
   dual.vertices = seeds;
   dual.local_fields = locals != nullptr;
   dual.edges.resize(nerve.edges.size());
-  const GeodesicTracer tracer(canvas, field, locals);
+  GeodesicTracer tracer(canvas, field, locals);
+  tracer.set_pull_staircases(options.pull_staircases);
   detail::parallel_for(nerve.edges.size(), 64, [&](std::size_t e) {
     dual.edges[e] = trace_edge(canvas, tracer, nerve.edges[e], seeds);
   });

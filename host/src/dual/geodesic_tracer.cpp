@@ -15,11 +15,13 @@ namespace rvor::detail {
 
 namespace {
 
-constexpr double kStep = 0.5;          // voxels per tracing step
-constexpr double kArrival = 1.0;       // voxels: a trace this close to its seed has reached it
-constexpr double kMinWeight = 1e-9;    // below: corner weights are renormalised uniformly
-constexpr int kMaxMisses = 16;         // steps through cells without a voxel of the label
-constexpr int kRefineIterations = 64;  // moves of at most a voxel each
+constexpr double kStep = 0.5;            // voxels per tracing step
+constexpr double kArrival = 1.0;         // voxels: a trace this close to its seed has reached it
+constexpr double kMinWeight = 1e-9;      // below: corner weights are renormalised uniformly
+constexpr int kMaxMisses = 16;           // steps through cells without a voxel of the label
+constexpr int kRefineIterations = 64;    // moves of at most a voxel each
+constexpr std::size_t kPullWindow = 32;  // staircase points a shortcut may skip at most
+constexpr double kPullSample = 0.25;     // voxels between the checks of a shortcut's voxels
 
 }  // namespace
 
@@ -348,6 +350,56 @@ bool GeodesicTracer::discrete_descent(const Vec3& x, const Vec3& target,
   }
 }
 
+double GeodesicTracer::segment_length(const Vec3& p, const Vec3& q) const {
+  const int pieces = std::max(1, static_cast<int>(std::ceil((q - p).norm() / kStep)));
+  double length = 0.0;
+  for (int n = 0; n < pieces; ++n) {
+    const Vec3 a = p + (q - p) * (static_cast<double>(n) / pieces);
+    const Vec3 b = p + (q - p) * (static_cast<double>(n + 1) / pieces);
+    const Mat3 G = metric_near(0.5 * (a + b));
+    length += std::sqrt((b - a).dot(G * (b - a)));
+  }
+  return length;
+}
+
+bool GeodesicTracer::segment_known(const Vec3& p, const Vec3& q, int32_t label) const {
+  const int samples = std::max(1, static_cast<int>(std::ceil((q - p).norm() / kPullSample)));
+  for (int n = 1; n < samples; ++n)
+    if (!carries(canvas_.slot_of(nearest_voxel(p + (q - p) * (static_cast<double>(n) / samples))),
+                 label))
+      return false;
+  return true;
+}
+
+// A staircase of voxel centres is the discrete field's steepest descent, not a geodesic: it turns
+// at every voxel. From each of its points, the farthest later point (within kPullWindow) that a
+// straight segment reaches through voxels where the label's distance is known, no longer in the
+// metric than the staircase between them, replaces the points in between; the segments are
+// divided at kStep, as traced descents are. Each replacement shortens the path, so the polyline
+// is the staircase's or shorter everywhere, and it stays where the field is known.
+void GeodesicTracer::pull_taut(const Vec3& anchor, int32_t label, std::vector<Vec3>& path,
+                               std::size_t from) const {
+  std::vector<Vec3> stairs{anchor};
+  stairs.insert(stairs.end(), path.begin() + static_cast<std::ptrdiff_t>(from), path.end());
+  std::vector<double> along(stairs.size(), 0.0);  // metric length from the anchor
+  for (std::size_t n = 1; n < stairs.size(); ++n)
+    along[n] = along[n - 1] + segment_length(stairs[n - 1], stairs[n]);
+  path.resize(from);
+  for (std::size_t i = 0; i + 1 < stairs.size();) {
+    std::size_t reach = i + 1;
+    for (std::size_t j = i + 2; j < stairs.size() && j <= i + kPullWindow; ++j)
+      if (segment_length(stairs[i], stairs[j]) <= along[j] - along[i] &&
+          segment_known(stairs[i], stairs[j], label))
+        reach = j;
+    const Vec3 &p = stairs[i], &q = stairs[reach];
+    const int pieces = std::max(1, static_cast<int>(std::ceil((q - p).norm() / kStep)));
+    for (int n = 1; n < pieces; ++n)
+      path.push_back(p + (q - p) * (static_cast<double>(n) / pieces));
+    path.push_back(q);
+    i = reach;
+  }
+}
+
 bool GeodesicTracer::trace(const Vec3& start, const Vec3& target, int32_t label,
                            std::vector<Vec3>& path, bool* staircase) const {
   if (staircase) *staircase = false;
@@ -365,6 +417,8 @@ bool GeodesicTracer::trace(const Vec3& start, const Vec3& target, int32_t label,
   auto give_up = [&]() {
     path.resize(known);
     const bool reached = discrete_descent(known_x, target, seed_voxel, label, path);
+    if (reached && pull_staircases_)
+      pull_taut(known > first ? path[known - 1] : start, label, path, known);
     if (staircase) *staircase = reached;
     return reached;
   };

@@ -19,6 +19,9 @@ class GeodesicTracer {
       : canvas_(canvas), field_(field), locals_(locals), dimension_(canvas.dimension) {}
 
   bool has_local_fields() const { return locals_ != nullptr; }
+  // Whether staircases are pulled taut (pull_taut in the .cpp; on by default). Off only to
+  // measure what the pulling changes.
+  void set_pull_staircases(bool pull) { pull_staircases_ = pull; }
 
   // Traces from `start` (index coordinates) towards the seed at `target` (index coordinates) by
   // descending the distance of `label`. Appends the visited points (index coordinates, not
@@ -45,6 +48,9 @@ class GeodesicTracer {
 
   // The metric at a point (index coordinates): interpolated over the active corners of its cell.
   Mat3 metric_near(const Vec3& x) const;
+  // Metric length of the segment p-q (index coordinates, so in voxels: times h for world
+  // units), summed over pieces of at most half a voxel, each in the metric at its midpoint.
+  double segment_length(const Vec3& p, const Vec3& q) const;
 
  private:
   VoxelIndex nearest_voxel(const Vec3& x) const;
@@ -61,6 +67,11 @@ class GeodesicTracer {
   bool discrete_descent(const Vec3& x, const Vec3& target, const VoxelIndex& seed_voxel,
                         int32_t label, std::vector<Vec3>& path) const;
   bool segment_carries(const VoxelIndex& v, const std::array<int, 3>& step, int32_t label) const;
+  // The staircase path[from..] (after `anchor`) shortened by straight segments (see the .cpp).
+  void pull_taut(const Vec3& anchor, int32_t label, std::vector<Vec3>& path,
+                 std::size_t from) const;
+  // Whether every voxel the segment p-q passes (sampled every kPullSample) carries the label.
+  bool segment_known(const Vec3& p, const Vec3& q, int32_t label) const;
   // x clamped to the canvas's index box (half a voxel beyond the voxel centres).
   Vec3 inside_canvas(const Vec3& x) const;
   // Whether x lies within the seed block (rvor/seed_blocks.h) around `seed_voxel`, in a cell whose
@@ -75,6 +86,7 @@ class GeodesicTracer {
   const VoronoiField& field_;
   const LocalFields* locals_;
   int dimension_;
+  bool pull_staircases_ = true;
 };
 
 // World coordinates of index coordinates (z pinned to the canvas plane in 2D).
