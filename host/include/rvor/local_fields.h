@@ -3,16 +3,18 @@
 // distance to the nearest seed, so the distance u_a of seed a is unknown inside the other cells:
 // the bisector {u_a = u_b} is then only known on the common Voronoi face, and a geodesic from a
 // point of the opposite edge to a cannot be traced. A local field is u_a itself (seed a alone)
-// over a's star: a's edges and the top simplices at a whose triangles take a as their apex (a
-// face is traced towards its smallest seed first: a top simplex belongs to its smallest seed, and
-// in 3D to its second smallest too, the apex of the face opposite the smallest), taken straight in
-// index space and grown by a margin. In a uniform metric that region is star-shaped from a, so a
-// solve restricted to it is exact there, and it holds every geodesic the dual needs of u_a (the
-// bisector point of smallest distance of each edge is on the segment, the face geodesics are in
-// the triangles); in a varying metric the margin leaves room for geodesics that bend, and a
-// geodesic that leaves the star is reported as not reached. The solve also stops
-// at a distance limit that bounds every point of a's curved edges and faces (distance_limits in
-// local_fields.cpp), beyond which u_a is not needed.
+// over a's star: a's edges, and the top simplices at a, taken straight in index space and grown by
+// a margin. Where the metric is nearly uniform over a top simplex, only the apexes of its
+// triangles take it (a face is traced towards its smallest seed first: the smallest seed, and in
+// 3D the second smallest, the apex of the face opposite the smallest); elsewhere every seed of it
+// does (local_fields.cpp, star_simplices). In a uniform metric that region is star-shaped from a,
+// so a solve restricted to it is exact there, and it holds the geodesics the dual traces on u_a
+// (the bisector point of smallest distance of each edge is on the segment, the geodesics of the
+// faces with apex a are in their triangles; a face retried towards another apex, or a 3D triangle
+// of no tetrahedron, has the edges' capsules only); in a varying metric the margin leaves room for
+// geodesics that bend, and a geodesic that leaves the star is reported as not reached. The solve
+// also stops at a distance limit that bounds every point of a's curved edges and faces
+// (distance_limits in local_fields.cpp), beyond which u_a is not needed.
 //
 // Cost: one single-source CPU reference solve (docs/scheme.md, double precision) per seed on a
 // cropped copy of the canvas (the star's bounding box, active on the star only), seeds spread over
@@ -21,9 +23,9 @@
 // The solve keeps each voxel's terms and skips the evaluations that cannot change it (reference
 // solver, SingleSourceTerms). Measured (README, "The curved dual"): `rvor voronoi --domain
 // box:0,0,0,1,1,1 --resolution 96 --metric uniform:10,3,5,2,1,4 --random-seeds 500 --dual curved
-// --device cpu`: the boxes hold 31 times the canvas's voxels, 12 times solved, 6.2 s on 2 cores
-// against 4.7 to 5.3 s for the CPU solve of the labeled field. `solved_voxels` and `seconds` report
-// what it was.
+// --device cpu`: the boxes hold 31 times the canvas's voxels, 12 times solved, 6.1 to 6.2 s on 2
+// cores against 5.2 to 5.8 s for the CPU solve of the labeled field. `solved_voxels` and `seconds`
+// report what it was.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -69,6 +71,15 @@ struct LocalFieldOptions {
   // (48^3, 40 seeds) 1.1e-2 with 0.2. When every seed's star held all its top simplices, with
   // 0.1: 7.1e-4 and 2.5e-2.
   double edge_relative_margin = 0.2;
+  // A top simplex whose seeds' metrics are within this distortion (rvor/metric.h) of each other
+  // goes only to the stars of its triangles' apexes; beyond it (or with 0), to all its seeds'.
+  // Measured on 3D hyperbolic_shock, 48^3, 400 seeds (coarse: the metric varies several-fold
+  // between neighbouring seeds): with every top simplex given to its apexes only, 14 of 3077 edges
+  // came out over 5% longer than with every simplex in every star, one 3.1 times (its geodesic
+  // bent out of the capsules); with 1.5, 2, as with every simplex in every star and the wider
+  // edge margin. radial_shock_3d at 96^3 with 500 seeds keeps most of the saving: 12.7M voxels
+  // solved, against 14.0M with every simplex in every star and 11.9M with apexes only.
+  double apex_only_distortion = 1.5;
   // Bytes the job may hold (rvor/memory_budget.h; 0: default_memory_budget()): the fields kept
   // and the solves in flight, beside the canvas and its field. Fewer solves run at once where
   // that fits; where one does not, compute_local_fields throws rvor::Error before solving.

@@ -77,8 +77,9 @@ void check_inputs(const Canvas& canvas, const VoronoiField& field, const std::ve
 // geodesics is kept: the smallest seed is an arbitrary apex, and its opposite edge can lie where
 // its local field is not known or its descent does not lead back (3D hyperbolic_shock, 48^3, 400
 // seeds: 378 unreached faces of 5440 with seeds[0] as apex, 85 with the best of the three, before
-// the tracer's fallbacks; none now). The other seeds' local fields hold the triangle only in part
-// (a top simplex is in the stars of its triangles' first apexes only, local_fields.cpp).
+// the tracer's fallbacks; none now). Where the metric is nearly uniform, the other seeds' local
+// fields hold the triangle only in part (a top simplex is then in the stars of its triangles'
+// first apexes only, local_fields.cpp).
 void build_faces(const Canvas& canvas, const GeodesicTracer& tracer, const Nerve& nerve,
                  const std::vector<Vec3>& seeds, CurvedDual& dual) {
   dual.faces.resize(nerve.triangles.size());

@@ -20,8 +20,21 @@ constexpr double kArrival = 1.0;         // voxels: a trace this close to its se
 constexpr double kMinWeight = 1e-9;      // below: corner weights are renormalised uniformly
 constexpr int kMaxMisses = 16;           // steps through cells without a voxel of the label
 constexpr int kRefineIterations = 64;    // moves of at most a voxel each
-constexpr std::size_t kPullWindow = 32;  // staircase points a shortcut may skip at most
-constexpr double kPullSample = 0.25;     // voxels between the checks of a shortcut's voxels
+constexpr std::size_t kPullWindow = 32;  // how many points later a shortcut may end, at most
+// Voxels between the checks of a shortcut's voxels: a segment may clip a cell's corner by less
+// than this without the check seeing it, an immaterial graze of a voxel whose distance is unknown.
+constexpr double kPullSample = 1.0 / 16;
+
+// The points dividing the segment p-q into equal pieces of at most kStep, q excluded: the pieces
+// of a segment already divided so measure as one piece each (the tolerance absorbs the rounding
+// of p + (q - p) n / pieces), so a length summed over a divided polyline is the segment's.
+std::vector<Vec3> division_points(const Vec3& p, const Vec3& q) {
+  const int pieces = std::max(1, static_cast<int>(std::ceil((q - p).norm() / kStep - 1e-9)));
+  std::vector<Vec3> points;
+  for (int n = 0; n < pieces; ++n)
+    points.push_back(p + (q - p) * (static_cast<double>(n) / pieces));
+  return points;
+}
 
 }  // namespace
 
@@ -351,13 +364,11 @@ bool GeodesicTracer::discrete_descent(const Vec3& x, const Vec3& target,
 }
 
 double GeodesicTracer::segment_length(const Vec3& p, const Vec3& q) const {
-  const int pieces = std::max(1, static_cast<int>(std::ceil((q - p).norm() / kStep)));
+  const std::vector<Vec3> points = division_points(p, q);
   double length = 0.0;
-  for (int n = 0; n < pieces; ++n) {
-    const Vec3 a = p + (q - p) * (static_cast<double>(n) / pieces);
-    const Vec3 b = p + (q - p) * (static_cast<double>(n + 1) / pieces);
-    const Mat3 G = metric_near(0.5 * (a + b));
-    length += std::sqrt((b - a).dot(G * (b - a)));
+  for (std::size_t n = 0; n < points.size(); ++n) {
+    const Vec3& b = n + 1 < points.size() ? points[n + 1] : q;
+    length += metric_length(metric_near(0.5 * (points[n] + b)), b - points[n]);
   }
   return length;
 }
@@ -391,11 +402,9 @@ void GeodesicTracer::pull_taut(const Vec3& anchor, int32_t label, std::vector<Ve
       if (segment_length(stairs[i], stairs[j]) <= along[j] - along[i] &&
           segment_known(stairs[i], stairs[j], label))
         reach = j;
-    const Vec3 &p = stairs[i], &q = stairs[reach];
-    const int pieces = std::max(1, static_cast<int>(std::ceil((q - p).norm() / kStep)));
-    for (int n = 1; n < pieces; ++n)
-      path.push_back(p + (q - p) * (static_cast<double>(n) / pieces));
-    path.push_back(q);
+    const std::vector<Vec3> points = division_points(stairs[i], stairs[reach]);
+    path.insert(path.end(), points.begin() + 1, points.end());
+    path.push_back(stairs[reach]);
     i = reach;
   }
 }

@@ -39,8 +39,12 @@ struct IndexBox {
 };
 
 // The bounding box of every seed's star: its voxel and its nerve neighbours' voxels, grown on each
-// axis by the margin plus a fraction of its extent (at least the simplices' margins), clipped to
-// the canvas.
+// axis by the margin plus a fraction of its extent, clipped to the canvas. The mask (star_mask.h)
+// is cut by the box where a simplex's margin reaches beyond it: mostly the caps of the edges'
+// capsules beyond the neighbours, where the seed's field is not needed (an edge's geodesic runs
+// between its seeds). Boxes grown to every simplex's margin held 15% more voxels (kept fields and
+// the solves' memory) and took longer, for edges of nearly the same lengths (3D hyperbolic_shock
+// 48^3 and radial_shock_3d 96^3, against these boxes: at most 2% apart).
 std::vector<IndexBox> star_boxes(const Canvas& canvas, const Nerve& nerve,
                                  const std::vector<Vec3>& seeds, const LocalFieldOptions& options) {
   std::vector<VoxelIndex> voxels;
@@ -133,11 +137,14 @@ std::vector<double> distance_limits(const Canvas& canvas, const Nerve& nerve,
 
 // The simplices of each seed's star in index coordinates, each with its margin (voxels, plus a
 // fraction of its longest edge: room for geodesics that bend). Every edge goes to both its seeds,
-// for its geodesic descends both fields. A top simplex goes only to the apexes of its triangles
-// (a face is traced towards its smallest seed first, curved_dual.cpp): its smallest seed, and in
-// 3D its second smallest, the apex of the triangle opposite the smallest; the others never trace
-// a geodesic through it. Edges take a wider margin than top simplices: where no top simplex
-// surrounds an edge, its capsule alone holds the stencils that its segment's values read.
+// for its geodesic descends both fields. A top simplex over which the metric is nearly uniform
+// goes only to the apexes of its triangles (a face is traced towards its smallest seed first,
+// curved_dual.cpp): its smallest seed, and in 3D its second smallest, the apex of the triangle
+// opposite the smallest; there geodesics are nearly straight and the others never trace one
+// through it. Where the metric varies more (LocalFieldOptions::apex_only_distortion), it goes to
+// all its seeds, whose edge geodesics may bend through it. Edges take a wider margin than top
+// simplices: where no top simplex surrounds an edge, its capsule alone holds the stencils that its
+// segment's values read.
 std::vector<std::vector<detail::StarSimplex>> star_simplices(const Canvas& canvas,
                                                              const Nerve& nerve,
                                                              const std::vector<Vec3>& seeds,
@@ -157,8 +164,19 @@ std::vector<std::vector<detail::StarSimplex>> star_simplices(const Canvas& canva
     for (int v = 0; v < owners; ++v)  // seeds ascending (nerve.h)
       stars[static_cast<std::size_t>(simplex.seeds[v])].push_back(star);
   };
-  for (const NerveSimplex& top : nerve.top_simplices())
-    add(top, std::max(1, top.vertex_count - 2), options.relative_margin);
+  std::vector<Mat3> metrics;
+  for (std::size_t s = 0; s < seeds.size(); ++s)
+    metrics.push_back(dual::seed_metric(canvas, seeds, s));
+  for (const NerveSimplex& top : nerve.top_simplices()) {
+    double spread = 1.0;  // the largest distortion between two of its seeds' metrics
+    for (int u = 0; u < top.vertex_count; ++u)
+      for (int v = u + 1; v < top.vertex_count; ++v)
+        spread = std::max(spread, distortion(metrics[static_cast<std::size_t>(top.seeds[u])],
+                                             metrics[static_cast<std::size_t>(top.seeds[v])]));
+    const int apexes = std::max(1, top.vertex_count - 2);
+    add(top, spread <= options.apex_only_distortion ? apexes : top.vertex_count,
+        options.relative_margin);
+  }
   for (const NerveSimplex& edge : nerve.edges) add(edge, 2, options.edge_relative_margin);
   return stars;
 }
