@@ -296,8 +296,7 @@ TEST(CurvedDual, StaircaseFollowsTheSolversStencilThroughAStrongShock) {
 // where it varies several-fold between neighbouring seeds, an edge's geodesic bends out of the
 // edge's capsule, and with the apexes only some edges came out far longer (3D hyperbolic_shock,
 // 48^3, 400 seeds: one 3.1 times, 14 over 5%). With LocalFieldOptions::apex_only_distortion they
-// are within a few percent of the edges with every simplex in every star (measured: at most 1.03
-// times).
+// are within 1% of the edges with every simplex in every star (measured: 1.00 times at most).
 TEST(CurvedDual, StarsKeepTheirSimplicesWhereTheMetricVaries) {
   const std::unique_ptr<MetricField> metric = make_analytic_metric("hyperbolic_shock", 3);
   CanvasOptions canvas_options;
