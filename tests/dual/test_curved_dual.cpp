@@ -220,7 +220,29 @@ TEST(CurvedDual, EveryEdgeReachesItsSeedsWith500Seeds3D) {
   EXPECT_EQ(m.unreached, 0u);
 }
 
-// The curved dual, with local fields, of random seeds on an analytic metric's canvas.
+// Random seeds on an analytic metric's canvas, their labeled field and decided nerve.
+struct AnalyticInputs {
+  Canvas canvas;
+  std::vector<Vec3> seeds;
+  VoronoiField field;
+  Nerve nerve;
+};
+
+AnalyticInputs analytic_inputs(const std::string& metric_name, const std::string& domain,
+                               int resolution, std::size_t seed_count, std::uint64_t rng) {
+  const std::unique_ptr<MetricField> metric = make_analytic_metric(metric_name, 3);
+  CanvasOptions options;
+  options.resolution = resolution;
+  AnalyticInputs in;
+  in.canvas = build_canvas(parse_domain(domain), *metric, options);
+  in.seeds = random_seeds(in.canvas, seed_count, rng);
+  in.field = test::solve_reference(in.canvas, in.seeds);
+  in.nerve =
+      decided_nerve(in.canvas, extract_nerve(in.canvas, in.field, in.seeds.size()), in.seeds);
+  return in;
+}
+
+// The curved dual, with local fields, of those inputs.
 struct AnalyticCase {
   Canvas canvas;
   std::vector<Vec3> seeds;
@@ -229,17 +251,12 @@ struct AnalyticCase {
 
 AnalyticCase analytic_curved_dual(const std::string& metric_name, const std::string& domain,
                                   int resolution, std::size_t seed_count, std::uint64_t rng) {
-  const std::unique_ptr<MetricField> metric = make_analytic_metric(metric_name, 3);
-  CanvasOptions options;
-  options.resolution = resolution;
+  AnalyticInputs in = analytic_inputs(metric_name, domain, resolution, seed_count, rng);
+  const LocalFields locals = compute_local_fields(in.canvas, in.nerve, in.seeds);
   AnalyticCase c;
-  c.canvas = build_canvas(parse_domain(domain), *metric, options);
-  c.seeds = random_seeds(c.canvas, seed_count, rng);
-  const VoronoiField field = test::solve_reference(c.canvas, c.seeds);
-  const Nerve nerve =
-      decided_nerve(c.canvas, extract_nerve(c.canvas, field, c.seeds.size()), c.seeds);
-  const LocalFields locals = compute_local_fields(c.canvas, nerve, c.seeds);
-  c.dual = build_curved_dual(c.canvas, field, nerve, c.seeds, &locals);
+  c.dual = build_curved_dual(in.canvas, in.field, in.nerve, in.seeds, &locals);
+  c.canvas = std::move(in.canvas);
+  c.seeds = std::move(in.seeds);
   return c;
 }
 
@@ -298,19 +315,13 @@ TEST(CurvedDual, StaircaseFollowsTheSolversStencilThroughAStrongShock) {
 // 48^3, 400 seeds: one 3.1 times, 14 over 5%). With LocalFieldOptions::apex_only_distortion they
 // are within 1% of the edges with every simplex in every star (measured: 1.00 times at most).
 TEST(CurvedDual, StarsKeepTheirSimplicesWhereTheMetricVaries) {
-  const std::unique_ptr<MetricField> metric = make_analytic_metric("hyperbolic_shock", 3);
-  CanvasOptions canvas_options;
-  canvas_options.resolution = 48;
-  const Canvas canvas = build_canvas(parse_domain("box:-1,-1,-1,1,1,1"), *metric, canvas_options);
-  const std::vector<Vec3> seeds = random_seeds(canvas, 400, 1);
-  const VoronoiField field = test::solve_reference(canvas, seeds);
-  const Nerve nerve = decided_nerve(canvas, extract_nerve(canvas, field, seeds.size()), seeds);
+  const AnalyticInputs in = analytic_inputs("hyperbolic_shock", "box:-1,-1,-1,1,1,1", 48, 400, 1);
   auto dual_with = [&](double apex_only_distortion, std::size_t& solved) {
     LocalFieldOptions options;
     options.apex_only_distortion = apex_only_distortion;
-    const LocalFields locals = compute_local_fields(canvas, nerve, seeds, options);
+    const LocalFields locals = compute_local_fields(in.canvas, in.nerve, in.seeds, options);
     solved = locals.solved_voxels;
-    return build_curved_dual(canvas, field, nerve, seeds, &locals);
+    return build_curved_dual(in.canvas, in.field, in.nerve, in.seeds, &locals);
   };
   std::size_t solved_all = 0, solved_default = 0, solved_apexes = 0;
   const CurvedDual all = dual_with(0.0, solved_all);
@@ -351,18 +362,13 @@ void expect_every_side_in_the_canvas(const Canvas& canvas, const CurvedDual& dua
 // pulling shortens the staircases measurably (radial zoom at 48^3, 100 seeds: 26 staircase edges,
 // their length 8.2% shorter in all, one edge 24%).
 TEST(CurvedDual, StaircasesArePulledTautNeverLonger) {
-  const std::unique_ptr<MetricField> metric = make_analytic_metric("radial_shock_3d", 3);
-  CanvasOptions canvas_options;
-  canvas_options.resolution = 48;
-  const Canvas canvas = build_canvas(parse_domain("box:4,4,1,6,6,3"), *metric, canvas_options);
-  const std::vector<Vec3> seeds = random_seeds(canvas, 100, 3);
-  const VoronoiField field = test::solve_reference(canvas, seeds);
-  const Nerve nerve = decided_nerve(canvas, extract_nerve(canvas, field, seeds.size()), seeds);
-  const LocalFields locals = compute_local_fields(canvas, nerve, seeds);
+  const AnalyticInputs in = analytic_inputs("radial_shock_3d", "box:4,4,1,6,6,3", 48, 100, 3);
+  const LocalFields locals = compute_local_fields(in.canvas, in.nerve, in.seeds);
   CurvedDualOptions stairs_options;
   stairs_options.pull_staircases = false;
-  const CurvedDual stairs = build_curved_dual(canvas, field, nerve, seeds, &locals, stairs_options);
-  const CurvedDual pulled = build_curved_dual(canvas, field, nerve, seeds, &locals);
+  const CurvedDual stairs =
+      build_curved_dual(in.canvas, in.field, in.nerve, in.seeds, &locals, stairs_options);
+  const CurvedDual pulled = build_curved_dual(in.canvas, in.field, in.nerve, in.seeds, &locals);
   ASSERT_EQ(pulled.edges.size(), stairs.edges.size());
   EXPECT_EQ(pulled.unreached_edges, 0u);
   EXPECT_EQ(pulled.staircase_edges, stairs.staircase_edges);
@@ -382,7 +388,7 @@ TEST(CurvedDual, StaircasesArePulledTautNeverLonger) {
               pulled.staircase_edges, 100 * (1 - pulled_length / stairs_length), 100 * most);
   EXPECT_GT(pulled.staircase_edges, 0u);
   EXPECT_GT(most, 0.01);
-  expect_every_side_in_the_canvas(canvas, pulled);
+  expect_every_side_in_the_canvas(in.canvas, pulled);
 }
 
 // Each local field is u_a itself (not the Voronoi minimum): in a uniform metric |F (x - a)| on
