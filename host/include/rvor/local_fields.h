@@ -23,8 +23,8 @@
 // The solve keeps each voxel's terms and skips the evaluations that cannot change it (reference
 // solver, SingleSourceTerms). Measured (README, "The curved dual"): `rvor voronoi --domain
 // box:0,0,0,1,1,1 --resolution 96 --metric uniform:10,3,5,2,1,4 --random-seeds 500 --dual curved
-// --device cpu`: the boxes hold 31 times the canvas's voxels, 12 times solved, 6.1 to 6.2 s on 2
-// cores against 5.2 to 5.8 s for the CPU solve of the labeled field. `solved_voxels` and `seconds`
+// --device cpu`: the boxes hold 31 times the canvas's voxels, 12 times solved, 6.8 s on 2 cores
+// against 6.2 to 6.4 s for the CPU solve of the labeled field (a loaded hour). `solved_voxels` and `seconds`
 // report what it was.
 #include <array>
 #include <cstddef>
@@ -64,12 +64,13 @@ struct LocalFieldOptions {
   // segments with 0.1; 2.4 voxels with 0.05 (past the 2-voxel requirement).
   int margin = 2;
   double relative_margin = 0.1;
-  // The same fraction for edges, whose capsules are all that surrounds an edge where no top
-  // simplex of the seed's star does. Measured (test
-  // LocalFieldsAreTheSeedsOwnDistancesOverTheirStars, uniform, anisotropy 4 in F), the field's
-  // worst relative error along the edges: 2D (96^2, 15 seeds) 3.6e-3 with 0.1, 4.7e-4 with 0.2; 3D
-  // (48^3, 40 seeds) 1.1e-2 with 0.2. When every seed's star held all its top simplices, with
-  // 0.1: 7.1e-4 and 2.5e-2.
+  // The same fraction for an edge in a seed's star where the star's top simplices do not all
+  // surround it (some around it are not in the star, or they do not close around it: a hull
+  // edge); there the edge's capsule alone holds, on some side, the stencils its segment's values
+  // read. Measured (test LocalFieldsAreTheSeedsOwnDistancesOverTheirStars, uniform, anisotropy 4
+  // in F), the field's worst relative error along the edges: 2D (96^2, 15 seeds) 3.6e-3 with 0.1,
+  // 4.7e-4 with 0.2; 3D (48^3, 40 seeds) 1.1e-2 with 0.2. When every seed's star held all its top
+  // simplices, with 0.1: 7.1e-4 and 2.5e-2.
   double edge_relative_margin = 0.2;
   // A top simplex whose seeds' metrics are within this distortion (rvor/metric.h) of each other
   // goes only to the stars of its triangles' apexes; beyond it (or with 0), to all its seeds'.

@@ -10,6 +10,8 @@
 #include <functional>
 #include <mutex>
 #include <string>
+#include <unordered_map>
+#include <utility>
 
 #include "dual_internal.h"
 #include "parallel_for.h"
@@ -142,15 +144,47 @@ std::vector<double> distance_limits(const Canvas& canvas, const Nerve& nerve,
 // curved_dual.cpp): its smallest seed, and in 3D its second smallest, the apex of the triangle
 // opposite the smallest; there geodesics are nearly straight and the others never trace one
 // through it. Where the metric varies more (LocalFieldOptions::apex_only_distortion), it goes to
-// all its seeds, whose edge geodesics may bend through it. Edges take a wider margin than top
-// simplices: where no top simplex surrounds an edge, its capsule alone holds the stencils that its
-// segment's values read.
+// all its seeds, whose edge geodesics may bend through it. An edge takes a wider margin in a
+// seed's star (LocalFieldOptions::edge_relative_margin) unless the star holds every top simplex
+// around it and they close around it (EdgeSurroundings): otherwise its capsule alone holds, on
+// some side, the stencils that its segment's values read.
+// Per nerve edge (key: its seeds), what surrounds it: the top simplices around it, how many of them
+// each of its seeds holds, and (3D) the degree of each vertex of its link, the edges opposite it
+// in its tetrahedra.
+struct EdgeSurroundings {
+  int tops = 0;
+  std::array<int, 2> held{0, 0};
+  std::vector<std::pair<int32_t, int>> link_degrees;
+
+  void add_link_vertex(int32_t v) {
+    for (auto& [vertex, degree] : link_degrees)
+      if (vertex == v) {
+        ++degree;
+        return;
+      }
+    link_degrees.emplace_back(v, 1);
+  }
+  // Whether the tops close around the edge: two triangles in 2D, a cycle of tetrahedra in 3D.
+  bool interior(int dimension) const {
+    if (dimension == 2) return tops == 2;
+    if (link_degrees.size() < 3) return false;
+    for (const auto& entry : link_degrees)
+      if (entry.second != 2) return false;
+    return true;
+  }
+};
+
+std::uint64_t edge_key(int32_t a, int32_t b) {
+  return static_cast<std::uint64_t>(static_cast<std::uint32_t>(std::min(a, b))) << 32 |
+         static_cast<std::uint32_t>(std::max(a, b));
+}
+
 std::vector<std::vector<detail::StarSimplex>> star_simplices(const Canvas& canvas,
                                                              const Nerve& nerve,
                                                              const std::vector<Vec3>& seeds,
                                                              const LocalFieldOptions& options) {
   std::vector<std::vector<detail::StarSimplex>> stars(seeds.size());
-  auto add = [&](const NerveSimplex& simplex, int owners, double relative_margin) {
+  auto star_of = [&](const NerveSimplex& simplex, double relative_margin) {
     detail::StarSimplex star;
     for (int v = 0; v < simplex.vertex_count; ++v) {
       Vec3 x = canvas.index_coordinates(seeds[static_cast<std::size_t>(simplex.seeds[v])]);
@@ -161,12 +195,12 @@ std::vector<std::vector<detail::StarSimplex>> star_simplices(const Canvas& canva
     for (const Vec3& p : star.vertices)
       for (const Vec3& q : star.vertices) longest = std::max(longest, (p - q).norm());
     star.margin = options.margin + relative_margin * longest;
-    for (int v = 0; v < owners; ++v)  // seeds ascending (nerve.h)
-      stars[static_cast<std::size_t>(simplex.seeds[v])].push_back(star);
+    return star;
   };
   std::vector<Mat3> metrics;
   for (std::size_t s = 0; s < seeds.size(); ++s)
     metrics.push_back(dual::seed_metric(canvas, seeds, s));
+  std::unordered_map<std::uint64_t, EdgeSurroundings> surroundings;
   for (const NerveSimplex& top : nerve.top_simplices()) {
     double spread = 1.0;  // the largest distortion between two of its seeds' metrics
     for (int u = 0; u < top.vertex_count; ++u)
@@ -174,10 +208,30 @@ std::vector<std::vector<detail::StarSimplex>> star_simplices(const Canvas& canva
         spread = std::max(spread, distortion(metrics[static_cast<std::size_t>(top.seeds[u])],
                                              metrics[static_cast<std::size_t>(top.seeds[v])]));
     const int apexes = std::max(1, top.vertex_count - 2);
-    add(top, spread <= options.apex_only_distortion ? apexes : top.vertex_count,
-        options.relative_margin);
+    const int owners = spread <= options.apex_only_distortion ? apexes : top.vertex_count;
+    const detail::StarSimplex star = star_of(top, options.relative_margin);
+    for (int v = 0; v < owners; ++v)  // seeds ascending (nerve.h)
+      stars[static_cast<std::size_t>(top.seeds[v])].push_back(star);
+    for (int u = 0; u < top.vertex_count; ++u)
+      for (int v = u + 1; v < top.vertex_count; ++v) {
+        EdgeSurroundings& around = surroundings[edge_key(top.seeds[u], top.seeds[v])];
+        ++around.tops;
+        around.held[0] += u < owners ? 1 : 0;
+        around.held[1] += v < owners ? 1 : 0;
+        for (int w = 0; w < top.vertex_count; ++w)
+          if (w != u && w != v && top.vertex_count == 4) around.add_link_vertex(top.seeds[w]);
+      }
   }
-  for (const NerveSimplex& edge : nerve.edges) add(edge, 2, options.edge_relative_margin);
+  for (const NerveSimplex& edge : nerve.edges) {
+    const auto found = surroundings.find(edge_key(edge.seeds[0], edge.seeds[1]));
+    for (int side = 0; side < 2; ++side) {
+      const bool surrounded = found != surroundings.end() &&
+                              found->second.held[side] == found->second.tops &&
+                              found->second.interior(canvas.dimension);
+      stars[static_cast<std::size_t>(edge.seeds[side])].push_back(
+          star_of(edge, surrounded ? options.relative_margin : options.edge_relative_margin));
+    }
+  }
   return stars;
 }
 
