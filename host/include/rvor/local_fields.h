@@ -24,8 +24,8 @@
 // solver, SingleSourceTerms). Measured (README, "The curved dual"): `rvor voronoi --domain
 // box:0,0,0,1,1,1 --resolution 96 --metric uniform:10,3,5,2,1,4 --random-seeds 500 --dual curved
 // --device cpu`: the boxes hold 31 times the canvas's voxels, 12 times solved, 6.8 s on 2 cores
-// against 6.2 to 6.4 s for the CPU solve of the labeled field (a loaded hour). `solved_voxels` and `seconds`
-// report what it was.
+// against 6.2 to 6.4 s for the CPU solve of the labeled field (a loaded hour). `solved_voxels` and
+// `seconds` report what it was.
 #include <array>
 #include <cstddef>
 #include <cstdint>
