@@ -58,6 +58,8 @@ std::vector<Vec3> checked_dual_seeds(const Canvas& canvas, const Nerve& nerve,
 
 // The metric of the voxel holding seeds[seed]; throws if that voxel is not active.
 Mat3 seed_metric(const Canvas& canvas, const std::vector<Vec3>& seeds, std::size_t seed);
+// seed_metric of every seed.
+std::vector<Mat3> seed_metrics(const Canvas& canvas, const std::vector<Vec3>& seeds);
 
 LocalDelaunay resolve_near_degenerate(const Canvas& canvas, const Nerve& nerve,
                                       const std::vector<Vec3>& seeds);

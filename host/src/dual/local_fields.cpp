@@ -2,7 +2,6 @@
 // reference solve per seed on a cropped canvas active on the star.
 #include "rvor/local_fields.h"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -69,8 +68,9 @@ std::vector<IndexBox> star_boxes(const Canvas& canvas, const Nerve& nerve,
   return stars;
 }
 
-double largest_scale(const Mat3& G) {
-  return std::sqrt(Eigen::SelfAdjointEigenSolver<Mat3>(G).eigenvalues().maxCoeff());
+// The longest a voxel-length step can measure in the metric, per unit of index length.
+double largest_scale(const Mat3& G, int dimension) {
+  return std::sqrt(metric_eigenvalues(G, dimension).maxCoeff());
 }
 
 // The distance within which each seed's field is solved. Each nerve edge (a, b) has a bound
@@ -91,18 +91,18 @@ double largest_scale(const Mat3& G) {
 // limit), plus the margin (voxels) for the discretisation, at the largest metric scale of the seed
 // and of the witnesses of the edges of its triangles (where the distances above are measured).
 std::vector<double> distance_limits(const Canvas& canvas, const Nerve& nerve,
-                                    const std::vector<Vec3>& seeds,
+                                    const std::vector<Mat3>& seed_metrics,
                                     const LocalFieldOptions& options) {
   const double diagonal = std::sqrt(static_cast<double>(canvas.dimension)) * canvas.voxel_size;
-  std::vector<double> bound(seeds.size(), 0.0), scale(seeds.size());
-  for (std::size_t s = 0; s < seeds.size(); ++s)
-    scale[s] = largest_scale(dual::seed_metric(canvas, seeds, s));
+  std::vector<double> bound(seed_metrics.size(), 0.0), scale(seed_metrics.size());
+  for (std::size_t s = 0; s < seed_metrics.size(); ++s)
+    scale[s] = largest_scale(seed_metrics[s], canvas.dimension);
   std::vector<double> edge_bound(nerve.edges.size()), witness_scale(nerve.edges.size(), 0.0);
   for (std::size_t e = 0; e < nerve.edges.size(); ++e) {
     const NerveSimplex& edge = nerve.edges[e];
     if (edge.nearest.slot >= 0)
-      witness_scale[e] =
-          largest_scale(canvas.metric_at(static_cast<std::size_t>(edge.nearest.slot)));
+      witness_scale[e] = largest_scale(
+          canvas.metric_at(static_cast<std::size_t>(edge.nearest.slot)), canvas.dimension);
     const double twice_u = 2.0 * static_cast<double>(edge.nearest.distance);
     edge_bound[e] = twice_u + diagonal * witness_scale[e];
     for (int v = 0; v < 2; ++v) {
@@ -131,8 +131,8 @@ std::vector<double> distance_limits(const Canvas& canvas, const Nerve& nerve,
       for (std::size_t e : opposite) scale[s] = std::max(scale[s], witness_scale[e]);
     }
   }
-  std::vector<double> limits(seeds.size());
-  for (std::size_t s = 0; s < seeds.size(); ++s)
+  std::vector<double> limits(seed_metrics.size());
+  for (std::size_t s = 0; s < seed_metrics.size(); ++s)
     limits[s] = bound[s] + options.margin * canvas.voxel_size * scale[s];
   return limits;
 }
@@ -148,10 +148,11 @@ std::vector<double> distance_limits(const Canvas& canvas, const Nerve& nerve,
 // seed's star (LocalFieldOptions::edge_relative_margin) unless the star holds every top simplex
 // around it and they close around it (EdgeSurroundings): otherwise its capsule alone holds, on
 // some side, the stencils that its segment's values read.
-// Per nerve edge (key: its seeds), what surrounds it: the top simplices around it, how many of them
-// each of its seeds holds, and (3D) the degree of each vertex of its link, the edges opposite it
-// in its tetrahedra.
+// Per nerve edge (key: its seeds): the distortion between its seeds' metrics, and what surrounds
+// it: the top simplices around it, how many of them each of its seeds holds, and (3D) the degree
+// of each vertex of its link, the edges opposite it in its tetrahedra.
 struct EdgeSurroundings {
+  double distortion = 1.0;  // between its seeds' metrics
   int tops = 0;
   std::array<int, 2> held{0, 0};
   std::vector<std::pair<int32_t, int>> link_degrees;
@@ -182,6 +183,7 @@ std::uint64_t edge_key(int32_t a, int32_t b) {
 std::vector<std::vector<detail::StarSimplex>> star_simplices(const Canvas& canvas,
                                                              const Nerve& nerve,
                                                              const std::vector<Vec3>& seeds,
+                                                             const std::vector<Mat3>& seed_metrics,
                                                              const LocalFieldOptions& options) {
   std::vector<std::vector<detail::StarSimplex>> stars(seeds.size());
   auto star_of = [&](const NerveSimplex& simplex, double relative_margin) {
@@ -197,16 +199,17 @@ std::vector<std::vector<detail::StarSimplex>> star_simplices(const Canvas& canva
     star.margin = options.margin + relative_margin * longest;
     return star;
   };
-  std::vector<Mat3> metrics;
-  for (std::size_t s = 0; s < seeds.size(); ++s)
-    metrics.push_back(dual::seed_metric(canvas, seeds, s));
+  // The edges of a top simplex are nerve edges: the nerve is closed under faces.
   std::unordered_map<std::uint64_t, EdgeSurroundings> surroundings;
+  for (const NerveSimplex& edge : nerve.edges)
+    surroundings[edge_key(edge.seeds[0], edge.seeds[1])].distortion =
+        distortion(seed_metrics[static_cast<std::size_t>(edge.seeds[0])],
+                   seed_metrics[static_cast<std::size_t>(edge.seeds[1])]);
   for (const NerveSimplex& top : nerve.top_simplices()) {
     double spread = 1.0;  // the largest distortion between two of its seeds' metrics
     for (int u = 0; u < top.vertex_count; ++u)
       for (int v = u + 1; v < top.vertex_count; ++v)
-        spread = std::max(spread, distortion(metrics[static_cast<std::size_t>(top.seeds[u])],
-                                             metrics[static_cast<std::size_t>(top.seeds[v])]));
+        spread = std::max(spread, surroundings[edge_key(top.seeds[u], top.seeds[v])].distortion);
     const int apexes = std::max(1, top.vertex_count - 2);
     const int owners = spread <= options.apex_only_distortion ? apexes : top.vertex_count;
     const detail::StarSimplex star = star_of(top, options.relative_margin);
@@ -349,10 +352,11 @@ LocalFields compute_local_fields(const Canvas& canvas, const Nerve& nerve,
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<Vec3> seeds =
       dual::checked_dual_seeds(canvas, nerve, given_seeds, "local fields");
+  const std::vector<Mat3> seed_metrics = dual::seed_metrics(canvas, seeds);
   const std::vector<IndexBox> boxes = star_boxes(canvas, nerve, seeds, options);
-  const std::vector<double> limits = distance_limits(canvas, nerve, seeds, options);
+  const std::vector<double> limits = distance_limits(canvas, nerve, seed_metrics, options);
   const std::vector<std::vector<detail::StarSimplex>> stars =
-      star_simplices(canvas, nerve, seeds, options);
+      star_simplices(canvas, nerve, seeds, seed_metrics, options);
 
   LocalFields out;
   out.fields.resize(seeds.size());

@@ -86,13 +86,6 @@ void set_simplices(const Nerve& nerve, const dual::LocalDelaunay& local, Straigh
   dual.checks.near_degenerate_added = local.added;
 }
 
-std::vector<Mat3> seed_metrics(const Canvas& canvas, const std::vector<Vec3>& seeds) {
-  std::vector<Mat3> metrics;
-  for (std::size_t i = 0; i < seeds.size(); ++i)
-    metrics.push_back(dual::seed_metric(canvas, seeds, i));
-  return metrics;
-}
-
 // Inverted: orientation (consistent across manifold facets) against its component's majority.
 void mark_inverted(const dual::Topology& topo, const std::vector<int>& orientation,
                    StraightDual& dual) {
@@ -161,7 +154,7 @@ StraightDual build_straight_dual(const Canvas& canvas, const Nerve& nerve,
   StraightDual dual;
   dual.dimension = canvas.dimension;
   dual.vertices = seeds;
-  dual.vertex_metrics = seed_metrics(canvas, seeds);
+  dual.vertex_metrics = dual::seed_metrics(canvas, seeds);
   set_simplices(nerve,
                 options.decide_near_degenerate ? dual::resolve_near_degenerate(canvas, nerve, seeds)
                                                : dual::witnessed_as_is(nerve),
@@ -185,6 +178,12 @@ Mat3 seed_metric(const Canvas& canvas, const std::vector<Vec3>& seeds, std::size
   const int64_t slot = canvas.slot_of(canvas.voxel_containing(seeds[seed]));
   if (slot < 0) throw Error("dual: seed " + std::to_string(seed) + " is not in an active voxel");
   return canvas.metric_at(static_cast<std::size_t>(slot));
+}
+
+std::vector<Mat3> seed_metrics(const Canvas& canvas, const std::vector<Vec3>& seeds) {
+  std::vector<Mat3> metrics;
+  for (std::size_t i = 0; i < seeds.size(); ++i) metrics.push_back(seed_metric(canvas, seeds, i));
+  return metrics;
 }
 
 }  // namespace dual
