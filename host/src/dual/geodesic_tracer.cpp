@@ -21,9 +21,10 @@ constexpr double kMinWeight = 1e-9;      // below: corner weights are renormalis
 constexpr int kMaxMisses = 16;           // steps through cells without a voxel of the label
 constexpr int kRefineIterations = 64;    // moves of at most a voxel each
 constexpr std::size_t kPullWindow = 32;  // how many points later a shortcut may end, at most
-// Voxels between the checks of a shortcut's voxels: a segment may clip a cell's corner by less
-// than this without the check seeing it, an immaterial graze of a voxel whose distance is unknown.
-constexpr double kPullSample = 1.0 / 16;
+// Voxels, along the longest axis, between the checks that a segment passes through voxels of its
+// label (segment_carries): a staircase's steps join voxel centres, a shortcut any two of them.
+constexpr double kStaircaseSpacing = 0.5;
+constexpr double kPullSpacing = 1.0 / 16;
 
 // The points dividing the segment p-q into equal pieces of at most kStep, q excluded: the pieces
 // of a segment already divided so measure as one piece each (the tolerance absorbs the rounding
@@ -258,29 +259,33 @@ bool GeodesicTracer::in_seed_block(const Vec3& x, const VoxelIndex& seed_voxel,
   return all && any;
 }
 
-// Whether a step of the staircase from v passes through voxels of the label: at every half voxel
-// of its longest axis, one of the voxels nearest the point (both, per axis, at a tie) other than
-// the step's two ends carries it, where there is such a voxel (none halfway along a step to a face
-// neighbour). Otherwise a diagonal step, or one of several voxels (stencil steps are up to 0.71
-// times the anisotropy long), could cross a one-voxel wall of inactive voxels, or a strip of
-// another label, into the label's voxels beyond.
-bool GeodesicTracer::segment_carries(const VoxelIndex& v, const std::array<int, 3>& step,
-                                     int32_t label) const {
-  const std::array<int, 3> from{v.i, v.j, v.k}, to{v.i + step[0], v.j + step[1], v.k + step[2]};
-  const int samples = 2 * std::max({std::abs(step[0]), std::abs(step[1]), std::abs(step[2])});
-  for (int q = 1; q < samples; ++q) {
+// Whether the segment p-q (index coordinates) passes through voxels of the label: at every sample
+// (`spacing` apart along its longest axis), one of the voxels nearest the point (both, per axis,
+// at a tie) other than the voxels nearest its two ends carries it, where there is such a voxel
+// (none halfway along a step to a face neighbour). Otherwise a diagonal step, or one of several
+// voxels (stencil steps are up to 0.71 times the anisotropy long), could cross a one-voxel wall of
+// inactive voxels, or a strip of another label, into the label's voxels beyond. Between voxel
+// centres sampled every half voxel the ties are exact (a quotient of integers that is a
+// half-integer is representable); a shortcut sampled finer may graze a cell's corner by less than
+// its spacing unseen.
+bool GeodesicTracer::segment_carries(const Vec3& p, const Vec3& q, int32_t label,
+                                     double spacing) const {
+  const VoxelIndex from = nearest_voxel(p), to = nearest_voxel(q);
+  const int samples =
+      std::max(1, static_cast<int>(std::ceil((q - p).cwiseAbs().maxCoeff() / spacing - 1e-9)));
+  for (int n = 1; n < samples; ++n) {
     std::array<std::array<int, 2>, 3> nearest{};  // per axis, the voxels nearest the point
-    for (std::size_t a = 0; a < 3; ++a) {
-      // Exact: a quotient of integers that is a half-integer is representable.
-      const double p = from[a] + static_cast<double>(q * step[a]) / samples;
-      nearest[a] = {static_cast<int>(std::ceil(p - 0.5)), static_cast<int>(std::floor(p + 0.5))};
+    for (int a = 0; a < 3; ++a) {
+      const double x = a < dimension_ ? p[a] + (q[a] - p[a]) * n / samples : 0.0;
+      nearest[static_cast<std::size_t>(a)] = {static_cast<int>(std::ceil(x - 0.5)),
+                                              static_cast<int>(std::floor(x + 0.5))};
     }
     bool between = false, carried = false;
     for (int k = nearest[2][0]; k <= nearest[2][1] && !carried; ++k)
       for (int j = nearest[1][0]; j <= nearest[1][1] && !carried; ++j)
         for (int i = nearest[0][0]; i <= nearest[0][1] && !carried; ++i) {
-          const std::array<int, 3> c{i, j, k};
-          if (c == from || c == to) continue;
+          if ((i == from.i && j == from.j && k == from.k) || (i == to.i && j == to.j && k == to.k))
+            continue;
           between = true;
           carried = carries(canvas_.slot_of(i, j, k), label);
         }
@@ -334,7 +339,9 @@ bool GeodesicTracer::discrete_descent(const Vec3& x, const Vec3& target,
     auto consider = [&](const std::array<int, 3>& offset) {
       const int64_t slot = canvas_.slot_of(v.i + offset[0], v.j + offset[1], v.k + offset[2]);
       const double d = distance_of(slot, label);
-      if (!(d < u) || !segment_carries(v, offset, label)) return;
+      if (!(d < u) || !segment_carries(here, here + Vec3(offset[0], offset[1], offset[2]), label,
+                                       kStaircaseSpacing))
+        return;
       const Vec3 step(offset[0], offset[1], offset[2]);
       const Mat3 M = 0.5 * (G + canvas_.metric_at(static_cast<std::size_t>(slot)));
       const double slope = (u - d) / (h * std::sqrt(step.dot(M * step)));
@@ -373,15 +380,6 @@ double GeodesicTracer::segment_length(const Vec3& p, const Vec3& q) const {
   return length;
 }
 
-bool GeodesicTracer::segment_known(const Vec3& p, const Vec3& q, int32_t label) const {
-  const int samples = std::max(1, static_cast<int>(std::ceil((q - p).norm() / kPullSample)));
-  for (int n = 1; n < samples; ++n)
-    if (!carries(canvas_.slot_of(nearest_voxel(p + (q - p) * (static_cast<double>(n) / samples))),
-                 label))
-      return false;
-  return true;
-}
-
 // A staircase of voxel centres is the discrete field's steepest descent, not a geodesic: it turns
 // at every voxel. From each of its points, the farthest later point (within kPullWindow) that a
 // straight segment reaches through voxels where the label's distance is known, no longer in the
@@ -400,7 +398,7 @@ void GeodesicTracer::pull_taut(const Vec3& anchor, int32_t label, std::vector<Ve
     std::size_t reach = i + 1;
     for (std::size_t j = i + 2; j < stairs.size() && j <= i + kPullWindow; ++j)
       if (segment_length(stairs[i], stairs[j]) <= along[j] - along[i] &&
-          segment_known(stairs[i], stairs[j], label))
+          segment_carries(stairs[i], stairs[j], label, kPullSpacing))
         reach = j;
     const std::vector<Vec3> points = division_points(stairs[i], stairs[reach]);
     path.insert(path.end(), points.begin() + 1, points.end());

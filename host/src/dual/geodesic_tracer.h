@@ -66,12 +66,11 @@ class GeodesicTracer {
   // The fallback of trace where its descent stalls or leaves the label's voxels (see the .cpp).
   bool discrete_descent(const Vec3& x, const Vec3& target, const VoxelIndex& seed_voxel,
                         int32_t label, std::vector<Vec3>& path) const;
-  bool segment_carries(const VoxelIndex& v, const std::array<int, 3>& step, int32_t label) const;
+  // Whether the segment p-q passes through voxels of the label (see the .cpp).
+  bool segment_carries(const Vec3& p, const Vec3& q, int32_t label, double spacing) const;
   // The staircase path[from..] (after `anchor`) shortened by straight segments (see the .cpp).
   void pull_taut(const Vec3& anchor, int32_t label, std::vector<Vec3>& path,
                  std::size_t from) const;
-  // Whether every voxel the segment p-q passes (sampled every kPullSample) carries the label.
-  bool segment_known(const Vec3& p, const Vec3& q, int32_t label) const;
   // x clamped to the canvas's index box (half a voxel beyond the voxel centres).
   Vec3 inside_canvas(const Vec3& x) const;
   // Whether x lies within the seed block (rvor/seed_blocks.h) around `seed_voxel`, in a cell whose
