@@ -67,19 +67,19 @@ struct LocalFieldOptions {
   // The same fraction for an edge in a seed's star where the star's top simplices do not all
   // surround it (some around it are not in the star, or they do not close around it: a hull
   // edge); there the edge's capsule alone holds, on some side, the stencils its segment's values
-  // read. Measured (test LocalFieldsAreTheSeedsOwnDistancesOverTheirStars, uniform, anisotropy 4
-  // in F), the field's worst relative error along the edges: 2D (96^2, 15 seeds) 3.6e-3 with 0.1,
-  // 4.7e-4 with 0.2; 3D (48^3, 40 seeds) 1.1e-2 with 0.2. When every seed's star held all its top
-  // simplices, with 0.1: 7.1e-4 and 2.5e-2.
+  // read. Measured (test LocalFieldsAreTheSeedsOwnDistancesOverTheirStars prints it; uniform,
+  // anisotropy 4 in F), the field's worst relative error along the edges: 2D (96^2, 15 seeds)
+  // 3.6e-3 with 0.1, 4.7e-4 with 0.2; 3D (48^3, 40 seeds) 1.1e-2 with 0.2. At 618a75d, when every
+  // seed's star held all its top simplices and every edge 0.1: 7.1e-4 and 2.5e-2.
   double edge_relative_margin = 0.2;
   // A top simplex whose seeds' metrics are within this distortion (rvor/metric.h) of each other
   // goes only to the stars of its triangles' apexes; beyond it (or with 0), to all its seeds'.
   // Measured on 3D hyperbolic_shock, 48^3, 400 seeds (coarse: the metric varies several-fold
-  // between neighbouring seeds): with every top simplex given to its apexes only, 14 of 3077 edges
-  // came out over 5% longer than with every simplex in every star, one 3.1 times (its geodesic
-  // bent out of the capsules); with 1.5, 2, as with every simplex in every star and the wider
-  // edge margin. radial_shock_3d at 96^3 with 500 seeds keeps most of the saving: 12.7M voxels
-  // solved, against 14.0M with every simplex in every star and 11.9M with apexes only.
+  // between neighbouring seeds; test StarsKeepTheirSimplicesWhereTheMetricVaries prints it): with
+  // every top simplex given to its apexes only, 11 of 3077 edges come out over 5% longer than with
+  // every simplex in every star, one 3.1 times (its geodesic bends out of the capsules); with 1.5,
+  // none. Uniform metrics keep the whole saving (the README's uniform case: 10.5M voxels solved,
+  // 12.7M at 618a75d, when every seed's star held all its simplices).
   double apex_only_distortion = 1.5;
   // Bytes the job may hold (rvor/memory_budget.h; 0: default_memory_budget()): the fields kept
   // and the solves in flight, beside the canvas and its field. Fewer solves run at once where

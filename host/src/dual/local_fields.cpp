@@ -43,9 +43,9 @@ struct IndexBox {
 // axis by the margin plus a fraction of its extent, clipped to the canvas. The mask (star_mask.h)
 // is cut by the box where a simplex's margin reaches beyond it: mostly the caps of the edges'
 // capsules beyond the neighbours, where the seed's field is not needed (an edge's geodesic runs
-// between its seeds). Boxes grown to every simplex's margin held 15% more voxels (kept fields and
-// the solves' memory) and took longer, for edges of nearly the same lengths (3D hyperbolic_shock
-// 48^3 and radial_shock_3d 96^3, against these boxes: at most 2% apart).
+// between its seeds). Boxes grown to every simplex's margin (tried 2026-12-05, code not kept) held
+// 15% more voxels (kept fields and the solves' memory) and took longer, for edges of nearly the
+// same lengths (3D hyperbolic_shock 48^3 and radial_shock_3d 96^3: at most 2% apart).
 std::vector<IndexBox> star_boxes(const Canvas& canvas, const Nerve& nerve,
                                  const std::vector<Vec3>& seeds, const LocalFieldOptions& options) {
   std::vector<VoxelIndex> voxels;
