@@ -359,15 +359,9 @@ inline Vec3 ReferenceSolver::stencil_step(int32_t voxel, int term) const {
   return h_ * Vec3(e[0], e[1], e[2]);
 }
 
-// Source factorization of a neighbour value v at y = x + sign * step:
-// v + u0(x) - u0(y) + <grad u0(x), y - x> (unchanged at the seed itself, where u0(x) = 0), with
+// Source factorization of a neighbour value v at y = x + sign * step adds
+// u0(x) - u0(y) + <grad u0(x), y - x> (nothing at the seed itself, where u0(x) = 0), with
 // `weight`, the frame's times the offset's (term_factorization_weight).
-inline double ReferenceSolver::corrected_value(const SourceFrame& frame, const Vec3& step,
-                                               double sign, double value, double weight) const {
-  if (!(weight > 0)) return value;
-  return value + correction(frame, step, sign, weight);
-}
-
 inline double ReferenceSolver::correction(const SourceFrame& frame, const Vec3& step, double sign,
                                           double weight) const {
   if (!(weight > 0)) return 0;
@@ -520,7 +514,7 @@ double ReferenceSolver::local_solve(int32_t voxel, int32_t label, const int32_t*
       step = stencil_step(voxel, t);
       weight = term_factorization_weight(frame, step);
     }
-    return corrected_value(frame, step, side == 0 ? 1.0 : -1.0, value, weight);
+    return value + correction(frame, step, side == 0 ? 1.0 : -1.0, weight);
   });
 }
 

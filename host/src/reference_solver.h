@@ -98,9 +98,7 @@ class ReferenceSolver {
   // h e_t of the voxel's stencil term t, in world units.
   Vec3 stencil_step(int32_t voxel, int term) const;
   double term_factorization_weight(const SourceFrame& frame, const Vec3& step) const;
-  double corrected_value(const SourceFrame& frame, const Vec3& step, double sign, double value,
-                         double weight) const;
-  // What corrected_value adds to the value of a neighbour: it does not depend on the value.
+  // What source factorization adds to the value of a neighbour: it does not depend on the value.
   double correction(const SourceFrame& frame, const Vec3& step, double sign, double weight) const;
   // Recomputes x from its neighbours: the smallest candidate over the labels of its stencil
   // neighbours (ties: smaller label). Returns whether (value, label) changed.
