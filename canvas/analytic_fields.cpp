@@ -87,6 +87,7 @@ class EuclideanField final : public AnalyticField {
  public:
   EuclideanField(int dimension, double scale)
       : AnalyticField("euclidean", dimension, scale, std::nullopt) {}
+  bool is_uniform() const override { return true; }
 
  private:
   Mat3 unscaled_at(const Vec3&) const override { return Mat3::Identity(); }
@@ -96,6 +97,7 @@ class UniformField final : public AnalyticField {
  public:
   UniformField(int dimension, const Mat3& G, double scale)
       : AnalyticField("uniform", dimension, scale, std::nullopt), G_(G) {}
+  bool is_uniform() const override { return true; }
 
  private:
   Mat3 unscaled_at(const Vec3&) const override { return G_; }

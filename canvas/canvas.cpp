@@ -37,6 +37,28 @@ RVOR_CLONED_FOR_AVX2 std::uint64_t hash_slots(const std::uint8_t* active, const 
   return sum;
 }
 
+// hash_slots of the same tensor at every active slot and zeros at the others, without the array.
+RVOR_CLONED_FOR_AVX2 std::uint64_t hash_uniform_slots(const std::uint8_t* active,
+                                                      const std::array<float, 6>& tensor,
+                                                      std::size_t begin, std::size_t end) {
+  std::uint64_t pairs[3];
+  std::memcpy(pairs, tensor.data(), sizeof pairs);
+  std::uint64_t sum = 0;
+  for (std::size_t slot = begin; slot < end; ++slot) {
+    const std::uint64_t on = active[slot] ? ~std::uint64_t{0} : 0;
+    sum += indexed_word_hash(4 * slot, active[slot]);
+    for (int n = 0; n < 3; ++n) sum += indexed_word_hash(4 * slot + 1 + n, pairs[n] & on);
+  }
+  return sum;
+}
+
+std::array<float, 6> stored_floats(const Mat3& G, int dimension) {
+  const SolTensor c = tensor_to_sol(stored_metric(G, dimension));
+  std::array<float, 6> out;
+  for (int n = 0; n < 6; ++n) out[n] = static_cast<float>(c[n]);
+  return out;
+}
+
 // The geometry's scalars, at indices from `first` on, above every slot's.
 std::uint64_t hash_scalars(const Canvas& canvas, std::uint64_t first) {
   std::uint64_t index = first, sum = 0;
@@ -110,7 +132,7 @@ void require_consistent_geometry(const Canvas& c) {
 // engines read the z row differently, so another one would make them disagree.
 void require_planar_tensors(const Canvas& c) {
   const auto off_plane = [&](std::size_t slot) {
-    const float* m = &c.metric[6 * slot];
+    const float* m = c.metric_of(slot);
     return c.active[slot] && (m[3] != 0.0f || m[4] != 0.0f || m[5] != 1.0f);
   };
   // Counted over slot ranges in parallel, as the content hash reads them; the first one only
@@ -123,7 +145,7 @@ void require_planar_tensors(const Canvas& c) {
     return;
   for (std::size_t slot = 0; slot < c.slot_count(); ++slot) {
     if (off_plane(slot)) {
-      const float* m = &c.metric[6 * slot];
+      const float* m = c.metric_of(slot);
       const VoxelIndex v = c.voxel_of(slot);
       throw Error("canvas voxel (" + std::to_string(v.i) + ", " + std::to_string(v.j) +
                   ") of a 2D canvas: m13, m23, m33 must be 0, 0, 1 (set_active stores the xy " +
@@ -188,13 +210,34 @@ VoxelIndex Canvas::voxel_containing(const Vec3& world) const {
 }
 
 Mat3 Canvas::metric_at(std::size_t slot) const {
-  const float* m = &metric[6 * slot];
+  const float* m = metric_of(slot);
   return tensor_from_sol({m[0], m[1], m[2], m[3], m[4], m[5]});
 }
 
+std::optional<Mat3> Canvas::uniform_metric() const {
+  if (!uniform_metric_) return std::nullopt;
+  const std::array<float, 6>& m = *uniform_metric_;
+  return tensor_from_sol({m[0], m[1], m[2], m[3], m[4], m[5]});
+}
+
+float* Canvas::mutable_metric(std::size_t slot) {
+  content_hash_.reset();
+  store_metric_per_slot();
+  return &metric_[6 * slot];
+}
+
+void Canvas::store_metric_per_slot() {
+  if (!uniform_metric_) return;
+  metric_.assign(6 * active.size(), 0.0f);
+  for (std::size_t slot = 0; slot < active.size(); ++slot)
+    if (active[slot])
+      std::copy(uniform_metric_->begin(), uniform_metric_->end(), &metric_[6 * slot]);
+  uniform_metric_.reset();
+}
+
 void Canvas::allocate(int dim, double h, const Vec3& world_origin,
-                      const std::array<int, 3>& index_dims,
-                      const std::vector<VoxelIndex>& origins) {
+                      const std::array<int, 3>& index_dims, const std::vector<VoxelIndex>& origins,
+                      const std::optional<Mat3>& uniform_metric) {
   if (dim != 2 && dim != 3) throw Error("canvas dimension must be 2 or 3");
   if (std::any_of(index_dims.begin(), index_dims.begin() + dim, [](int n) { return n < 1; }))
     throw Error("canvas index box must have at least one voxel along each axis");
@@ -223,16 +266,23 @@ void Canvas::allocate(int dim, double h, const Vec3& world_origin,
         static_cast<int32_t>(b);
   }
   active.assign(slot_count(), 0);
-  metric.assign(6 * slot_count(), 0.0f);
+  if (uniform_metric) {
+    uniform_metric_ = stored_floats(*uniform_metric, dimension);
+    std::vector<float>().swap(metric_);
+  } else {
+    uniform_metric_.reset();
+    metric_.assign(6 * slot_count(), 0.0f);
+  }
   active_voxel_count = 0;
   content_hash_.reset();
 }
 
 void Canvas::set_active(std::size_t slot, const Mat3& G) {
   content_hash_.reset();
+  const std::array<float, 6> tensor = stored_floats(G, dimension);
+  if (uniform_metric_ && tensor != *uniform_metric_) store_metric_per_slot();
   active[slot] = 1;
-  const SolTensor c = tensor_to_sol(stored_metric(G, dimension));
-  for (int n = 0; n < 6; ++n) metric[6 * slot + n] = static_cast<float>(c[n]);
+  if (!uniform_metric_) std::copy(tensor.begin(), tensor.end(), &metric_[6 * slot]);
 }
 
 void Canvas::finalize() {
@@ -240,14 +290,16 @@ void Canvas::finalize() {
   require_consistent_geometry(*this);
   active_voxel_count = 0;
   for (uint8_t a : active) active_voxel_count += a;
-  if (active.size() != slot_count() || metric.size() != 6 * slot_count())
-    throw Error("canvas: " + std::to_string(active.size()) + " activity flags and " +
-                std::to_string(metric.size()) + " metric floats for " +
-                std::to_string(slot_count()) + " slots (6 floats each)");
+  if (active.size() != slot_count() || metric_slot_count() != slot_count())
+    throw Error("canvas: " + std::to_string(active.size()) + " activity flags and tensors for " +
+                std::to_string(metric_slot_count()) + " slots in a canvas of " +
+                std::to_string(slot_count()) + " slots");
   if (dimension == 2) require_planar_tensors(*this);
   content_hash_ = hash_geometry(*this) +
                   sum_over_slot_ranges(slot_count(), [&](std::size_t begin, std::size_t end) {
-                    return hash_slots(active.data(), metric.data(), begin, end);
+                    return uniform_metric_
+                               ? hash_uniform_slots(active.data(), *uniform_metric_, begin, end)
+                               : hash_slots(active.data(), metric_.data(), begin, end);
                   });
 }
 
@@ -266,9 +318,10 @@ std::optional<std::uint64_t> canvas_identity(const Canvas& canvas) {
   // read one component only, so canvases differing in m22 or m33 alone looked the same.
   const std::size_t step = std::max<std::size_t>(1, canvas.slot_count() / 4096);
   for (std::size_t slot = 0; slot < canvas.slot_count(); slot += step) {
-    if (slot >= canvas.active.size() || 6 * slot + 6 > canvas.metric.size()) break;
+    if (slot >= canvas.active.size() || slot >= canvas.metric_slot_count()) break;
     add(canvas.active[slot]);
-    for (int n = 0; n < 6; ++n) add(bits_of(canvas.metric[6 * slot + n]));
+    const float* m = canvas.metric_of(slot);
+    for (int n = 0; n < 6; ++n) add(bits_of(m[n]));
   }
   return sum;
 }

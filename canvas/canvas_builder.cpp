@@ -297,7 +297,7 @@ std::size_t local_index(const openvdb::Coord& c, const Placement& p) {
 // Samples and validates the metric at every active voxel in parallel. On failure the error of
 // the first failing brick (in brick order) is rethrown, so the report does not depend on timing.
 void sample_metric(Canvas& canvas, const std::vector<const BoolLeaf*>& leaves, const Placement& p,
-                   const MetricField& metric) {
+                   const MetricField& metric, const std::optional<Mat3>& uniform) {
   const std::string name = "'" + metric.description() + "'";
   std::atomic<std::size_t> first_failure{leaves.size()};
   std::mutex failure_mutex;
@@ -315,9 +315,16 @@ void sample_metric(Canvas& canvas, const std::vector<const BoolLeaf*>& leaves, c
           const Vec3 world = p.world(c);
           const Mat3 given = metric.at(world);
           const Mat3 G = stored_metric(given, p.dimension);
-          // The message is built only on failure: formatting it per voxel would dominate the build.
-          if (G != checked && !is_storable_metric(G, p.dimension))
-            require_storable_metric(G, given, p.dimension, name + " at " + point_text(world));
+          if (G != checked) {
+            // The message is built only on failure: formatting it per voxel would dominate.
+            if (!is_storable_metric(G, p.dimension))
+              require_storable_metric(G, given, p.dimension, name + " at " + point_text(world));
+            // Another tensor would turn the canvas into the per-slot form, which is not safe in
+            // parallel.
+            if (uniform && G != *uniform)
+              throw Error("metric " + name + " claims to be uniform but differs at " +
+                          point_text(world));
+          }
           checked = G;
           canvas.set_active(brick * canvas.brick_volume() + local_index(c, p), G);
         }
@@ -368,10 +375,14 @@ Canvas build_canvas(const DomainSpec& domain, const MetricField& metric,
   brick_origins.reserve(leaves.size());
   for (const BoolLeaf* leaf : leaves)
     brick_origins.push_back({leaf->origin().x(), leaf->origin().y(), leaf->origin().z()});
+  // A uniform field's tensor is stored once (the canvas's uniform form).
+  std::optional<Mat3> uniform;
+  if (metric.is_uniform())
+    uniform = stored_metric(metric.at(placement.origin), placement.dimension);
   Canvas canvas;
-  canvas.allocate(placement.dimension, placement.h, placement.origin, placement.dims,
-                  brick_origins);
-  sample_metric(canvas, leaves, placement, metric);
+  canvas.allocate(placement.dimension, placement.h, placement.origin, placement.dims, brick_origins,
+                  uniform);
+  sample_metric(canvas, leaves, placement, metric, uniform);
   canvas.finalize();
   canvas.convex_domain = resolved.shape  ? resolved.shape->is_convex()
                          : resolved.mesh ? is_convex(*resolved.mesh, placement.h)

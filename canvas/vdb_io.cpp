@@ -132,8 +132,7 @@ void write_metric_vdb(const std::string& path, const Canvas& canvas) {
   openvdb::GridPtrVec grids;
   for (int component = 0; component < 6; ++component) {
     auto grid = make_canvas_grid<openvdb::FloatGrid>(canvas, kMetricGridNames[component], 0.0f);
-    fill_active(*grid, canvas,
-                [&](std::size_t slot) { return canvas.metric[6 * slot + component]; });
+    fill_active(*grid, canvas, [&](std::size_t slot) { return canvas.metric_of(slot)[component]; });
     grids.push_back(grid);
   }
   write_grids_atomically(path, grids);

@@ -24,8 +24,8 @@ rvor::Canvas box_canvas() {
   canvas.allocate(3, 2.0 / kEdge, rvor::Vec3::Constant(-1), {kEdge, kEdge, kEdge}, origins);
   for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
     canvas.active[slot] = 1;
-    canvas.metric[6 * slot] = canvas.metric[6 * slot + 2] = canvas.metric[6 * slot + 5] =
-        1.0f + static_cast<float>(slot % 977) * 1e-3f;
+    float* metric = canvas.mutable_metric(slot);
+    metric[0] = metric[2] = metric[5] = 1.0f + static_cast<float>(slot % 977) * 1e-3f;
   }
   canvas.finalize();
   return canvas;

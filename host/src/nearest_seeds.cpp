@@ -166,10 +166,11 @@ Vec3 seed_index_point(const Canvas& canvas, const Vec3& seed) {
 }
 
 bool has_uniform_metric(const Canvas& canvas) {
+  if (canvas.uniform_metric()) return true;
   const float* first = nullptr;
   for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
     if (!canvas.active[slot]) continue;
-    const float* m = &canvas.metric[6 * slot];
+    const float* m = canvas.metric_of(slot);
     if (!first)
       first = m;
     else if (!std::equal(m, m + 6, first))
@@ -186,8 +187,8 @@ bool fills_index_box(const Canvas& canvas) {
 
 bool first_metric_is_diagonal(const Canvas& canvas) {
   if (canvas.active_voxel_count == 0) return false;
-  const float* m = &canvas.metric[6 * first_active_slot(canvas)];  // .sol: m11 m12 m22 m13 m23 m33
-  return m[1] == 0.0f && m[3] == 0.0f && m[4] == 0.0f;  // a 2D canvas stores m13 = m23 = 0
+  const float* m = canvas.metric_of(first_active_slot(canvas));  // .sol: m11 m12 m22 m13 m23 m33
+  return m[1] == 0.0f && m[3] == 0.0f && m[4] == 0.0f;           // a 2D canvas stores m13 = m23 = 0
 }
 
 bool is_face_connected(const Canvas& canvas) {

@@ -138,7 +138,7 @@ void ReferenceSolver::compute_stencils(const Canvas& canvas) {
   const float* previous_metric = nullptr;
   for (std::size_t slot = 0; slot < slot_count_; ++slot) {
     if (!canvas.active[slot]) continue;
-    const float* metric = &canvas.metric[6 * slot];
+    const float* metric = canvas.metric_of(slot);
     // Uniform regions repeat the same tensor: share the previous stencil instead of recomputing.
     if (!previous_metric || std::memcmp(metric, previous_metric, 6 * sizeof(float)) != 0) {
       const Mat3 D = dual_metric(canvas, slot);

@@ -67,8 +67,7 @@ void expect_same_canvas(const Canvas& built, const Canvas& expected) {
     if (!built.active[slot]) continue;
     const int64_t other = expected.slot_of(built.voxel_of(slot));
     ASSERT_GE(other, 0) << "slot " << slot;
-    for (int n = 0; n < 6; ++n)
-      ASSERT_EQ(built.metric[6 * slot + n], expected.metric[6 * other + n]);
+    for (int n = 0; n < 6; ++n) ASSERT_EQ(built.metric_of(slot)[n], expected.metric_of(other)[n]);
   }
 }
 

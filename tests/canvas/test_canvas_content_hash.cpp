@@ -29,7 +29,7 @@ TEST(CanvasContentHash, OneFloatOfOneSlotChangesIt) {
   for (std::size_t slot : {std::size_t{0}, std::size_t{777}, original.slot_count() - 1})
     for (int component = 0; component < 6; ++component) {
       Canvas changed = original;
-      changed.metric[6 * slot + component] += 0.5f;
+      changed.mutable_metric(slot)[component] += 0.5f;
       changed.finalize();
       EXPECT_NE(changed.content_hash(), original.content_hash())
           << "slot " << slot << ", component " << component;
@@ -102,7 +102,7 @@ TEST(CanvasConsistency, FinalizeRefusesCorruptedBricks) {
   unplaced.voxel_size = 0;
   expect_refused(unplaced, "voxel size must be positive");
   Canvas z_row = original;
-  z_row.metric[6 * 5 + 5] = 100.0f;
+  z_row.mutable_metric(5)[5] = 100.0f;
   expect_refused(z_row, "m13, m23, m33 must be 0, 0, 1");
   Canvas unchanged = original;
   EXPECT_NO_THROW(unchanged.finalize());

@@ -112,9 +112,10 @@ TEST(VdbIo, CanvasBuiltOnAVdbMetricReproducesIt) {
   CanvasOptions options;
   options.resolution = 24;
   const Canvas rebuilt = build_canvas(parse_domain("box:-1,0,0,1,1,1"), *field, options);
-  ASSERT_EQ(rebuilt.metric.size(), canvas.metric.size());
-  for (std::size_t n = 0; n < canvas.metric.size(); ++n)
-    ASSERT_NEAR(rebuilt.metric[n], canvas.metric[n], 1e-5) << n;
+  ASSERT_EQ(rebuilt.slot_count(), canvas.slot_count());
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot)
+    for (int n = 0; n < 6; ++n)
+      ASSERT_NEAR(rebuilt.metric_of(slot)[n], canvas.metric_of(slot)[n], 1e-5) << slot << " " << n;
   EXPECT_NE(rebuilt.description.find("vdb:"), std::string::npos);
 }
 
@@ -142,7 +143,7 @@ TEST(VdbIo, BadStoredTensorsAndUncoveredPointsAreNamed) {
   Canvas canvas = test::make_box_canvas(3, Vec3(0, 0, 0), Vec3(1, 1, 1), 16, linear_in_x);
   std::size_t slot = 0;
   while (!canvas.active[slot]) ++slot;
-  canvas.metric[6 * (slot + 37)] = -1.0f;  // m11 < 0 at one voxel
+  canvas.mutable_metric(slot + 37)[0] = -1.0f;  // m11 < 0 at one voxel
   write_metric_vdb(dir.file("bad.vdb"), canvas);
   const std::string bad = error_of([&] { load_vdb_metric(dir.file("bad.vdb")); });
   EXPECT_NE(bad.find("bad.vdb at voxel"), std::string::npos) << bad;

@@ -192,6 +192,27 @@ TEST(OpenCLUniformMetric, CurvedDomainsMatchTheReference) {
   }
 }
 
+// A canvas stores a uniform field's tensor once (Canvas::uniform_metric); both engines solve it
+// as they solve the same tensors stored per slot, bit for bit.
+TEST(OpenCLUniformMetric, BothCanvasFormsGiveTheSameField) {
+  REQUIRE_ENGINE(RelaxationVariant::automatic);
+  const Canvas uniform = test::domain_canvas("implicit:sphere", "uniform:4,1,2,0,0.5,1", 32);
+  ASSERT_TRUE(uniform.uniform_metric().has_value());
+  Canvas per_slot = uniform;
+  per_slot.mutable_metric(0);  // the per-slot form, every tensor as it was
+  per_slot.finalize();
+  ASSERT_FALSE(per_slot.uniform_metric().has_value());
+  const std::vector<Vec3> seeds = test::seeds_in(uniform, 40, 3);
+  const std::unique_ptr<Propagator> reference = make_reference_propagator();
+  for (Propagator* propagator : {engine.get(), reference.get()}) {
+    VoronoiField from_uniform, from_per_slot;
+    propagator->solve(uniform, seeds, from_uniform);
+    propagator->solve(per_slot, seeds, from_per_slot);
+    EXPECT_EQ(from_uniform.distance, from_per_slot.distance);
+    EXPECT_EQ(from_uniform.label, from_per_slot.label);
+  }
+}
+
 // The savings below are the brick sweeps' (brick_lanes, the CPU devices' choice), pinned so that
 // a GPU test device, whose automatic choice is voxel_phases, checks the same bounds; voxel phases
 // evaluate more often, and VoxelPhasesReachTheFixedPoint holds their own bounds.

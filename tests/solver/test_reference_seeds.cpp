@@ -319,7 +319,7 @@ INSTANTIATE_TEST_SUITE_P(Reference, SeedsByDimension, ::testing::Values(2, 3),
 TEST(CanvasTensors, ATensorThatIsNotSpdIsNamedByItsVoxel) {
   Canvas canvas = make_uniform_box_canvas(2, Vec3(-1, -1, 0), Vec3(1, 1, 0), 16, Mat3::Identity());
   const float not_spd[6] = {4, 10, 1, 0, 0, 1};
-  std::copy(not_spd, not_spd + 6, &canvas.metric[6 * 5]);
+  std::copy(not_spd, not_spd + 6, canvas.mutable_metric(5));
   canvas.finalize();
   VoronoiField field;
   try {

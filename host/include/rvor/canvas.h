@@ -2,8 +2,8 @@
 // The canvas: a sparse voxel grid covering the domain, with the metric sampled at every active
 // voxel. It is built on OpenVDB (canvas_builder.h) and stored here in the packed form the solvers
 // use: active 8^3 leaves (8x8x1 in 2D) as bricks of consecutive "slots", a dense brick table for
-// neighbour look-ups at any offset, and six floats of metric per slot. No OpenVDB type appears
-// here.
+// neighbour look-ups at any offset, and the metric: six floats per slot, or six in all where one
+// tensor holds everywhere (the uniform form). No OpenVDB type appears here.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -31,7 +31,6 @@ class Canvas {
   std::vector<int32_t> brick_table;       // brick grid (x fastest) -> brick id, -1 where empty
   std::vector<VoxelIndex> brick_origins;  // voxel index of each brick's (0,0,0) corner
   std::vector<uint8_t> active;            // per slot: 1 inside the domain
-  std::vector<float> metric;              // per slot, 6 floats in .sol order (zero where inactive)
   std::size_t active_voxel_count = 0;
   // The builder knew the domain convex (a box or rectangle, a sphere, ellipsoid or disk, a convex
   // mesh): a straight segment between two of its points stays inside it, so under a uniform metric
@@ -57,32 +56,60 @@ class Canvas {
   // The voxel whose cell contains the world point (rounded index; may lie outside dims). A point
   // on the index box's faces, to a millionth of a voxel, belongs to the boundary voxel.
   VoxelIndex voxel_containing(const Vec3& world) const;
+  // A slot's tensor: six floats in .sol order (zeros where inactive), or as a matrix.
+  const float* metric_of(std::size_t slot) const {
+    if (!uniform_metric_) return &metric_[6 * slot];
+    return active[slot] ? uniform_metric_->data() : kNoTensor.data();
+  }
   Mat3 metric_at(std::size_t slot) const;
+  // The one tensor of every active voxel when the canvas stores it once (the uniform form, from
+  // allocate(): 24 bytes per voxel less, 3.2 GB at 512^3); none when tensors are stored per slot,
+  // even if they happen to be equal.
+  std::optional<Mat3> uniform_metric() const;
+  // The six floats of a slot's tensor, to write by hand (then finalize()). A canvas in the uniform
+  // form is first turned into the per-slot form (its tensor at every active slot), which must not
+  // run beside any other use of the canvas.
+  float* mutable_metric(std::size_t slot);
+  // Slots whose tensor is stored or implied: slot_count() as allocate() made it.
+  std::size_t metric_slot_count() const {
+    return uniform_metric_ ? active.size() : metric_.size() / 6;
+  }
 
   // Allocates bricks for the given voxel index bounding box and brick origins, all inactive.
-  // Used by builders; brick origins must be multiples of the brick edge inside the box.
+  // Used by builders; brick origins must be multiples of the brick edge inside the box. With
+  // `uniform_metric` the canvas takes the uniform form: that tensor (as stored_metric makes it)
+  // at every voxel that becomes active.
   void allocate(int dimension, double voxel_size, const Vec3& origin,
-                const std::array<int, 3>& dims, const std::vector<VoxelIndex>& brick_origins);
+                const std::array<int, 3>& dims, const std::vector<VoxelIndex>& brick_origins,
+                const std::optional<Mat3>& uniform_metric = std::nullopt);
   // Marks a voxel active with the given metric (the slot must exist), stored as stored_metric
   // (rvor/metric.h) makes it: in 2D only the xy block is kept, with 1 along z. (A 2D tensor stored
   // with another zz entry made the engines weigh the source factorization differently: the
   // reference judged the fit with it and the kernels without, and their fields differed by 10%.)
+  // Calls for distinct slots may run in parallel, except where a canvas in the uniform form gets
+  // another tensor: it turns into the per-slot form first (as mutable_metric() does).
   void set_active(std::size_t slot, const Mat3& G);
   // Recounts active voxels and records the content hash (after set_active calls, or after writing
-  // `active` or `metric` directly). Throws rvor::Error for a geometry the solvers cannot index by
-  // (dimension, voxel size, index box, brick grid and table, brick origins not as allocate() made
-  // them) and, on a 2D canvas, an active tensor whose z row is not (0, 0, 1). Tensors are not
-  // checked here (the builder checks them): one that is not SPD is an error of the solve that
-  // meets it, naming its voxel.
+  // `active` or mutable_metric() directly). Throws rvor::Error for a geometry the solvers cannot
+  // index by (dimension, voxel size, index box, brick grid and table, brick origins not as
+  // allocate() made them) and, on a 2D canvas, an active tensor whose z row is not (0, 0, 1).
+  // Tensors are not checked here (the builder checks them): one that is not SPD is an error of the
+  // solve that meets it, naming its voxel.
   void finalize();
   // A hash of what the propagators read: the geometry (h, origin, dims, bricks) and every slot's
   // activity and tensor; a canvas changed in one of them always hashes differently, one changed in
-  // many by chance only. Recorded by finalize(); none after allocate() or set_active() until
-  // finalize() runs again. A propagator keeps what it derived from a canvas only while this hash
-  // stays the same (rvor/propagation.h), so a change made without finalize() may go unseen.
+  // many by chance only. Both forms of the same tensors hash the same. Recorded by finalize(); none
+  // after allocate() or set_active() until finalize() runs again. A propagator keeps what it
+  // derived from a canvas only while this hash stays the same (rvor/propagation.h), so a change
+  // made without finalize() may go unseen.
   std::optional<std::uint64_t> content_hash() const { return content_hash_; }
 
  private:
+  static constexpr std::array<float, 6> kNoTensor{};
+  void store_metric_per_slot();
+
+  std::vector<float> metric_;  // the per-slot form: 6 floats per slot
+  std::optional<std::array<float, 6>> uniform_metric_;
   std::optional<std::uint64_t> content_hash_;
 };
 

@@ -29,6 +29,8 @@ class MetricField {
   virtual std::string description() const = 0;
   // The domain the field was designed for (radial_shock_3d: [1,11]^3), if any.
   virtual std::optional<Box> natural_domain() const { return std::nullopt; }
+  // The same tensor at every point (euclidean, uniform): a canvas stores it once.
+  virtual bool is_uniform() const { return false; }
   // Bytes the field keeps in memory while a canvas is built from it, which the canvas has to
   // share the memory budget with: a VDB file's grids. Analytic fields hold nothing; mesh fields
   // are not counted (their .mesh and .sol, usually far smaller than a canvas).

@@ -251,7 +251,8 @@ Canvas crop(const Canvas& canvas, const IndexBox& box, const std::vector<uint8_t
       for (int i = 0; i < dims[0]; i += e) origins.push_back({i, j, k});
   Canvas out;
   out.allocate(canvas.dimension, canvas.voxel_size,
-               canvas.world_of(VoxelIndex{box.lo[0], box.lo[1], box.lo[2]}), dims, origins);
+               canvas.world_of(VoxelIndex{box.lo[0], box.lo[1], box.lo[2]}), dims, origins,
+               canvas.uniform_metric());
   for (std::size_t slot = 0; slot < out.slot_count(); ++slot) {
     const VoxelIndex v = out.voxel_of(slot);
     if (v.i >= dims[0] || v.j >= dims[1] || v.k >= dims[2]) continue;  // brick padding
@@ -262,8 +263,9 @@ Canvas crop(const Canvas& canvas, const IndexBox& box, const std::vector<uint8_t
     const int64_t source = canvas.slot_of(v.i + box.lo[0], v.j + box.lo[1], v.k + box.lo[2]);
     if (source < 0) continue;
     out.active[slot] = 1;
-    std::memcpy(&out.metric[6 * slot], &canvas.metric[6 * static_cast<std::size_t>(source)],
-                6 * sizeof(float));
+    if (!out.uniform_metric())
+      std::memcpy(out.mutable_metric(slot), canvas.metric_of(static_cast<std::size_t>(source)),
+                  6 * sizeof(float));
   }
   out.finalize();
   return out;

@@ -66,7 +66,7 @@ struct StencilPacker {
   void pack(std::size_t slot, std::size_t into) {
     if (!canvas.active[slot]) return;
     std::array<float, 6> m;
-    std::memcpy(m.data(), &canvas.metric[6 * slot], sizeof m);
+    std::memcpy(m.data(), canvas.metric_of(slot), sizeof m);
     if (!has_last || m != last_metric) {
       last_stencil = canvas_selling_decomposition(canvas, slot, canvas.metric_at(slot).inverse());
       last_metric = m;

@@ -24,7 +24,7 @@ double voxel_length(const Canvas& canvas, const std::vector<Vec3>& seeds) {
   std::vector<double> lengths(seeds.size());
   for (std::size_t s = 0; s < seeds.size(); ++s) {
     const std::int64_t slot = canvas.slot_of(canvas.voxel_containing(seeds[s]));
-    const float* g = &canvas.metric[6 * static_cast<std::size_t>(slot)];
+    const float* g = canvas.metric_of(static_cast<std::size_t>(slot));
     double shortest = std::min(g[0], g[2]);
     if (canvas.dimension == 3) shortest = std::min<double>(shortest, g[5]);
     lengths[s] = std::sqrt(shortest) * canvas.voxel_size;

@@ -72,8 +72,8 @@ void seed_records(const Canvas& canvas, const std::vector<Vec3>& seeds, std::siz
     r[4] = static_cast<float>(v.i);
     r[5] = static_cast<float>(v.j);
     r[6] = static_cast<float>(v.k);
-    for (int n = 0; n < 6; ++n)
-      r[8 + n] = static_cast<float>(h2 * canvas.metric[6 * static_cast<std::size_t>(slot) + n]);
+    const float* metric = canvas.metric_of(static_cast<std::size_t>(slot));
+    for (int n = 0; n < 6; ++n) r[8 + n] = static_cast<float>(h2 * metric[n]);
   }
 }
 
