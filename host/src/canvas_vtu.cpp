@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -16,16 +17,6 @@ namespace {
 
 constexpr uint8_t kVtkPixel = 8;
 constexpr uint8_t kVtkVoxel = 11;
-
-// Index: int32_t where every connectivity entry fits (a third less to write), else int64_t.
-template <typename Index>
-struct VtuArrays {
-  std::vector<float> points;
-  std::vector<Index> connectivity, offsets;
-  std::vector<uint8_t> types;
-  std::vector<int32_t> labels;
-  std::vector<float> distances;
-};
 
 // Corner (a,b,c) of voxel (i,j,k) is the lattice point (i+a, j+b, k+c), at world centre - h/2.
 // Ids are kept in blocks of 8^3 lattice points (8^2 in 2D), one per cell of the brick grid grown
@@ -71,42 +62,74 @@ class CornerPoints {
   std::vector<int64_t> ids_;       // per lattice point of an allocated block: its id, or -1
 };
 
-template <typename Index>
-VtuArrays<Index> collect_cells(const Canvas& canvas, const VoronoiField& field) {
-  VtuArrays<Index> arrays;
-  CornerPoints corners(canvas, arrays.points);
-  const bool volume = canvas.dimension == 3;
-  const int corner_count = volume ? 8 : 4;
-  // Reserved, not grown: at 192^3 the connectivity alone is 450 MB.
-  const std::size_t cells = canvas.active_voxel_count;
-  arrays.connectivity.reserve(cells * corner_count);
-  arrays.offsets.reserve(cells);
-  arrays.types.reserve(cells);
-  arrays.labels.reserve(cells);
-  arrays.distances.reserve(cells);
-  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
-    if (!canvas.active[slot]) continue;
-    const VoxelIndex v = canvas.voxel_of(slot);
-    for (int c = 0; c < corner_count; ++c)  // VTK order: x fastest, then y, then z
-      arrays.connectivity.push_back(static_cast<Index>(
-          corners.id(v.i + (c & 1), v.j + ((c >> 1) & 1), v.k + ((c >> 2) & 1))));
-    arrays.offsets.push_back(static_cast<Index>(arrays.connectivity.size()));
-    arrays.types.push_back(volume ? kVtkVoxel : kVtkPixel);
-    arrays.labels.push_back(field.label[slot]);
-    arrays.distances.push_back(field.distance[slot]);
-  }
-  return arrays;
+// Calls visit(slot) for every active slot in slot order, the cells' order.
+template <typename Visit>
+void for_each_active_slot(const Canvas& canvas, Visit&& visit) {
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot)
+    if (canvas.active[slot]) visit(slot);
 }
 
+// Calls corner(i, j, k) for the corners of the voxel in a slot, in VTK order (x fastest, then y,
+// then z).
+template <typename Corner>
+void for_each_corner(const Canvas& canvas, std::size_t slot, Corner&& corner) {
+  const VoxelIndex v = canvas.voxel_of(slot);
+  const int corner_count = canvas.dimension == 3 ? 8 : 4;
+  for (int c = 0; c < corner_count; ++c)
+    corner(v.i + (c & 1), v.j + ((c >> 1) & 1), v.k + ((c >> 2) & 1));
+}
+
+// Index: int32_t where every connectivity entry fits (a third less to write), else int64_t. Only
+// the points are held; the cells and their data are written from the canvas and the field as the
+// file is written (at 192^3 the connectivity alone was 450 MB, and all arrays 65 bytes per voxel
+// at its peak, more than a propagation on PoCL).
 template <typename Index>
 void write_cells(const std::string& path, const Canvas& canvas, const VoronoiField& field) {
-  const VtuArrays<Index> arrays = collect_cells<Index>(canvas, field);
+  std::vector<float> points;
+  CornerPoints corners(canvas, points);
+  for_each_active_slot(canvas, [&](std::size_t slot) {
+    for_each_corner(canvas, slot, [&](int i, int j, int k) { corners.id(i, j, k); });
+  });
+  const std::size_t cells = canvas.active_voxel_count;
+  const Index corner_count = canvas.dimension == 3 ? 8 : 4;
+  const auto connectivity = [&](std::ostream& out) {
+    vtu::ChunkedWriter<Index> writer(out);
+    for_each_active_slot(canvas, [&](std::size_t slot) {
+      for_each_corner(canvas, slot, [&](int i, int j, int k) {
+        writer.push(static_cast<Index>(corners.id(i, j, k)));
+      });
+    });
+    writer.finish();
+  };
+  const auto offsets = [&](std::ostream& out) {
+    vtu::ChunkedWriter<Index> writer(out);
+    for (std::size_t cell = 1; cell <= cells; ++cell)
+      writer.push(static_cast<Index>(cell * corner_count));
+    writer.finish();
+  };
+  const auto types = [&](std::ostream& out) {
+    vtu::ChunkedWriter<uint8_t> writer(out);
+    for (std::size_t cell = 0; cell < cells; ++cell)
+      writer.push(canvas.dimension == 3 ? kVtkVoxel : kVtkPixel);
+    writer.finish();
+  };
+  // A cell's value of one of the field's arrays.
+  const auto cell_values = [&](const auto& values) {
+    return [&canvas, &values](std::ostream& out) {
+      vtu::ChunkedWriter<std::decay_t<decltype(values[0])>> writer(out);
+      for_each_active_slot(canvas, [&](std::size_t slot) { writer.push(values[slot]); });
+      writer.finish();
+    };
+  };
   vtu::AppendedWriter appended;
-  std::string xml = vtu::grid_geometry(appended, arrays.points, arrays.connectivity, arrays.offsets,
-                                       arrays.types);
+  std::string xml = vtu::grid_geometry_streamed<Index>(
+      appended, points, cells, cells * static_cast<std::size_t>(corner_count), connectivity,
+      offsets, types);
   xml += "<CellData Scalars=\"label\">\n";
-  xml += appended.declare("Int32", "label", 1, arrays.labels);
-  xml += appended.declare("Float32", "distance", 1, arrays.distances);
+  xml += appended.declare_streamed("Int32", "label", 1, cells * sizeof(int32_t),
+                                   cell_values(field.label));
+  xml += appended.declare_streamed("Float32", "distance", 1, cells * sizeof(float),
+                                   cell_values(field.distance));
   xml += "</CellData>\n";
   vtu::publish(path, std::move(xml), appended);
 }
