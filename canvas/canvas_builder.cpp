@@ -248,18 +248,21 @@ double coarse_mesh_voxels(const ResolvedDomain& domain, const Placement& fine) {
 // Checks the budget, less what the metric field holds, against an exact count (box), the index
 // box, or a coarse estimate.
 void check_budget(const ResolvedDomain& domain, const Placement& p, int resolution,
-                  std::uint64_t budget, std::uint64_t held_bytes) {
+                  const MetricField& metric, std::uint64_t budget) {
   const double cells = p.brick_table_cells();
   const double box_voxels = p.index_box_voxels();
-  const bool cheap_bound_fits = estimated_canvas_bytes(box_voxels, cells) + double(held_bytes) <=
-                                double(resolved_memory_budget(budget));
+  const bool uniform = metric.is_uniform();
+  const std::uint64_t held_bytes = metric.resident_bytes();
+  const bool cheap_bound_fits =
+      estimated_canvas_bytes(box_voxels, cells, uniform) + double(held_bytes) <=
+      double(resolved_memory_budget(budget));
   double voxels = box_voxels;
   if (domain.spec->kind != DomainSpec::Kind::Box &&
       domain.spec->kind != DomainSpec::Kind::Rectangle && !cheap_bound_fits &&
       resolution > kCoarseEstimateResolution)
     voxels =
         domain.shape ? coarse_implicit_voxels(*domain.shape, p) : coarse_mesh_voxels(domain, p);
-  check_memory_budget(voxels, cells, budget, held_bytes);
+  check_memory_budget(voxels, cells, uniform, budget, held_bytes);
 }
 
 BoolTree::Ptr topology(const ResolvedDomain& domain, const Placement& p) {
@@ -363,8 +366,7 @@ Canvas build_canvas(const DomainSpec& domain, const MetricField& metric,
     throw Error("metric '" + metric.description() + "' is 2D but domain " + domain.description() +
                 " is 3D");
   const Placement placement = place_voxels(resolved, options.resolution);
-  check_budget(resolved, placement, options.resolution, options.memory_budget,
-               metric.resident_bytes());
+  check_budget(resolved, placement, options.resolution, metric, options.memory_budget);
 
   openvdb::initialize();
   const BoolTree::Ptr tree = topology(resolved, placement);

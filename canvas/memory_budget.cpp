@@ -3,16 +3,20 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <fstream>
+#include <limits>
+
+#include "rvor/error.h"
 
 namespace rvor {
 
-// Measured, not summed: peak resident memory of `rvor voronoi` on box:-1,-1,-1,1,1,1 with 100
-// seeds, 128^3 minus 64^3 divided by the added voxels (/usr/bin/time -f %M), was 99 B per voxel
-// with the CPU reference (canvas, float and double fields, per-voxel state and the reverse stencil
-// graph) and 107 B with PoCL (whose device buffers live in host memory, next to the host canvas).
-// 128 B leaves room for the outputs written afterwards.
-std::uint64_t estimated_bytes_per_active_voxel() {
-  return 128;
+// Measured, not summed: peak resident memory of `rvor voronoi` with 100 seeds at 160^3 minus that
+// at 96^3, divided by the added voxels (/usr/bin/time -f %M, PoCL, 2026-12-05): 26.9 B per voxel
+// for euclidean on box:-1,-1,-1,1,1,1 (the canvas's uniform form: activity, float field, device
+// state 17.7 B), 79 B for radial_shock_3d on its box (24 B of tensors per slot, 45.7 B of device
+// stencils and state). The margin leaves room for the outputs and for a denser stencil.
+std::uint64_t estimated_bytes_per_active_voxel(bool uniform_metric) {
+  return uniform_metric ? 48 : 128;
 }
 
 std::uint64_t default_memory_budget() {
@@ -20,6 +24,24 @@ std::uint64_t default_memory_budget() {
   const long page_size = sysconf(_SC_PAGE_SIZE);
   if (pages <= 0 || page_size <= 0) return std::uint64_t{8} << 30;  // unknown: assume 8 GiB
   return static_cast<std::uint64_t>(0.75 * static_cast<double>(pages) * page_size);
+}
+
+std::uint64_t available_memory() {
+  std::ifstream meminfo("/proc/meminfo");
+  std::string key;
+  std::uint64_t kilobytes = 0;
+  while (meminfo >> key >> kilobytes) {
+    if (key == "MemAvailable:") return kilobytes * 1024;
+    meminfo.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+  }
+  return default_memory_budget();
+}
+
+void require_available_memory(const std::string& what, double needed, std::uint64_t available,
+                              const std::string& advice) {
+  if (needed <= static_cast<double>(available)) return;
+  throw Error(what + " needs ~" + format_bytes(needed) + ", more than the " +
+              format_bytes(static_cast<double>(available)) + " of memory available" + advice);
 }
 
 std::uint64_t resolved_memory_budget(std::uint64_t budget) {

@@ -7,15 +7,15 @@
 
 namespace rvor {
 
-double estimated_canvas_bytes(double active_voxels, double brick_table_cells) {
-  return active_voxels * static_cast<double>(estimated_bytes_per_active_voxel()) +
+double estimated_canvas_bytes(double active_voxels, double brick_table_cells, bool uniform_metric) {
+  return active_voxels * static_cast<double>(estimated_bytes_per_active_voxel(uniform_metric)) +
          brick_table_cells * sizeof(std::int32_t);
 }
 
-void check_memory_budget(double active_voxels, double brick_table_cells, std::uint64_t budget,
-                         std::uint64_t held_bytes) {
+void check_memory_budget(double active_voxels, double brick_table_cells, bool uniform_metric,
+                         std::uint64_t budget, std::uint64_t held_bytes) {
   budget = resolved_memory_budget(budget);
-  const double needed = estimated_canvas_bytes(active_voxels, brick_table_cells);
+  const double needed = estimated_canvas_bytes(active_voxels, brick_table_cells, uniform_metric);
   const double held = static_cast<double>(held_bytes);
   if (needed + held <= static_cast<double>(budget)) return;
   char voxels[32];

@@ -16,6 +16,7 @@
 
 #include "canvas_identity.h"
 #include "rvor/error.h"
+#include "rvor/memory_budget.h"
 #include "rvor/nearest_seeds.h"
 #include "rvor/seeds.h"
 #include "rvor/selling.h"
@@ -132,9 +133,23 @@ ReferenceSolver::ReferenceSolver(const Canvas& canvas)
   compute_reverse_graph();
 }
 
+double ReferenceSolver::estimated_bytes(const Canvas& canvas) {
+  const double slots = static_cast<double>(canvas.slot_count());
+  const double active = static_cast<double>(canvas.active_voxel_count);
+  const double per_slot = sizeof(VoxelState) + 1 + sizeof(uint32_t) + sizeof(double) +
+                          sizeof(int32_t) + sizeof(float) + sizeof(int32_t);
+  const double reverse_entries = canvas.dimension == 3 ? 12 : 6;
+  const double per_active = reverse_entries * sizeof(uint32_t) + sizeof(QueueEntry);
+  const double stencils = canvas.uniform_metric() ? 1 : active;
+  return slots * per_slot + active * per_active + stencils * sizeof(VoxelStencil);
+}
+
 void ReferenceSolver::compute_stencils(const Canvas& canvas) {
   state_.assign(slot_count_, {kInfinity, -1, -1});
   stencils_.clear();
+  // At most one per active voxel, reserved so that growing never holds two copies (pages not
+  // written are not taken).
+  stencils_.reserve(canvas.uniform_metric() ? 1 : canvas.active_voxel_count);
   const float* previous_metric = nullptr;
   for (std::size_t slot = 0; slot < slot_count_; ++slot) {
     if (!canvas.active[slot]) continue;
@@ -582,6 +597,13 @@ class ReferencePropagator final : public Propagator {
     const std::optional<uint64_t> id = canvas_identity(canvas);
     if (!solver_ || !id || id != canvas_id_) {
       solver_.reset();  // free the old stencils before building new ones
+      last_ = {};
+      require_available_memory(
+          "the CPU reference's solve of " + std::to_string(canvas.active_voxel_count) +
+              " active voxels",
+          ReferenceSolver::estimated_bytes(canvas), available_memory(),
+          ": use an OpenCL device (--device pocl), which needs about a third of that, or a "
+          "coarser --resolution");
       solver_ = std::make_unique<ReferenceSolver>(canvas);
       solver_->set_exact_start(exact_start_);
       canvas_id_ = id;

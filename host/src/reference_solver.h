@@ -34,6 +34,12 @@ class ReferenceSolver {
   // Precomputes, once per canvas, the Selling stencil of every active voxel, its stencil
   // neighbours and the reverse stencil graph (who has me in their stencil), as CSR.
   explicit ReferenceSolver(const Canvas& canvas);
+  // Bytes a solver of this canvas and a solve with it allocate (a bound): per slot its state,
+  // frozen flag, reverse-graph offset and the fields (double inside, float outside); per active
+  // voxel its reverse-graph entries and queue entry; per distinct tensor a stencil, 144 B, which
+  // is one per active voxel where tensors are stored per slot (radial_shock_3d: 261 B per voxel
+  // in all, measured as in rvor/memory_budget.h with --device cpu, against 80 B for euclidean).
+  static double estimated_bytes(const Canvas& canvas);
 
   // `canvas` must be the one given to the constructor. Seed i gets label i.
   PropagationStats solve(const Canvas& canvas, const std::vector<Vec3>& seeds, ExactField& field);

@@ -6,10 +6,19 @@
 
 namespace rvor {
 
-// Bytes the canvas and a propagation over it need per active voxel (packed metric, activity,
-// distance, label, solver work arrays), used for the up-front estimates.
-std::uint64_t estimated_bytes_per_active_voxel();
+// Bytes per active voxel that a canvas, its field and a propagation by the OpenCL engine (the
+// default; on PoCL its buffers are host memory) need at `rvor voronoi`'s peak, with the canvas's
+// tensors stored per slot or once (`uniform_metric`, Canvas::uniform_metric): the up-front
+// estimates. The CPU reference needs more and checks its own (make_reference_propagator).
+std::uint64_t estimated_bytes_per_active_voxel(bool uniform_metric);
 std::uint64_t default_memory_budget();  // 75% of physical memory
+// Memory the system can give now without swapping (MemAvailable of /proc/meminfo; where that
+// cannot be read, default_memory_budget()).
+std::uint64_t available_memory();
+// Throws rvor::Error "<what> needs ~X, more than the Y of memory available<advice>" when
+// `needed` exceeds `available`.
+void require_available_memory(const std::string& what, double needed, std::uint64_t available,
+                              const std::string& advice);
 // `budget`, or default_memory_budget() for 0 (the meaning of 0 in every budget option).
 std::uint64_t resolved_memory_budget(std::uint64_t budget);
 // "1.2 GB", "120 TB": decimal units, three significant digits.

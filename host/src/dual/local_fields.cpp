@@ -321,8 +321,9 @@ std::size_t solves_within_budget(const Canvas& canvas, const std::vector<IndexBo
                                  const std::vector<std::vector<detail::StarSimplex>>& stars,
                                  std::uint64_t budget_option) {
   const double budget = static_cast<double>(resolved_memory_budget(budget_option));
-  const double held = static_cast<double>(canvas.active_voxel_count) *
-                      static_cast<double>(estimated_bytes_per_active_voxel());
+  const double held =
+      static_cast<double>(canvas.active_voxel_count) *
+      static_cast<double>(estimated_bytes_per_active_voxel(canvas.uniform_metric().has_value()));
   double kept = 0;
   std::vector<double> solves;  // bytes of each seed's solve, largest first
   for (std::size_t s = 0; s < boxes.size(); ++s) {
