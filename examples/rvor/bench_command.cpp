@@ -349,7 +349,8 @@ void add_bench_command(CLI::App& app) {
                       std::to_string(OpenCLOptions{}.insertion_phase_iterations) + ")")
       ->check(CLI::Range(1, kMostVisitsPerRelaxation));
   cmd->add_option("--repeat", options->repetitions,
-                  "Solves per case with the same engine; the fastest counts (the first also "
+                  "Solves per case with the same engine, and runs of FastSweeping; the fastest "
+                  "of each counts (the engine's first solve also "
                   "uploads the canvas, and compiles the kernels where PoCL's cache lacks them: "
                   "seconds at small sizes; with --insert and 2 or more, an untimed insertion "
                   "follows it, so that the timed ones find their kernels built)")

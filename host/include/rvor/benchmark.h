@@ -30,7 +30,7 @@ struct BenchCase {
   bool exact_start = true;
   bool reference = true;     // also time the CPU reference (slow at 256^3)
   bool fastsweeping = true;  // also time OpenVDB FastSweeping (3D canvases)
-  int repetitions = 1;       // solves with the same propagator; the fastest counts
+  int repetitions = 1;  // solves with the same propagator, and FastSweeping runs; the fastest count
   // After the solve, insert this many further seeds (the next draws of the same generator),
   // insert_batch at a time, into the solved canvas: through a VoronoiSession, or with
   // checked_insert through Propagator::insert into a copy of the solved field (a caller's field,

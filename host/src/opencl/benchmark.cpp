@@ -157,9 +157,15 @@ double label_agreement(const Canvas& canvas, const VoronoiField& a, const Vorono
   return static_cast<double>(same) / static_cast<double>(canvas.active_voxel_count);
 }
 
-void time_fastsweeping(const Canvas& canvas, const std::vector<Vec3>& seeds,
+// The fastest of as many runs as the engine's solves (c.repetitions), as the engine's fastest
+// solve counts: one run against the fastest of two favoured the engine under a changing load.
+void time_fastsweeping(const BenchCase& c, const Canvas& canvas, const std::vector<Vec3>& seeds,
                        const VoronoiField& engine_field, BenchResult& r) {
-  const baseline::FastSweepingRun run = baseline::fast_sweeping_voronoi(canvas, seeds);
+  baseline::FastSweepingRun run = baseline::fast_sweeping_voronoi(canvas, seeds);
+  for (int repetition = 1; repetition < c.repetitions; ++repetition) {
+    baseline::FastSweepingRun again = baseline::fast_sweeping_voronoi(canvas, seeds);
+    if (again.sweep_seconds < run.sweep_seconds) run = std::move(again);
+  }
   r.fastsweeping_seconds = run.sweep_seconds;
   r.fastsweeping_init_seconds = run.init_seconds;
   r.fastsweeping_voxels_per_second = per_second(r.active_voxels, run.sweep_seconds);
@@ -239,7 +245,7 @@ BenchResult run_benchmark_case(const BenchCase& c,
                          fixed_text(*r.insert_mean_rounds, 1) + " rounds), largest " +
                          seconds_text(*r.insert_max_seconds));
   if (c.fastsweeping && canvas.dimension == 3) {
-    time_fastsweeping(canvas, seeds, field, r);
+    time_fastsweeping(c, canvas, seeds, field, r);
     report(progress, "OpenVDB FastSweeping: sweep " + seconds_text(*r.fastsweeping_seconds) +
                          ", init " + seconds_text(*r.fastsweeping_init_seconds) + "; " +
                          fixed_text(100.0 * *r.fastsweeping_label_agreement, 2) +
