@@ -24,15 +24,18 @@ std::uint64_t bits_of(double value) {
   return bits;
 }
 
-// Each slot as four words (its activity and its six floats in pairs) at indices 4 slot + n.
+// Each slot as four words (its activity and its six floats in pairs) at indices 4 slot + n. An
+// inactive slot's floats count as zeros: the solvers do not read them, and the uniform form has
+// none (hash_uniform_slots), so both forms of the same tensors hash the same.
 RVOR_CLONED_FOR_AVX2 std::uint64_t hash_slots(const std::uint8_t* active, const float* metric,
                                               std::size_t begin, std::size_t end) {
   std::uint64_t sum = 0;
   for (std::size_t slot = begin; slot < end; ++slot) {
     std::uint64_t pairs[3];
     std::memcpy(pairs, metric + 6 * slot, sizeof pairs);
+    const std::uint64_t on = active[slot] ? ~std::uint64_t{0} : 0;
     sum += indexed_word_hash(4 * slot, active[slot]);
-    for (int n = 0; n < 3; ++n) sum += indexed_word_hash(4 * slot + 1 + n, pairs[n]);
+    for (int n = 0; n < 3; ++n) sum += indexed_word_hash(4 * slot + 1 + n, pairs[n] & on);
   }
   return sum;
 }
@@ -278,7 +281,8 @@ void Canvas::allocate(int dim, double h, const Vec3& world_origin,
 }
 
 void Canvas::set_active(std::size_t slot, const Mat3& G) {
-  content_hash_.reset();
+  // Only when set: the builder calls this from many threads after allocate() reset it.
+  if (content_hash_) content_hash_.reset();
   const std::array<float, 6> tensor = stored_floats(G, dimension);
   if (uniform_metric_ && tensor != *uniform_metric_) store_metric_per_slot();
   active[slot] = 1;

@@ -19,6 +19,10 @@ std::uint64_t estimated_bytes_per_active_voxel(bool uniform_metric) {
   return uniform_metric ? 48 : 128;
 }
 
+std::uint64_t canvas_and_field_bytes_per_active_voxel(bool uniform_metric) {
+  return 1 + (uniform_metric ? 0 : 24) + 8;
+}
+
 std::uint64_t default_memory_budget() {
   const long pages = sysconf(_SC_PHYS_PAGES);
   const long page_size = sysconf(_SC_PAGE_SIZE);
@@ -37,11 +41,14 @@ std::uint64_t available_memory() {
   return default_memory_budget();
 }
 
-void require_available_memory(const std::string& what, double needed, std::uint64_t available,
-                              const std::string& advice) {
-  if (needed <= static_cast<double>(available)) return;
-  throw Error(what + " needs ~" + format_bytes(needed) + ", more than the " +
-              format_bytes(static_cast<double>(available)) + " of memory available" + advice);
+void require_memory_for(const std::string& what, double needed, std::uint64_t budget,
+                        const std::string& advice) {
+  const double limit = static_cast<double>(budget != 0 ? budget : available_memory());
+  if (needed <= limit) return;
+  const std::string over =
+      budget != 0 ? ", over the memory budget of " + format_bytes(limit) + " (--memory-budget)"
+                  : ", more than the " + format_bytes(limit) + " of memory available";
+  throw Error(what + " needs ~" + format_bytes(needed) + over + advice);
 }
 
 std::uint64_t resolved_memory_budget(std::uint64_t budget) {

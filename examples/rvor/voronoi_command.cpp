@@ -237,6 +237,7 @@ void write_voronoi(const VoronoiOptions& o) {
     });
     progress.begin("propagating from " + std::to_string(seeds.size()) + " seeds");
     std::unique_ptr<Propagator> propagator = make_propagator(o.device);
+    propagator->set_memory_budget(canvas_options.memory_budget);  // 0: the memory available
     VoronoiField field;
     const PropagationStats stats = propagator->solve(canvas, seeds, field);
     const std::string device = propagator->device_description();
@@ -440,9 +441,10 @@ void add_voronoi_command(CLI::App& app) {
                 "holds one run's outputs. An input file of this run is never replaced");
   cmd->add_option("--memory-budget", options->memory_budget,
                   "Refuse canvases (and --metric-vdb grids) needing more memory than this, "
-                  "a canvas counting the grids it is built from, and a curved dual whose "
-                  "local fields do not fit beside its canvas (bytes, or with K/M/G/T); "
-                  "default 75% of physical memory");
+                  "a canvas counting the grids it is built from, a CPU reference solve "
+                  "(--device cpu) whose arrays would not fit, and a curved dual whose local "
+                  "fields do not fit beside its canvas (bytes, or with K/M/G/T); default 75% of "
+                  "physical memory (for the CPU reference's arrays, the memory available)");
   cmd->add_flag("--quiet", options->quiet, "Print nothing but errors");
   cmd->callback([options, device] {
     require_chosen_device(device, options->device);

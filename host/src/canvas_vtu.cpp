@@ -87,10 +87,13 @@ template <typename Index>
 void write_cells(const std::string& path, const Canvas& canvas, const VoronoiField& field) {
   std::vector<float> points;
   CornerPoints corners(canvas, points);
+  // Counted here, as the arrays below will be written: not active_voxel_count, which a canvas
+  // changed without finalize() would not match (the declared sizes would then lie).
+  std::size_t cells = 0;
   for_each_active_slot(canvas, [&](std::size_t slot) {
     for_each_corner(canvas, slot, [&](int i, int j, int k) { corners.id(i, j, k); });
+    ++cells;
   });
-  const std::size_t cells = canvas.active_voxel_count;
   const Index corner_count = canvas.dimension == 3 ? 8 : 4;
   const auto connectivity = [&](std::ostream& out) {
     vtu::ChunkedWriter<Index> writer(out);

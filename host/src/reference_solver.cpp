@@ -139,7 +139,9 @@ double ReferenceSolver::estimated_bytes(const Canvas& canvas) {
   const double per_slot = sizeof(VoxelState) + 1 + sizeof(uint32_t) + sizeof(double) +
                           sizeof(int32_t) + sizeof(float) + sizeof(int32_t);
   const double reverse_entries = canvas.dimension == 3 ? 12 : 6;
-  const double per_active = reverse_entries * sizeof(uint32_t) + sizeof(QueueEntry);
+  // The queue keeps stale entries and its capacity (three per voxel), and evaluate_all_once's
+  // order one more.
+  const double per_active = reverse_entries * sizeof(uint32_t) + 4 * sizeof(QueueEntry);
   const double stencils = canvas.uniform_metric() ? 1 : active;
   return slots * per_slot + active * per_active + stencils * sizeof(VoxelStencil);
 }
@@ -188,10 +190,9 @@ void ReferenceSolver::compute_reverse_graph() {
 
 PropagationStats ReferenceSolver::solve(const Canvas& canvas, const std::vector<Vec3>& seeds,
                                         ExactField& field) {
-  ExactField empty;
-  empty.distance.assign(slot_count_, kInfinity);
-  empty.label.assign(slot_count_, -1);
-  field = std::move(empty);
+  // In place: a field of the last solve is reused, not held beside a new one.
+  field.distance.assign(slot_count_, kInfinity);
+  field.label.assign(slot_count_, -1);
   const bool wanted = exact_start_ && !seeds.empty() && distance_limit_ == kInfinity;
   if (wanted && !exact_start_reach_) exact_start_reach_ = exact_start_reach(canvas);
   const bool exact_start = wanted && *exact_start_reach_ != ExactStartReach::none;
@@ -570,6 +571,7 @@ class ReferencePropagator final : public Propagator {
  public:
   explicit ReferencePropagator(bool exact_start) : exact_start_(exact_start) {}
   std::string device_description() const override { return "cpu reference"; }
+  void set_memory_budget(std::uint64_t bytes) override { memory_budget_ = bytes; }
 
   PropagationStats solve(const Canvas& canvas, const std::vector<Vec3>& seeds,
                          VoronoiField& field) override {
@@ -598,10 +600,10 @@ class ReferencePropagator final : public Propagator {
     if (!solver_ || !id || id != canvas_id_) {
       solver_.reset();  // free the old stencils before building new ones
       last_ = {};
-      require_available_memory(
+      require_memory_for(
           "the CPU reference's solve of " + std::to_string(canvas.active_voxel_count) +
               " active voxels",
-          ReferenceSolver::estimated_bytes(canvas), available_memory(),
+          ReferenceSolver::estimated_bytes(canvas), memory_budget_,
           ": use an OpenCL device (--device pocl), which needs about a third of that, or a "
           "coarser --resolution");
       solver_ = std::make_unique<ReferenceSolver>(canvas);
@@ -632,6 +634,7 @@ class ReferencePropagator final : public Propagator {
   }
 
   bool exact_start_;
+  std::uint64_t memory_budget_ = 0;
   std::unique_ptr<ReferenceSolver> solver_;
   std::optional<uint64_t> canvas_id_;
   ExactField last_;

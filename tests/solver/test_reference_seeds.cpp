@@ -313,7 +313,7 @@ INSTANTIATE_TEST_SUITE_P(Reference, SeedsByDimension, ::testing::Values(2, 3),
                            return "D" + std::to_string(info.param);
                          });
 
-// A tensor written into canvas.metric after the builder checked it reaches the stencils
+// A tensor written with Canvas::mutable_metric after the builder checked it reaches the stencils
 // unchecked: the error names its voxel and the tensor as stored, where it gave the inverse of its
 // xy block with no place ("selling_decomposition: matrix [-0.0104 0.104 ...]").
 TEST(CanvasTensors, ATensorThatIsNotSpdIsNamedByItsVoxel) {

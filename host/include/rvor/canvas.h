@@ -56,7 +56,8 @@ class Canvas {
   // The voxel whose cell contains the world point (rounded index; may lie outside dims). A point
   // on the index box's faces, to a millionth of a voxel, belongs to the boundary voxel.
   VoxelIndex voxel_containing(const Vec3& world) const;
-  // A slot's tensor: six floats in .sol order (zeros where inactive), or as a matrix.
+  // A slot's tensor: six floats in .sol order, or as a matrix. Inactive slots read zeros in the
+  // uniform form, and what was last written in the per-slot form (zeros unless written).
   const float* metric_of(std::size_t slot) const {
     if (!uniform_metric_) return &metric_[6 * slot];
     return active[slot] ? uniform_metric_->data() : kNoTensor.data();
@@ -64,7 +65,8 @@ class Canvas {
   Mat3 metric_at(std::size_t slot) const;
   // The one tensor of every active voxel when the canvas stores it once (the uniform form, from
   // allocate(): 24 bytes per voxel less, 3.2 GB at 512^3); none when tensors are stored per slot,
-  // even if they happen to be equal.
+  // even if they happen to be equal. In the uniform form a slot made active by writing `active`
+  // has that tensor; in the per-slot form it has what was last written there.
   std::optional<Mat3> uniform_metric() const;
   // The six floats of a slot's tensor, to write by hand (then finalize()). A canvas in the uniform
   // form is first turned into the per-slot form (its tensor at every active slot), which must not

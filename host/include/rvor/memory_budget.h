@@ -11,14 +11,19 @@ namespace rvor {
 // tensors stored per slot or once (`uniform_metric`, Canvas::uniform_metric): the up-front
 // estimates. The CPU reference needs more and checks its own (make_reference_propagator).
 std::uint64_t estimated_bytes_per_active_voxel(bool uniform_metric);
+// Bytes per active voxel of a canvas and a float field alone (1 B of activity, 24 B of tensors
+// unless stored once, 8 B of field): what the curved dual's local fields share the budget with
+// once the propagation's buffers are freed, as `rvor voronoi` frees them.
+std::uint64_t canvas_and_field_bytes_per_active_voxel(bool uniform_metric);
 std::uint64_t default_memory_budget();  // 75% of physical memory
 // Memory the system can give now without swapping (MemAvailable of /proc/meminfo; where that
 // cannot be read, default_memory_budget()).
 std::uint64_t available_memory();
-// Throws rvor::Error "<what> needs ~X, more than the Y of memory available<advice>" when
-// `needed` exceeds `available`.
-void require_available_memory(const std::string& what, double needed, std::uint64_t available,
-                              const std::string& advice);
+// Throws rvor::Error "<what> needs ~X, over the memory budget of Y (--memory-budget)<advice>"
+// when `needed` passes `budget`; for budget 0, "<what> needs ~X, more than the Y of memory
+// available<advice>" when it passes available_memory().
+void require_memory_for(const std::string& what, double needed, std::uint64_t budget,
+                        const std::string& advice);
 // `budget`, or default_memory_budget() for 0 (the meaning of 0 in every budget option).
 std::uint64_t resolved_memory_budget(std::uint64_t budget);
 // "1.2 GB", "120 TB": decimal units, three significant digits.

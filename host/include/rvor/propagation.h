@@ -84,13 +84,17 @@ struct PropagationStats {
 // build rather than every call: reading all 16.8M slots at 256^3 would cost an insertion more than
 // its propagation), geometry and tensors of ~4096 evenly spread slots as they are at the call,
 // and for the OpenCL engine the same address. Call finalize() after changing a canvas in place: a
-// direct write to `active` or `metric` without it is seen only where it touches one of those
-// slots.
+// direct write to `active` or Canvas::mutable_metric() without it is seen only where it touches one
+// of those slots.
 class Propagator {
  public:
   virtual ~Propagator() = default;
   // What runs the propagation, e.g. "cpu reference" or "OpenCL: pthread-haswell (PoCL 3.1)".
   virtual std::string device_description() const = 0;
+  // Bytes the propagator's own arrays may take (0, the default: the memory available when a
+  // canvas is first solved). The CPU reference checks its arrays against it before allocating
+  // them; the OpenCL engine checks its buffers against the device's memory instead.
+  virtual void set_memory_budget(std::uint64_t bytes) { (void)bytes; }
   // Solves from scratch: seed i gets label i. Validates the seeds first (validate_seeds).
   virtual PropagationStats solve(const Canvas& canvas, const std::vector<Vec3>& seeds,
                                  VoronoiField& field) = 0;

@@ -25,8 +25,8 @@ struct SellingStencil {
 SellingStencil selling_decomposition(const Mat3& D, int dimension);
 
 // selling_decomposition of D, the dual of `canvas`'s tensor at `slot`, for the engines: a tensor
-// that is not SPD (written into canvas.metric after the builder checked it) is an rvor::Error
-// naming the voxel, its world position and the tensor as stored, not its inverse.
+// that is not SPD (written with Canvas::mutable_metric after the builder checked it) is an
+// rvor::Error naming the voxel, its world position and the tensor as stored, not its inverse.
 SellingStencil canvas_selling_decomposition(const Canvas& canvas, std::size_t slot, const Mat3& D);
 
 }  // namespace rvor

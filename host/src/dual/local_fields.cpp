@@ -253,6 +253,7 @@ Canvas crop(const Canvas& canvas, const IndexBox& box, const std::vector<uint8_t
   out.allocate(canvas.dimension, canvas.voxel_size,
                canvas.world_of(VoxelIndex{box.lo[0], box.lo[1], box.lo[2]}), dims, origins,
                canvas.uniform_metric());
+  const bool per_slot = !out.uniform_metric();
   for (std::size_t slot = 0; slot < out.slot_count(); ++slot) {
     const VoxelIndex v = out.voxel_of(slot);
     if (v.i >= dims[0] || v.j >= dims[1] || v.k >= dims[2]) continue;  // brick padding
@@ -263,7 +264,7 @@ Canvas crop(const Canvas& canvas, const IndexBox& box, const std::vector<uint8_t
     const int64_t source = canvas.slot_of(v.i + box.lo[0], v.j + box.lo[1], v.k + box.lo[2]);
     if (source < 0) continue;
     out.active[slot] = 1;
-    if (!out.uniform_metric())
+    if (per_slot)
       std::memcpy(out.mutable_metric(slot), canvas.metric_of(static_cast<std::size_t>(source)),
                   6 * sizeof(float));
   }
@@ -321,9 +322,9 @@ std::size_t solves_within_budget(const Canvas& canvas, const std::vector<IndexBo
                                  const std::vector<std::vector<detail::StarSimplex>>& stars,
                                  std::uint64_t budget_option) {
   const double budget = static_cast<double>(resolved_memory_budget(budget_option));
-  const double held =
-      static_cast<double>(canvas.active_voxel_count) *
-      static_cast<double>(estimated_bytes_per_active_voxel(canvas.uniform_metric().has_value()));
+  const double held = static_cast<double>(canvas.active_voxel_count) *
+                      static_cast<double>(canvas_and_field_bytes_per_active_voxel(
+                          canvas.uniform_metric().has_value()));
   double kept = 0;
   std::vector<double> solves;  // bytes of each seed's solve, largest first
   for (std::size_t s = 0; s < boxes.size(); ++s) {
@@ -336,7 +337,7 @@ std::size_t solves_within_budget(const Canvas& canvas, const std::vector<IndexBo
   if (held + kept + solves[0] > budget)
     throw Error("curved dual: the seeds' local fields need ~" + format_bytes(kept) + " kept and ~" +
                 format_bytes(solves[0]) + " for the largest seed's solve, beside ~" +
-                format_bytes(held) + " for the canvas, over the memory budget of " +
+                format_bytes(held) + " for the canvas and its field, over the memory budget of " +
                 format_bytes(budget) +
                 " (--memory-budget): use --dual straight, a coarser --resolution, or a larger "
                 "budget");
