@@ -469,7 +469,7 @@ TEST(CurvedDual, SeedsWithoutNeighboursHaveEmptyLocalFields) {
   const Nerve alone_nerve = extract_nerve(canvas, alone_field, alone.size());
   const LocalFields alone_locals = compute_local_fields(canvas, alone_nerve, alone);
   ASSERT_EQ(alone_locals.fields.size(), 1u);
-  EXPECT_TRUE(alone_locals.fields[0].distance.empty());
+  EXPECT_TRUE(alone_locals.fields[0].empty());
   EXPECT_TRUE(std::isinf(alone_locals.fields[0].at(canvas.voxel_containing(alone[0]))));
 
   const std::vector<Vec3> seeds{Vec3(0.25, 0.5, 0), Vec3(0.25, 0.5, 0), Vec3(0.75, 0.5, 0)};
@@ -477,8 +477,8 @@ TEST(CurvedDual, SeedsWithoutNeighboursHaveEmptyLocalFields) {
   const Nerve nerve = extract_nerve(canvas, field, seeds.size());
   const LocalFields locals = compute_local_fields(canvas, nerve, seeds);
   ASSERT_EQ(locals.fields.size(), 3u);
-  EXPECT_TRUE(locals.fields[1].distance.empty());  // seed 0 holds the shared voxel
-  EXPECT_FALSE(locals.fields[0].distance.empty());
+  EXPECT_TRUE(locals.fields[1].empty());  // seed 0 holds the shared voxel
+  EXPECT_FALSE(locals.fields[0].empty());
   const CurvedDual dual = build_curved_dual(canvas, field, nerve, seeds, &locals);
   ASSERT_EQ(dual.edges.size(), 1u);
   EXPECT_TRUE(dual.edges[0].reached());

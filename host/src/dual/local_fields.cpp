@@ -272,6 +272,30 @@ Canvas crop(const Canvas& canvas, const IndexBox& box, const std::vector<uint8_t
   return out;
 }
 
+// The solved values of a crop (its bricks are the box's, in the same order and layout) as a
+// LocalField that keeps the bricks holding one.
+LocalField kept_bricks(const Canvas& cropped, const IndexBox& box, const detail::ExactField& exact,
+                       double limit) {
+  LocalField local;
+  local.lo = box.lo;
+  local.dims = cropped.dims;
+  local.brick_dims = cropped.brick_grid_dims;
+  local.brick_edge_z = cropped.brick_edge_z();
+  local.brick_start.assign(cropped.brick_count(), -1);
+  const std::size_t volume = static_cast<std::size_t>(cropped.brick_volume());
+  for (std::size_t brick = 0; brick < cropped.brick_count(); ++brick)
+    for (std::size_t slot = brick * volume; slot < (brick + 1) * volume; ++slot) {
+      if (!cropped.active[slot] || !(exact.distance[slot] <= limit)) continue;
+      if (local.brick_start[brick] < 0) {
+        local.brick_start[brick] = static_cast<int32_t>(local.values.size());
+        local.values.resize(local.values.size() + volume, std::numeric_limits<float>::infinity());
+      }
+      local.values[static_cast<std::size_t>(local.brick_start[brick]) + slot - brick * volume] =
+          static_cast<float>(exact.distance[slot]);
+    }
+  return local;
+}
+
 LocalField solve_local(const Canvas& canvas, const IndexBox& box,
                        const std::vector<detail::StarSimplex>& star, const Vec3& seed,
                        double limit) {
@@ -282,22 +306,7 @@ LocalField solve_local(const Canvas& canvas, const IndexBox& box,
   solver.set_distance_limit(limit);
   detail::ExactField exact;
   solver.solve(cropped, {seed}, exact);
-  LocalField local;
-  local.lo = box.lo;
-  for (int a = 0; a < 3; ++a) local.dims[a] = cropped.dims[a];
-  local.distance.assign(static_cast<std::size_t>(local.dims[0]) * local.dims[1] * local.dims[2],
-                        std::numeric_limits<float>::infinity());
-  for (std::size_t slot = 0; slot < cropped.slot_count(); ++slot) {
-    if (!cropped.active[slot]) continue;
-    const VoxelIndex v = cropped.voxel_of(slot);
-    local.distance[static_cast<std::size_t>(v.i) +
-                   static_cast<std::size_t>(local.dims[0]) *
-                       (static_cast<std::size_t>(v.j) +
-                        static_cast<std::size_t>(local.dims[1]) * v.k)] =
-        exact.distance[slot] <= limit ? static_cast<float>(exact.distance[slot])
-                                      : std::numeric_limits<float>::infinity();
-  }
-  return local;
+  return kept_bricks(cropped, box, exact, limit);
 }
 
 // Bytes a seed's solve holds per voxel of its star box while it runs: the cropped canvas (whole
@@ -382,8 +391,8 @@ LocalFields compute_local_fields(const Canvas& canvas, const Nerve& nerve,
       },
       solves_within_budget(canvas, boxes, stars, options.memory_budget));
   for (const LocalField& f : out.fields) {
-    out.voxels += f.distance.size();
-    for (float u : f.distance) out.solved_voxels += std::isfinite(u) ? 1 : 0;
+    out.voxels += f.values.size();
+    for (float u : f.values) out.solved_voxels += std::isfinite(u) ? 1 : 0;
   }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
