@@ -24,30 +24,17 @@ std::uint64_t bits_of(double value) {
   return bits;
 }
 
-// Each slot as four words (its activity and its six floats in pairs) at indices 4 slot + n. An
-// inactive slot's floats count as zeros: the solvers do not read them, and the uniform form has
-// none (hash_uniform_slots), so both forms of the same tensors hash the same.
+// Each slot as four words (its activity and its six floats in pairs) at indices 4 slot + n, its
+// floats at metric + stride * slot: stride 6 for tensors per slot, 0 for the uniform form's one.
+// An inactive slot's floats count as zeros: the solvers do not read them, and the uniform form has
+// none, so both forms of the same tensors hash the same.
+template <std::size_t stride>
 RVOR_CLONED_FOR_AVX2 std::uint64_t hash_slots(const std::uint8_t* active, const float* metric,
                                               std::size_t begin, std::size_t end) {
   std::uint64_t sum = 0;
   for (std::size_t slot = begin; slot < end; ++slot) {
     std::uint64_t pairs[3];
-    std::memcpy(pairs, metric + 6 * slot, sizeof pairs);
-    const std::uint64_t on = active[slot] ? ~std::uint64_t{0} : 0;
-    sum += indexed_word_hash(4 * slot, active[slot]);
-    for (int n = 0; n < 3; ++n) sum += indexed_word_hash(4 * slot + 1 + n, pairs[n] & on);
-  }
-  return sum;
-}
-
-// hash_slots of the same tensor at every active slot and zeros at the others, without the array.
-RVOR_CLONED_FOR_AVX2 std::uint64_t hash_uniform_slots(const std::uint8_t* active,
-                                                      const std::array<float, 6>& tensor,
-                                                      std::size_t begin, std::size_t end) {
-  std::uint64_t pairs[3];
-  std::memcpy(pairs, tensor.data(), sizeof pairs);
-  std::uint64_t sum = 0;
-  for (std::size_t slot = begin; slot < end; ++slot) {
+    std::memcpy(pairs, metric + stride * slot, sizeof pairs);
     const std::uint64_t on = active[slot] ? ~std::uint64_t{0} : 0;
     sum += indexed_word_hash(4 * slot, active[slot]);
     for (int n = 0; n < 3; ++n) sum += indexed_word_hash(4 * slot + 1 + n, pairs[n] & on);
@@ -302,8 +289,8 @@ void Canvas::finalize() {
   content_hash_ = hash_geometry(*this) +
                   sum_over_slot_ranges(slot_count(), [&](std::size_t begin, std::size_t end) {
                     return uniform_metric_
-                               ? hash_uniform_slots(active.data(), *uniform_metric_, begin, end)
-                               : hash_slots(active.data(), metric_.data(), begin, end);
+                               ? hash_slots<0>(active.data(), uniform_metric_->data(), begin, end)
+                               : hash_slots<6>(active.data(), metric_.data(), begin, end);
                   });
 }
 

@@ -5,6 +5,7 @@
 #include <benchmark/benchmark.h>
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "canvas_identity.h"
@@ -15,15 +16,18 @@ namespace {
 
 constexpr int kEdge = 256;
 
-rvor::Canvas box_canvas() {
+// Tensors per slot, or one for all (`uniform`: the canvas's uniform form).
+rvor::Canvas box_canvas(bool uniform = false) {
   std::vector<rvor::VoxelIndex> origins;
   for (int k = 0; k < kEdge; k += rvor::Canvas::kBrickEdge)
     for (int j = 0; j < kEdge; j += rvor::Canvas::kBrickEdge)
       for (int i = 0; i < kEdge; i += rvor::Canvas::kBrickEdge) origins.push_back({i, j, k});
   rvor::Canvas canvas;
-  canvas.allocate(3, 2.0 / kEdge, rvor::Vec3::Constant(-1), {kEdge, kEdge, kEdge}, origins);
+  canvas.allocate(3, 2.0 / kEdge, rvor::Vec3::Constant(-1), {kEdge, kEdge, kEdge}, origins,
+                  uniform ? std::optional<rvor::Mat3>(rvor::Mat3::Identity()) : std::nullopt);
   for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
     canvas.active[slot] = 1;
+    if (uniform) continue;
     float* metric = canvas.mutable_metric(slot);
     metric[0] = metric[2] = metric[5] = 1.0f + static_cast<float>(slot % 977) * 1e-3f;
   }
@@ -44,8 +48,9 @@ void BM_FieldDigest(benchmark::State& state) {
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * slots));
 }
 
+// state.range(0): 1 for the uniform form.
 void BM_CanvasContentHash(benchmark::State& state) {
-  rvor::Canvas canvas = box_canvas();
+  rvor::Canvas canvas = box_canvas(state.range(0) == 1);
   for (auto _ : state) {
     canvas.finalize();
     benchmark::DoNotOptimize(canvas.content_hash());
@@ -73,7 +78,7 @@ void BM_CanvasIdentityCold(benchmark::State& state) {
 }
 
 BENCHMARK(BM_FieldDigest)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_CanvasContentHash)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_CanvasContentHash)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_CanvasIdentity)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_CanvasIdentityCold)->Unit(benchmark::kMicrosecond)->Iterations(20);
 
