@@ -10,11 +10,12 @@
 
 namespace rvor {
 
-// Measured, not summed: peak resident memory of `rvor voronoi` with 100 seeds at 160^3 minus that
-// at 96^3, divided by the added voxels (/usr/bin/time -f %M, PoCL, 2026-12-05): 26.9 B per voxel
-// for euclidean on box:-1,-1,-1,1,1,1 (the canvas's uniform form: activity, float field, device
-// state 17.7 B), 79 B for radial_shock_3d on its box (24 B of tensors per slot, 45.7 B of device
-// stencils and state). The margin leaves room for the outputs and for a denser stencil.
+// Measured, not summed: peak resident memory of `rvor voronoi` with 100 seeds at 160^3 less that
+// at 96^3, over the added voxels (docs/measurements/peak_bytes_per_voxel.sh, PoCL, 2026-12-05):
+// 26.7 B per voxel for euclidean on box:-1,-1,-1,1,1,1 (the canvas's uniform form: activity, float
+// field, device state 17.7 B), 78 B for radial_shock_3d on its box (24 B of tensors per slot,
+// 45.7 B of device stencils and state). The margin leaves room for the outputs (42 B per voxel
+// with --vtu) and for a denser stencil.
 std::uint64_t estimated_bytes_per_active_voxel(bool uniform_metric) {
   return uniform_metric ? 48 : 128;
 }

@@ -38,9 +38,10 @@ class ReferenceSolver {
   // its state, frozen flag, reverse-graph offset and the fields (double inside, float outside);
   // per active voxel its reverse-graph entries and four queue entries (the queue keeps stale
   // ones); per distinct tensor a stencil, 144 B, one per active voxel where tensors are stored
-  // per slot. 297 B per voxel in 3D then, against peaks of 237 B measured by
-  // `build/bin/test_solver --gtest_filter='ReferenceMemory*'` (2000 seeds at 64^3) and 274 B
-  // for radial_shock_3d at 80^3 with 2000 seeds; 153 B for a uniform metric (83 B measured).
+  // per slot. 297 B per voxel in 3D then, against a peak of 237 B printed by `build/bin/test_solver
+  // --gtest_filter='ReferenceMemory*'` (2000 seeds at 64^3); 153 B for a uniform metric. (The
+  // whole run's 261 B and 80 B per voxel of docs/measurements/peak_bytes_per_voxel.sh with
+  // --device cpu count the canvas and the outputs too.)
   static double estimated_bytes(const Canvas& canvas);
 
   // `canvas` must be the one given to the constructor. Seed i gets label i.

@@ -2,7 +2,6 @@
 // VTK XML unstructured grids with raw appended binary data (UInt64 block headers), shared by the
 // canvas and dual writers: arrays are declared in the XML with their offsets, then written after
 // the `_` marker of the AppendedData section. The declared vectors must outlive write().
-#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <ostream>
