@@ -35,11 +35,12 @@ class ReferenceSolver {
   // neighbours and the reverse stencil graph (who has me in their stencil), as CSR.
   explicit ReferenceSolver(const Canvas& canvas);
   // Bytes a solver of this canvas and a solve with it allocate at their peak, estimated: per slot
-  // its state, frozen flag, reverse-graph offset and the fields (double inside, float outside);
+  // its state, frozen flag, reverse-graph offset, time stamps and the fields (double inside, float
+  // outside);
   // per active voxel its reverse-graph entries and four queue entries (the queue keeps stale
   // ones); per distinct tensor a stencil, 144 B, one per active voxel where tensors are stored
-  // per slot. 297 B per voxel in 3D then, against a peak of 237 B printed by `build/bin/test_solver
-  // --gtest_filter='ReferenceMemory*'` (2000 seeds at 64^3); 153 B for a uniform metric. (The
+  // per slot. 305 B per voxel in 3D then, against a peak of 237 B printed by `build/bin/test_solver
+  // --gtest_filter='ReferenceMemory*'` (2000 seeds at 64^3); 161 B for a uniform metric. (The
   // whole run's 261 B and 80 B per voxel of docs/measurements/peak_bytes_per_voxel.sh with
   // --device cpu count the canvas and the outputs too.)
   static double estimated_bytes(const Canvas& canvas);
@@ -59,6 +60,10 @@ class ReferenceSolver {
   // increasing order, before the queue runs (docs/scheme.md, "Initialisation"). Off by default;
   // ignored under a distance limit, whose unsolved values must stay upper bounds.
   void set_exact_start(bool on) { exact_start_ = on; }
+  // After a solve without a distance limit: how many voxels one more evaluation of every voxel
+  // would change (0 at the fixed point u = T(u) the solve must reach). For the tests of the
+  // evaluations the solves skip; the field is left as it is.
+  std::size_t unsettled_voxels();
   // Whether single-seed solves keep each voxel's neighbours and corrections (SingleSourceTerms);
   // on by default. The same values bit for bit either way: off is for the tests that check it.
   void keep_single_source_terms(bool on) { keep_single_source_terms_ = on; }
@@ -112,6 +117,9 @@ class ReferenceSolver {
   // Recomputes x from its neighbours: the smallest candidate over the labels of its stencil
   // neighbours (ties: smaller label). Returns whether (value, label) changed.
   bool recompute(int32_t x);
+  // recompute() with its time stamps (evaluated_at_, changed_at_).
+  bool evaluate(int32_t x);
+  uint32_t tick();
   // Stores a recomputed (value, label) unless it is the voxel's own; returns whether it changed.
   bool store_recomputed(int32_t voxel, double best, int32_t best_label);
   void mark_seed_block(const Canvas& canvas, std::size_t seed, bool assign_values);
@@ -199,6 +207,10 @@ class ReferenceSolver {
   // 1 for voxels of a seed's initialisation block: their exact values are boundary data.
   std::vector<uint8_t> frozen_;
   std::vector<QueueEntry> queue_;  // binary min-heap (std::push_heap with greater)
+  // Per slot, when it was last evaluated and last changed, on a clock that ticks at every
+  // evaluation and seed value: a voxel evaluated after a neighbour's last change has seen it.
+  std::vector<uint32_t> evaluated_at_, changed_at_;
+  uint32_t clock_ = 0;
   // SingleSourceTerms per slot, and whether computed, while a single-source solve runs.
   std::vector<SingleSourceTerms> single_source_terms_;
   std::vector<uint8_t> single_source_ready_;
