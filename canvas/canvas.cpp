@@ -268,9 +268,16 @@ void Canvas::allocate(int dim, double h, const Vec3& world_origin,
 }
 
 void Canvas::set_active(std::size_t slot, const Mat3& G) {
+  set_active(slot, stored_floats(G, dimension));
+}
+
+std::array<float, 6> Canvas::stored_tensor(const Mat3& G, int dimension) {
+  return stored_floats(G, dimension);
+}
+
+void Canvas::set_active(std::size_t slot, const std::array<float, 6>& tensor) {
   // Only when set: the builder calls this from many threads after allocate() reset it.
   if (content_hash_) content_hash_.reset();
-  const std::array<float, 6> tensor = stored_floats(G, dimension);
   if (uniform_metric_ && tensor != *uniform_metric_) store_metric_per_slot();
   active[slot] = 1;
   if (!uniform_metric_) std::copy(tensor.begin(), tensor.end(), &metric_[6 * slot]);

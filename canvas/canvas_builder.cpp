@@ -306,9 +306,12 @@ void sample_metric(Canvas& canvas, const std::vector<const BoolLeaf*>& leaves, c
   std::mutex failure_mutex;
   std::string failure;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size()), [&](const auto& range) {
-    // The last tensor checked: a uniform metric (or a uniform region) is checked once, not at
-    // every voxel (the check is an eigenvalue solve, most of a uniform canvas's build).
-    Mat3 checked = Mat3::Constant(std::numeric_limits<double>::quiet_NaN());
+    // The last tensor given and the last checked: a uniform metric (or a uniform region) is
+    // checked and converted to its stored floats once, not at every voxel (the check is an
+    // eigenvalue solve, and the conversions were most of a uniform canvas's build).
+    const Mat3 none = Mat3::Constant(std::numeric_limits<double>::quiet_NaN());
+    Mat3 last_given = none, checked = none;
+    std::array<float, 6> stored{};
     for (std::size_t brick = range.begin(); brick != range.end(); ++brick) {
       if (brick > first_failure.load()) return;
       try {
@@ -317,19 +320,23 @@ void sample_metric(Canvas& canvas, const std::vector<const BoolLeaf*>& leaves, c
           if (!p.in_box(c)) continue;
           const Vec3 world = p.world(c);
           const Mat3 given = metric.at(world);
-          const Mat3 G = stored_metric(given, p.dimension);
-          if (G != checked) {
-            // The message is built only on failure: formatting it per voxel would dominate.
-            if (!is_storable_metric(G, p.dimension))
-              require_storable_metric(G, given, p.dimension, name + " at " + point_text(world));
-            // Another tensor would turn the canvas into the per-slot form, which is not safe in
-            // parallel.
-            if (uniform && G != *uniform)
-              throw Error("metric " + name + " claims to be uniform but differs at " +
-                          point_text(world));
+          if (given != last_given) {
+            const Mat3 G = stored_metric(given, p.dimension);
+            if (G != checked) {
+              // The message is built only on failure: formatting it per voxel would dominate.
+              if (!is_storable_metric(G, p.dimension))
+                require_storable_metric(G, given, p.dimension, name + " at " + point_text(world));
+              // Another tensor would turn the canvas into the per-slot form, which is not safe in
+              // parallel.
+              if (uniform && G != *uniform)
+                throw Error("metric " + name + " claims to be uniform but differs at " +
+                            point_text(world));
+              checked = G;
+              stored = Canvas::stored_tensor(G, p.dimension);
+            }
+            last_given = given;
           }
-          checked = G;
-          canvas.set_active(brick * canvas.brick_volume() + local_index(c, p), G);
+          canvas.set_active(brick * canvas.brick_volume() + local_index(c, p), stored);
         }
       } catch (const Error& error) {
         std::lock_guard<std::mutex> lock(failure_mutex);

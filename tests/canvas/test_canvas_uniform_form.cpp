@@ -3,11 +3,14 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
 #include <cstddef>
+#include <string>
 
 #include "rvor/canvas.h"
 #include "rvor/canvas_builder.h"
 #include "rvor/domain.h"
+#include "rvor/error.h"
 #include "rvor/metric_field.h"
 
 namespace rvor {
@@ -92,6 +95,58 @@ TEST(CanvasUniformForm, AnotherTensorTurnsItIntoThePerSlotForm) {
   EXPECT_FALSE(by_hand.uniform_metric().has_value());
   EXPECT_EQ(floats_of(by_hand, changed_slot), (std::array<float, 6>{1, 0, 3, 0, 0, 1}));
   EXPECT_NE(by_hand.content_hash(), original.content_hash());
+}
+
+// A field of two tensors in slabs across x, which may claim to be uniform.
+class SlabField final : public MetricField {
+ public:
+  explicit SlabField(bool claims_uniform) : claims_uniform_(claims_uniform) {}
+  int dimension() const override { return 3; }
+  Mat3 at(const Vec3& p) const override {
+    const bool odd = static_cast<int>(std::floor(p.x() * 10.0)) % 2 != 0;
+    Mat3 G = Mat3::Identity();
+    if (odd) G(0, 1) = G(1, 0) = 0.25;
+    return G;
+  }
+  std::string description() const override { return "slabs"; }
+  bool is_uniform() const override { return claims_uniform_; }
+
+ private:
+  bool claims_uniform_;
+};
+
+// The builder converts a tensor once for a run of voxels that are given the same one: a field
+// that alternates along each row still gets each voxel's own tensor.
+TEST(CanvasUniformForm, TheBuilderStoresEachVoxelsOwnTensor) {
+  const DomainSpec spec = parse_domain("box:0,0,0,1,1,1");
+  CanvasOptions options;
+  options.resolution = 20;
+  const SlabField field(false);
+  const Canvas canvas = build_canvas(spec, field, options);
+  ASSERT_FALSE(canvas.uniform_metric().has_value());
+  std::size_t odd = 0;
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
+    if (!canvas.active[slot]) continue;
+    const Mat3 expected = field.at(canvas.world_of(canvas.voxel_of(slot)));
+    ASSERT_EQ(floats_of(canvas, slot), Canvas::stored_tensor(expected, 3)) << slot;
+    odd += expected(0, 1) != 0 ? 1 : 0;
+  }
+  EXPECT_GT(odd, canvas.active_voxel_count / 4);
+  EXPECT_LT(odd, canvas.active_voxel_count * 3 / 4);
+}
+
+TEST(CanvasUniformForm, AFieldThatClaimsToBeUniformAndIsNotIsRefused) {
+  const DomainSpec spec = parse_domain("box:0,0,0,1,1,1");
+  CanvasOptions options;
+  options.resolution = 20;
+  try {
+    build_canvas(spec, SlabField(true), options);
+    FAIL() << "built";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("'slabs' claims to be uniform but differs at"),
+              std::string::npos)
+        << error.what();
+  }
 }
 
 }  // namespace

@@ -91,6 +91,11 @@ class Canvas {
   // Calls for distinct slots may run in parallel, except where a canvas in the uniform form gets
   // another tensor: it turns into the per-slot form first (as mutable_metric() does).
   void set_active(std::size_t slot, const Mat3& G);
+  // set_active with the tensor already as the six floats it is stored as (stored_tensor(G)), for
+  // callers that mark many voxels with one tensor and would convert it at each.
+  void set_active(std::size_t slot, const std::array<float, 6>& stored);
+  // The six floats set_active stores for G (metric_of's layout).
+  static std::array<float, 6> stored_tensor(const Mat3& G, int dimension);
   // Recounts active voxels and records the content hash (after set_active calls, or after writing
   // `active` or mutable_metric() directly). Throws rvor::Error for a geometry the solvers cannot
   // index by (dimension, voxel size, index box, brick grid and table, brick origins not as
