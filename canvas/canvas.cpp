@@ -42,13 +42,6 @@ RVOR_CLONED_FOR_AVX2 std::uint64_t hash_slots(const std::uint8_t* active, const 
   return sum;
 }
 
-std::array<float, 6> stored_floats(const Mat3& G, int dimension) {
-  const SolTensor c = tensor_to_sol(stored_metric(G, dimension));
-  std::array<float, 6> out;
-  for (int n = 0; n < 6; ++n) out[n] = static_cast<float>(c[n]);
-  return out;
-}
-
 // The geometry's scalars, at indices from `first` on, above every slot's.
 std::uint64_t hash_scalars(const Canvas& canvas, std::uint64_t first) {
   std::uint64_t index = first, sum = 0;
@@ -257,7 +250,7 @@ void Canvas::allocate(int dim, double h, const Vec3& world_origin,
   }
   active.assign(slot_count(), 0);
   if (uniform_metric) {
-    uniform_metric_ = stored_floats(*uniform_metric, dimension);
+    uniform_metric_ = stored_tensor(*uniform_metric, dimension);
     std::vector<float>().swap(metric_);
   } else {
     uniform_metric_.reset();
@@ -268,19 +261,22 @@ void Canvas::allocate(int dim, double h, const Vec3& world_origin,
 }
 
 void Canvas::set_active(std::size_t slot, const Mat3& G) {
-  set_active(slot, stored_floats(G, dimension));
+  set_active(slot, stored_tensor(G, dimension));
 }
 
 std::array<float, 6> Canvas::stored_tensor(const Mat3& G, int dimension) {
-  return stored_floats(G, dimension);
+  const SolTensor c = tensor_to_sol(stored_metric(G, dimension));
+  std::array<float, 6> out;
+  for (int n = 0; n < 6; ++n) out[n] = static_cast<float>(c[n]);
+  return out;
 }
 
-void Canvas::set_active(std::size_t slot, const std::array<float, 6>& tensor) {
+void Canvas::set_active(std::size_t slot, const std::array<float, 6>& stored) {
   // Only when set: the builder calls this from many threads after allocate() reset it.
   if (content_hash_) content_hash_.reset();
-  if (uniform_metric_ && tensor != *uniform_metric_) store_metric_per_slot();
+  if (uniform_metric_ && stored != *uniform_metric_) store_metric_per_slot();
   active[slot] = 1;
-  if (!uniform_metric_) std::copy(tensor.begin(), tensor.end(), &metric_[6 * slot]);
+  if (!uniform_metric_) std::copy(stored.begin(), stored.end(), &metric_[6 * slot]);
 }
 
 void Canvas::finalize() {

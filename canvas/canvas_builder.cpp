@@ -1,8 +1,11 @@
 #include "rvor/canvas_builder.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <mutex>
 #include <optional>
@@ -297,6 +300,18 @@ std::size_t local_index(const openvdb::Coord& c, const Placement& p) {
                                   kEdge * ((c.y() & (kEdge - 1)) + kEdge * z));
 }
 
+// Whether two tensors have the same bits, word by word from the first entry: where tensors vary,
+// the first nearly always differs already. (A tensor is only kept once it passed the check, so a
+// NaN never matches one.)
+bool same_bits(const Mat3& a, const Mat3& b) {
+  std::uint64_t x[9], y[9];
+  std::memcpy(x, a.data(), sizeof x);
+  std::memcpy(y, b.data(), sizeof y);
+  for (int n = 0; n < 9; ++n)
+    if (x[n] != y[n]) return false;
+  return true;
+}
+
 // Samples and validates the metric at every active voxel in parallel. On failure the error of
 // the first failing brick (in brick order) is rethrown, so the report does not depend on timing.
 void sample_metric(Canvas& canvas, const std::vector<const BoolLeaf*>& leaves, const Placement& p,
@@ -308,9 +323,11 @@ void sample_metric(Canvas& canvas, const std::vector<const BoolLeaf*>& leaves, c
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size()), [&](const auto& range) {
     // The last tensor given and the last checked: a uniform metric (or a uniform region) is
     // checked and converted to its stored floats once, not at every voxel (the check is an
-    // eigenvalue solve, and the conversions were most of a uniform canvas's build).
-    const Mat3 none = Mat3::Constant(std::numeric_limits<double>::quiet_NaN());
-    Mat3 last_given = none, checked = none;
+    // eigenvalue solve, and the conversions were most of a uniform canvas's build). Compared by
+    // their bits, so that every voxel stores its own tensor's (-0 is not 0 there) whatever the
+    // threads' split; none yet at the start of each task.
+    bool have_given = false, have_checked = false;
+    Mat3 last_given = Mat3::Zero(), checked = Mat3::Zero();
     std::array<float, 6> stored{};
     for (std::size_t brick = range.begin(); brick != range.end(); ++brick) {
       if (brick > first_failure.load()) return;
@@ -320,10 +337,9 @@ void sample_metric(Canvas& canvas, const std::vector<const BoolLeaf*>& leaves, c
           if (!p.in_box(c)) continue;
           const Vec3 world = p.world(c);
           const Mat3 given = metric.at(world);
-          // The first entry first: where tensors vary, it nearly always differs already.
-          if (given(0, 0) != last_given(0, 0) || given != last_given) {
+          if (!have_given || !same_bits(given, last_given)) {
             const Mat3 G = stored_metric(given, p.dimension);
-            if (G != checked) {
+            if (!have_checked || !same_bits(G, checked)) {
               // The message is built only on failure: formatting it per voxel would dominate.
               if (!is_storable_metric(G, p.dimension))
                 require_storable_metric(G, given, p.dimension, name + " at " + point_text(world));
@@ -333,9 +349,11 @@ void sample_metric(Canvas& canvas, const std::vector<const BoolLeaf*>& leaves, c
                 throw Error("metric " + name + " claims to be uniform but differs at " +
                             point_text(world));
               checked = G;
+              have_checked = true;
               stored = Canvas::stored_tensor(G, p.dimension);
             }
             last_given = given;
+            have_given = true;
           }
           canvas.set_active(brick * canvas.brick_volume() + local_index(c, p), stored);
         }

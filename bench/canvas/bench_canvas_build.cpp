@@ -4,6 +4,7 @@
 // (a tensor per voxel).
 #include <benchmark/benchmark.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <string>

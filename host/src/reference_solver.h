@@ -36,11 +36,11 @@ class ReferenceSolver {
   explicit ReferenceSolver(const Canvas& canvas);
   // Bytes a solver of this canvas and a solve with it allocate at their peak, estimated: per slot
   // its state, frozen flag, reverse-graph offset, time stamps and the fields (double inside, float
-  // outside);
-  // per active voxel its reverse-graph entries and four queue entries (the queue keeps stale
-  // ones); per distinct tensor a stencil, 144 B, one per active voxel where tensors are stored
-  // per slot. 305 B per voxel in 3D then, against a peak of 237 B printed by `build/bin/test_solver
-  // --gtest_filter='ReferenceMemory*'` (2000 seeds at 64^3); 161 B for a uniform metric. (The
+  // outside); per active voxel its reverse-graph entries and four queue entries (the queue keeps
+  // stale ones); per distinct tensor a stencil, 144 B, one per active voxel where tensors are
+  // stored per slot. 305 B per voxel in 3D then, against a peak of 245 B printed by
+  // `build/bin/test_solver --gtest_filter='ReferenceMemory*'` (2000 seeds at 64^3); 161 B for a
+  // uniform metric. (The
   // whole run's 261 B and 80 B per voxel of docs/measurements/peak_bytes_per_voxel.sh with
   // --device cpu count the canvas and the outputs too.)
   static double estimated_bytes(const Canvas& canvas);
@@ -62,7 +62,9 @@ class ReferenceSolver {
   void set_exact_start(bool on) { exact_start_ = on; }
   // After a solve without a distance limit: how many voxels one more evaluation of every voxel
   // would change (0 at the fixed point u = T(u) the solve must reach). For the tests of the
-  // evaluations the solves skip; the field is left as it is.
+  // evaluations the solves skip; the field is left as it is. A single-seed solve's kept terms are
+  // gone by then: its voxels are evaluated as any solve's, which gives the same values bit for bit.
+  // Throws rvor::Error before the first solve.
   std::size_t unsettled_voxels();
   // Whether single-seed solves keep each voxel's neighbours and corrections (SingleSourceTerms);
   // on by default. The same values bit for bit either way: off is for the tests that check it.

@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <cstring>
 #include <string>
 
 #include "rvor/canvas.h"
@@ -97,15 +98,21 @@ TEST(CanvasUniformForm, AnotherTensorTurnsItIntoThePerSlotForm) {
   EXPECT_NE(by_hand.content_hash(), original.content_hash());
 }
 
-// A field of two tensors in slabs across x, which may claim to be uniform.
+// A field of tensors in slabs across x, which may claim to be uniform: odd slabs have an
+// off-diagonal 0.25; even ones are the identity, with -0 or 0 off the diagonal in slabs across y
+// (equal as numbers, not as stored bits).
 class SlabField final : public MetricField {
  public:
   explicit SlabField(bool claims_uniform) : claims_uniform_(claims_uniform) {}
   int dimension() const override { return 3; }
   Mat3 at(const Vec3& p) const override {
     const bool odd = static_cast<int>(std::floor(p.x() * 10.0)) % 2 != 0;
+    const bool negative_zero = static_cast<int>(std::floor(p.y() * 10.0)) % 2 != 0;
     Mat3 G = Mat3::Identity();
-    if (odd) G(0, 1) = G(1, 0) = 0.25;
+    if (odd)
+      G(0, 1) = G(1, 0) = 0.25;
+    else if (negative_zero)
+      G(0, 2) = G(2, 0) = -0.0;
     return G;
   }
   std::string description() const override { return "slabs"; }
@@ -116,7 +123,7 @@ class SlabField final : public MetricField {
 };
 
 // The builder converts a tensor once for a run of voxels that are given the same one: a field
-// that alternates along each row still gets each voxel's own tensor.
+// that alternates along each row still gets each voxel's own tensor, bit for bit.
 TEST(CanvasUniformForm, TheBuilderStoresEachVoxelsOwnTensor) {
   const DomainSpec spec = parse_domain("box:0,0,0,1,1,1");
   CanvasOptions options;
@@ -124,15 +131,19 @@ TEST(CanvasUniformForm, TheBuilderStoresEachVoxelsOwnTensor) {
   const SlabField field(false);
   const Canvas canvas = build_canvas(spec, field, options);
   ASSERT_FALSE(canvas.uniform_metric().has_value());
-  std::size_t odd = 0;
+  std::size_t odd = 0, negative_zeros = 0;
   for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
     if (!canvas.active[slot]) continue;
     const Mat3 expected = field.at(canvas.world_of(canvas.voxel_of(slot)));
-    ASSERT_EQ(floats_of(canvas, slot), Canvas::stored_tensor(expected, 3)) << slot;
+    const std::array<float, 6> stored = floats_of(canvas, slot);
+    const std::array<float, 6> own = Canvas::stored_tensor(expected, 3);
+    ASSERT_EQ(std::memcmp(stored.data(), own.data(), sizeof stored), 0) << slot;
+    negative_zeros += std::signbit(stored[3]) ? 1 : 0;
     odd += expected(0, 1) != 0 ? 1 : 0;
   }
   EXPECT_GT(odd, canvas.active_voxel_count / 4);
   EXPECT_LT(odd, canvas.active_voxel_count * 3 / 4);
+  EXPECT_GT(negative_zeros, canvas.active_voxel_count / 8);
 }
 
 TEST(CanvasUniformForm, AFieldThatClaimsToBeUniformAndIsNotIsRefused) {

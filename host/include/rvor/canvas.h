@@ -92,7 +92,8 @@ class Canvas {
   // another tensor: it turns into the per-slot form first (as mutable_metric() does).
   void set_active(std::size_t slot, const Mat3& G);
   // set_active with the tensor already as the six floats it is stored as (stored_tensor(G)), for
-  // callers that mark many voxels with one tensor and would convert it at each.
+  // callers that mark many voxels with one tensor and would convert it at each. Other floats skip
+  // the 2D rule above until finalize(), which refuses them.
   void set_active(std::size_t slot, const std::array<float, 6>& stored);
   // The six floats set_active stores for G (metric_of's layout).
   static std::array<float, 6> stored_tensor(const Mat3& G, int dimension);
