@@ -309,7 +309,6 @@ void ReferenceSolver::offer_exact_value(int32_t voxel, int32_t s, bool was_froze
   if (!wins || (u0 == state.value && s == state.label)) return;
   state.value = u0;
   state.label = s;
-  changed_at_[voxel] = tick();
   queue_.push_back({u0, voxel});
   std::push_heap(queue_.begin(), queue_.end(), std::greater<QueueEntry>());
 }
@@ -477,7 +476,7 @@ std::size_t ReferenceSolver::unsettled_voxels() {
   return unsettled;
 }
 
-uint32_t ReferenceSolver::tick() {
+bool ReferenceSolver::evaluate(int32_t voxel) {
   if (clock_ == std::numeric_limits<uint32_t>::max()) {
     // Every stamp back to 0 then says nothing: no voxel is skipped until evaluated again. Those
     // extra evaluations can move the result's last bits (only past 4.29e9 evaluations in a solve).
@@ -485,11 +484,7 @@ uint32_t ReferenceSolver::tick() {
     std::fill(changed_at_.begin(), changed_at_.end(), 0);
     clock_ = 0;
   }
-  return ++clock_;
-}
-
-bool ReferenceSolver::evaluate(int32_t voxel) {
-  const uint32_t now = tick();
+  const uint32_t now = ++clock_;
   evaluated_at_[voxel] = now;
   if (!recompute(voxel)) return false;
   changed_at_[voxel] = now;
@@ -651,7 +646,6 @@ class ReferencePropagator final : public Propagator {
       solver_ = std::make_unique<ReferenceSolver>(canvas);
       solver_->set_exact_start(exact_start_);
       canvas_id_ = id;
-      last_ = {};
     }
     return *solver_;
   }

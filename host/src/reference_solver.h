@@ -40,9 +40,9 @@ class ReferenceSolver {
   // stale ones); per distinct tensor a stencil, 144 B, one per active voxel where tensors are
   // stored per slot. 305 B per voxel in 3D then, against a peak of 245 B printed by
   // `build/bin/test_solver --gtest_filter='ReferenceMemory*'` (2000 seeds at 64^3); 161 B for a
-  // uniform metric. (The
-  // whole run's 261 B and 80 B per voxel of docs/measurements/peak_bytes_per_voxel.sh with
-  // --device cpu count the canvas and the outputs too.)
+  // uniform metric. (The whole run's 261 B and 80 B per voxel of
+  // docs/measurements/peak_bytes_per_voxel.sh with --device cpu count the canvas and the outputs
+  // too.)
   static double estimated_bytes(const Canvas& canvas);
 
   // `canvas` must be the one given to the constructor. Seed i gets label i.
@@ -121,7 +121,6 @@ class ReferenceSolver {
   bool recompute(int32_t x);
   // recompute() with its time stamps (evaluated_at_, changed_at_).
   bool evaluate(int32_t x);
-  uint32_t tick();
   // Stores a recomputed (value, label) unless it is the voxel's own; returns whether it changed.
   bool store_recomputed(int32_t voxel, double best, int32_t best_label);
   void mark_seed_block(const Canvas& canvas, std::size_t seed, bool assign_values);
@@ -210,7 +209,8 @@ class ReferenceSolver {
   std::vector<uint8_t> frozen_;
   std::vector<QueueEntry> queue_;  // binary min-heap (std::push_heap with greater)
   // Per slot, when it was last evaluated and last changed, on a clock that ticks at every
-  // evaluation and seed value: a voxel evaluated after a neighbour's last change has seen it.
+  // evaluation (0: before the solve's first, where the seeds' values and a loaded field are set): a
+  // voxel evaluated after a neighbour's last change has seen it.
   std::vector<uint32_t> evaluated_at_, changed_at_;
   uint32_t clock_ = 0;
   // SingleSourceTerms per slot, and whether computed, while a single-source solve runs.
