@@ -321,13 +321,13 @@ void sample_metric(Canvas& canvas, const std::vector<const BoolLeaf*>& leaves, c
   std::mutex failure_mutex;
   std::string failure;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size()), [&](const auto& range) {
-    // The last tensor given and the last checked: a uniform metric (or a uniform region) is
-    // checked and converted to its stored floats once, not at every voxel (the check is an
+    // The last tensor given, checked and converted to its stored floats: a uniform metric (or a
+    // uniform region) is checked and converted once, not at every voxel (the check is an
     // eigenvalue solve, and the conversions were most of a uniform canvas's build). Compared by
-    // their bits, so that every voxel stores its own tensor's (-0 is not 0 there) whatever the
-    // threads' split; none yet at the start of each task.
-    bool have_given = false, have_checked = false;
-    Mat3 last_given = Mat3::Zero(), checked = Mat3::Zero();
+    // bits, so that every voxel stores its own tensor's (-0 is not 0 there) whatever the threads'
+    // split; none yet at the start of each task.
+    bool have_given = false;
+    Mat3 last_given = Mat3::Zero();
     std::array<float, 6> stored{};
     for (std::size_t brick = range.begin(); brick != range.end(); ++brick) {
       if (brick > first_failure.load()) return;
@@ -339,19 +339,15 @@ void sample_metric(Canvas& canvas, const std::vector<const BoolLeaf*>& leaves, c
           const Mat3 given = metric.at(world);
           if (!have_given || !same_bits(given, last_given)) {
             const Mat3 G = stored_metric(given, p.dimension);
-            if (!have_checked || !same_bits(G, checked)) {
-              // The message is built only on failure: formatting it per voxel would dominate.
-              if (!is_storable_metric(G, p.dimension))
-                require_storable_metric(G, given, p.dimension, name + " at " + point_text(world));
-              // Another tensor would turn the canvas into the per-slot form, which is not safe in
-              // parallel.
-              if (uniform && G != *uniform)
-                throw Error("metric " + name + " claims to be uniform but differs at " +
-                            point_text(world));
-              checked = G;
-              have_checked = true;
-              stored = Canvas::stored_tensor(G, p.dimension);
-            }
+            // The message is built only on failure: formatting it per voxel would dominate.
+            if (!is_storable_metric(G, p.dimension))
+              require_storable_metric(G, given, p.dimension, name + " at " + point_text(world));
+            // Another tensor would turn the canvas into the per-slot form, which is not safe in
+            // parallel.
+            if (uniform && G != *uniform)
+              throw Error("metric " + name + " claims to be uniform but differs at " +
+                          point_text(world));
+            stored = Canvas::stored_tensor(G, p.dimension);
             last_given = given;
             have_given = true;
           }
