@@ -40,7 +40,7 @@ class ReferenceSolver {
   // stale ones); per distinct tensor a stencil, 144 B, one per active voxel where tensors are
   // stored per slot. 305 B per voxel in 3D then, against a peak of 245 B printed by
   // `build/bin/test_solver --gtest_filter='ReferenceMemory*'` (2000 seeds at 64^3); 161 B for a
-  // uniform metric. (The whole run's 261 B and 80 B per voxel of
+  // uniform metric, against 74 B there. (The whole run's 261 B and 80 B per voxel of
   // docs/measurements/peak_bytes_per_voxel.sh with --device cpu count the canvas and the outputs
   // too.)
   static double estimated_bytes(const Canvas& canvas);
