@@ -95,34 +95,24 @@ void write_cells(const std::string& path, const Canvas& canvas, const VoronoiFie
     ++cells;
   });
   const Index corner_count = canvas.dimension == 3 ? 8 : 4;
-  const auto connectivity = [&](std::ostream& out) {
-    vtu::ChunkedWriter<Index> writer(out);
+  const auto connectivity = vtu::streamed<Index>([&](auto push) {
     for_each_active_slot(canvas, [&](std::size_t slot) {
-      for_each_corner(canvas, slot, [&](int i, int j, int k) {
-        writer.push(static_cast<Index>(corners.id(i, j, k)));
-      });
+      for_each_corner(canvas, slot,
+                      [&](int i, int j, int k) { push(static_cast<Index>(corners.id(i, j, k))); });
     });
-    writer.finish();
-  };
-  const auto offsets = [&](std::ostream& out) {
-    vtu::ChunkedWriter<Index> writer(out);
-    for (std::size_t cell = 1; cell <= cells; ++cell)
-      writer.push(static_cast<Index>(cell * corner_count));
-    writer.finish();
-  };
-  const auto types = [&](std::ostream& out) {
-    vtu::ChunkedWriter<uint8_t> writer(out);
-    for (std::size_t cell = 0; cell < cells; ++cell)
-      writer.push(canvas.dimension == 3 ? kVtkVoxel : kVtkPixel);
-    writer.finish();
-  };
+  });
+  const auto offsets = vtu::streamed<Index>([&](auto push) {
+    for (std::size_t cell = 1; cell <= cells; ++cell) push(static_cast<Index>(cell * corner_count));
+  });
+  const uint8_t type = canvas.dimension == 3 ? kVtkVoxel : kVtkPixel;
+  const auto types = vtu::streamed<uint8_t>([&](auto push) {
+    for (std::size_t cell = 0; cell < cells; ++cell) push(type);
+  });
   // A cell's value of one of the field's arrays.
   const auto cell_values = [&](const auto& values) {
-    return [&canvas, &values](std::ostream& out) {
-      vtu::ChunkedWriter<std::decay_t<decltype(values[0])>> writer(out);
-      for_each_active_slot(canvas, [&](std::size_t slot) { writer.push(values[slot]); });
-      writer.finish();
-    };
+    return vtu::streamed<std::decay_t<decltype(values[0])>>([&canvas, &values](auto push) {
+      for_each_active_slot(canvas, [&](std::size_t slot) { push(values[slot]); });
+    });
   };
   vtu::AppendedWriter appended;
   std::string xml = vtu::grid_geometry_streamed<Index>(

@@ -54,7 +54,7 @@ class AppendedWriter {
   std::vector<std::pair<std::size_t, std::function<void(std::ostream&)>>> blocks_;
 };
 
-// Values written to a stream in chunks: an array streamed by declare_streamed().
+// Values written to a stream in chunks (streamed() below).
 template <typename T>
 class ChunkedWriter {
  public:
@@ -74,6 +74,17 @@ class ChunkedWriter {
   std::ostream& out_;
   std::vector<T> chunk_;
 };
+
+// An array for declare_streamed(), made as it is written: `values(push)` calls push(value) for
+// each of its values in order, and they reach the stream in chunks.
+template <typename T, typename Values>
+std::function<void(std::ostream&)> streamed(Values values) {
+  return [values](std::ostream& out) {
+    ChunkedWriter<T> writer(out);
+    values([&writer](T value) { writer.push(value); });
+    writer.finish();
+  };
+}
 
 // The XML up to and including <Points>' opening tag of a one-piece unstructured grid.
 inline std::string grid_header(std::size_t points, std::size_t cells) {
