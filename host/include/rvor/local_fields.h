@@ -42,7 +42,7 @@ namespace rvor {
 // by bricks of the box (8^3 voxels, 8x8x1 in 2D, from lo on): only those holding a solved voxel,
 // x fastest within a brick. A star covers about a third of its box, but touches most of its bricks:
 // radial_shock_3d 96^3, 500 seeds (README, "What it costs"), 12.65M voxels solved, 26.4M kept in
-// bricks, 33.0M in whole boxes.
+// bricks, 33.0M in whole boxes (da5cffd's parent).
 struct LocalField {
   std::array<int, 3> lo{}, dims{};
   std::array<int, 3> brick_dims{};  // bricks of the box per axis
