@@ -20,6 +20,7 @@
 #include "rvor/error.h"
 #include "rvor/input_file.h"
 #include "rvor/medit.h"
+#include "rvor/spec_text.h"
 
 namespace rvor {
 
@@ -150,7 +151,7 @@ class MeditTokens {
     if (at_end()) fail(last_line_, "truncated file: it ends where " + describe() + " was expected");
     const Token token = next();
     if (is_section_keyword(token.text))
-      fail(token.line, "truncated section: found '" + std::string(token.text) + "' where " +
+      fail(token.line, "truncated section: found " + quoted_text(token.text) + " where " +
                            describe() + " was expected");
     return token;
   }
@@ -170,7 +171,7 @@ class MeditTokens {
     if (parse_integer(token.text, value)) return value;
     double as_real = 0;
     if (parse_real(token.text, as_real))
-      fail(token.line, "'" + std::string(token.text) + "' is not an integer (" + describe() + ")");
+      fail(token.line, quoted_text(token.text) + " is not an integer (" + describe() + ")");
     not_a_number(token, describe());
   }
 
@@ -192,7 +193,7 @@ class MeditTokens {
 
  private:
   [[noreturn]] void not_a_number(const Token& token, const std::string& what) const {
-    fail(token.line, "'" + std::string(token.text) + "' is not a number (" + what + ")");
+    fail(token.line, quoted_text(token.text) + " is not a number (" + what + ")");
   }
 
   void skip_blanks_and_comments() {
@@ -217,6 +218,15 @@ class MeditTokens {
   int line_ = 1;
   int last_line_ = 1;
 };
+
+// The value after MeshVersionFormatted, in a .mesh as in a .sol: 3 and 4 only widen integers in
+// binary files; their ASCII layout is the same.
+void read_format_version(MeditTokens& tokens) {
+  const long long version = tokens.integer([] { return std::string("the format version"); });
+  if (version < 1 || version > 4)
+    tokens.fail(tokens.line(), "unsupported MeshVersionFormatted " + std::to_string(version) +
+                                   " (expected 1 to 4)");
+}
 
 // "vertex 6 of 8 in the Vertices section": 1-based, as in the file.
 std::string entry_name(const char* entry, int index, int count, const std::string& section) {
@@ -281,7 +291,7 @@ class MeshReader {
       const Token keyword = tokens_.next();
       if (!starts_like_keyword(keyword.text))
         tokens_.fail(keyword.line,
-                     "expected a section keyword, found '" + std::string(keyword.text) + "'");
+                     "expected a section keyword, found " + quoted_text(keyword.text));
       if (!read_section(keyword)) break;
     }
     if (mesh_.dimension == 0) tokens_.fail(tokens_.line(), "missing Dimension keyword");
@@ -295,7 +305,7 @@ class MeshReader {
     const std::string name = lowercase(keyword.text);
     if (name == "end") return false;
     if (name == "meshversionformatted") {
-      read_version();
+      read_format_version(tokens_);
     } else if (name == "dimension") {
       read_dimension();
     } else if (name == "vertices") {
@@ -311,14 +321,6 @@ class MeshReader {
       skip_section(tokens_, keyword, mesh_.dimension);
     }
     return true;
-  }
-
-  void read_version() {
-    const long long version = tokens_.integer([] { return std::string("the format version"); });
-    // 3 and 4 only widen integers in binary files; their ASCII layout is the same.
-    if (version < 1 || version > 4)
-      tokens_.fail(tokens_.line(), "unsupported MeshVersionFormatted " + std::to_string(version) +
-                                       " (expected 1 to 4)");
   }
 
   void read_dimension() {
@@ -440,7 +442,7 @@ class SolReader {
       const Token keyword = tokens_.next();
       if (!starts_like_keyword(keyword.text))
         tokens_.fail(keyword.line,
-                     "expected a section keyword, found '" + std::string(keyword.text) + "'");
+                     "expected a section keyword, found " + quoted_text(keyword.text));
       found = read_section(keyword);
     }
     if (!found) tokens_.fail(tokens_.line(), "no SolAtVertices section");
@@ -456,8 +458,8 @@ class SolReader {
       const Token keyword = tokens_.next();
       if (!starts_like_keyword(keyword.text))
         tokens_.fail(keyword.line,
-                     "unexpected value '" + std::string(keyword.text) +
-                         "' after the SolAtVertices entries (do its entries hold more values "
+                     "unexpected value " + quoted_text(keyword.text) +
+                         " after the SolAtVertices entries (do its entries hold more values "
                          "than Dimension " +
                          std::to_string(result_.dimension) + " and the solution types give?)");
       const std::string name = lowercase(keyword.text);
@@ -472,7 +474,7 @@ class SolReader {
     const std::string name = lowercase(keyword.text);
     if (name == "end") tokens_.fail(keyword.line, "End before any SolAtVertices section");
     if (name == "meshversionformatted") {
-      tokens_.integer([] { return std::string("the format version"); });
+      read_format_version(tokens_);
     } else if (name == "dimension") {
       read_dimension();
     } else if (name == "solatvertices") {

@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 
 namespace rvor {
 
@@ -17,6 +18,21 @@ std::optional<double> parse_decimal(std::string_view text) {
   if (text.empty() || error != std::errc() || stop != end || !std::isfinite(value))
     return std::nullopt;
   return value;
+}
+
+std::string quoted_text(std::string_view text, std::size_t most) {
+  std::string quoted = "'";
+  for (const char c : text.substr(0, most)) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte >= 0x20 && byte < 0x7F) {
+      quoted += c;
+      continue;
+    }
+    char escaped[5];
+    std::snprintf(escaped, sizeof escaped, "\\x%02X", byte);
+    quoted += escaped;
+  }
+  return quoted + (text.size() > most ? "...'" : "'");
 }
 
 std::vector<std::string> split_commas(std::string_view text) {

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <fstream>
 #include <iomanip>
 #include <random>
@@ -64,24 +63,6 @@ int parse_point(std::string line, Vec3& point) {
   return count;
 }
 
-// A line quoted in an error message, cut short, its control bytes (a lone '\r' of old Mac line
-// ends, NUL) and non-ASCII bytes written as \xNN, so that the terminal shows them instead of
-// acting on them and the message stays valid UTF-8 (a binary file's bytes are not).
-std::string quoted_line(const std::string& line) {
-  std::string text;
-  for (const char c : line.substr(0, 80)) {
-    const auto byte = static_cast<unsigned char>(c);
-    if (byte >= 0x20 && byte < 0x7F) {
-      text += c;
-      continue;
-    }
-    char escaped[5];
-    std::snprintf(escaped, sizeof escaped, "\\x%02X", byte);
-    text += escaped;
-  }
-  return "'" + text + (line.size() > 80 ? "..." : "") + "'";
-}
-
 struct PointFile {
   std::vector<Vec3> points;
   std::vector<int> lines;  // each point's line, for messages
@@ -102,7 +83,7 @@ PointFile read_point_file(const std::string& path) {
     const int columns = parse_point(line, point);
     if (columns == 0)
       throw Error(where + "expected 2 or 3 finite numbers (within double's range) per line, got " +
-                  quoted_line(line));
+                  quoted_text(line));
     if (file.columns != 0 && columns != file.columns)
       throw Error(where + std::to_string(columns) + " coordinates, but the lines before have " +
                   std::to_string(file.columns));

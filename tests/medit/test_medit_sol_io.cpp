@@ -101,6 +101,22 @@ TEST(MeditSolErrors, DirectoryInsteadOfAFile) {
       << message;
 }
 
+TEST(MeditSolErrors, UnsupportedFormatVersion) {
+  // As in a .mesh: the version was read and ignored, 9 or -5 accepted.
+  for (const char* version : {"0", "-5", "9"})
+    expect_sol_error(std::string("MeshVersionFormatted ") + version +
+                         "\nDimension 3\nSolAtVertices\n1\n1 3\n1 0 1 0 0 1\n",
+                     -1, 1, "unsupported MeshVersionFormatted " + std::string(version));
+}
+
+TEST(MeditSolErrors, ABinaryTokenIsQuotedShortAndEscaped) {
+  const std::string token = "\x01" + std::string(3000, 'z');
+  expect_sol_error(std::string(kSolHeader3D) + token + "\n", -1, 4, "'\\x01zzz");
+  TempDir dir;
+  write_text(dir.file("long.sol"), std::string(kSolHeader3D) + token + "\n");
+  EXPECT_LT(error_message([&] { read_medit_sol_tensors(dir.file("long.sol")); }).size(), 300u);
+}
+
 TEST(MeditSolErrors, ScalarSolution) {
   expect_sol_error(std::string(kSolHeader3D) + "2\n1 1\n1\n2\nEnd\n", 2, 5,
                    "expected a tensor (type 3)");

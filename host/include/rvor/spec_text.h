@@ -1,6 +1,7 @@
 #pragma once
 // How rvor reads numbers and lists in the text a user writes (domain and metric specs, seed and
 // probe files, command-line values): one rule everywhere, independent of the C++ locale.
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -12,6 +13,12 @@ namespace rvor {
 // before or after it (no blanks), no hexadecimal, inf or nan. A number beyond double's range
 // gives nothing too.
 std::optional<double> parse_decimal(std::string_view text);
+
+// `text` quoted for an error message: cut after `most` bytes ("..." before the closing quote), its
+// control bytes (a lone '\r' of old Mac line ends, NUL) and non-ASCII bytes written as \xNN, so
+// that the terminal shows them instead of acting on them and the message stays valid UTF-8 (a
+// binary file's bytes are not) and short (a damaged file's token can be megabytes).
+std::string quoted_text(std::string_view text, std::size_t most = 80);
 
 // The items between commas, every one of them: "1,,2," gives "1", "", "2", "" so that callers
 // can report empty items; "" gives one empty item.
