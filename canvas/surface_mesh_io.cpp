@@ -1,13 +1,18 @@
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
+#include <string_view>
+#include <vector>
 
 #include "rvor/error.h"
 #include "rvor/input_file.h"
+#include "rvor/spec_text.h"
 #include "surface_mesh.h"
 
 namespace rvor {
@@ -46,9 +51,35 @@ class LineReader {
   int number_ = 0;
 };
 
+// The next blank-separated token of `fields`, whole, as a finite real or an integer: "2,5" or
+// "1abc" is an error, where std::istream's >> would have stopped at the comma and read 2.
+std::optional<double> next_real(std::istringstream& fields) {
+  std::string token;
+  if (!(fields >> token)) return std::nullopt;
+  return parse_decimal(token);
+}
+
+std::optional<long> parse_integer(std::string_view token) {
+  long value = 0;
+  const char* end = token.data() + token.size();
+  const auto [stop, error] = std::from_chars(token.data(), end, value);
+  if (token.empty() || error != std::errc() || stop != end) return std::nullopt;
+  return value;
+}
+
+std::optional<long> next_integer(std::istringstream& fields) {
+  std::string token;
+  if (!(fields >> token)) return std::nullopt;
+  return parse_integer(token);
+}
+
 Vec3 parse_point(LineReader& reader, std::istringstream& fields) {
   Vec3 p;
-  if (!(fields >> p.x() >> p.y() >> p.z()) || !p.allFinite()) reader.fail("expected x y z");
+  for (int a = 0; a < 3; ++a) {
+    const std::optional<double> value = next_real(fields);
+    if (!value) reader.fail("expected x y z, three finite numbers");
+    p[a] = *value;
+  }
   return p;
 }
 
@@ -62,6 +93,30 @@ bool next_content(LineReader& reader, std::string& line) {
   return false;
 }
 
+struct OffCounts {
+  long vertices = 0, faces = 0;
+};
+
+// "V F E" after the OFF keyword on its line, or else on the next line with content; E, the edge
+// count, is not used but must be a number if present.
+OffCounts read_off_counts(LineReader& reader, std::istringstream& header) {
+  std::istringstream next_line;
+  std::istringstream* fields = &header;
+  if ((header >> std::ws).eof()) {
+    std::string line;
+    if (!next_content(reader, line)) reader.fail("missing vertex and face counts");
+    next_line.str(line);
+    fields = &next_line;
+  }
+  const std::optional<long> vertices = next_integer(*fields), faces = next_integer(*fields);
+  if (!vertices || !faces) reader.fail("expected vertex and face counts");
+  if (*vertices < 0 || *faces < 0) reader.fail("negative counts");
+  if (std::string edges; *fields >> edges && !parse_integer(edges))
+    reader.fail("expected an edge count after the vertex and face counts, not " +
+                quoted_text(edges));
+  return {*vertices, *faces};
+}
+
 SurfaceMesh read_off(const std::string& path) {
   LineReader reader(path);
   std::string line;
@@ -70,46 +125,56 @@ SurfaceMesh read_off(const std::string& path) {
   std::string keyword;
   header >> keyword;
   if (keyword != "OFF") reader.fail("expected OFF header");
-  long vertex_count = -1, face_count = -1;
-  if (!(header >> vertex_count >> face_count)) {  // counts usually on the next line
-    if (!next_content(reader, line)) reader.fail("missing vertex and face counts");
-    std::istringstream counts(line);
-    if (!(counts >> vertex_count >> face_count)) reader.fail("expected vertex and face counts");
-  }
-  if (vertex_count < 0 || face_count < 0) reader.fail("negative counts");
-
+  const OffCounts counts = read_off_counts(reader, header);
   SurfaceMesh mesh;
-  for (long v = 0; v < vertex_count; ++v) {
+  for (long v = 0; v < counts.vertices; ++v) {
     if (!next_content(reader, line)) reader.fail("unexpected end of file in vertices");
     std::istringstream fields(line);
     mesh.vertices.push_back(parse_point(reader, fields));
   }
-  for (long f = 0; f < face_count; ++f) {
+  for (long f = 0; f < counts.faces; ++f) {
     if (!next_content(reader, line)) reader.fail("unexpected end of file in faces");
     std::istringstream fields(line);
-    int corners = 0;
-    if (!(fields >> corners) || corners < 3) reader.fail("expected a face with >= 3 vertices");
+    const std::optional<long> corners = next_integer(fields);
+    if (!corners || *corners < 3) reader.fail("expected a face with >= 3 vertices");
     std::vector<int> polygon;  // grows as indices are read: a huge corner count reserves nothing
-    for (int index = 0; static_cast<int>(polygon.size()) < corners; polygon.push_back(index))
-      if (!(fields >> index) || index < 0 || index >= vertex_count)
+    while (static_cast<long>(polygon.size()) < *corners) {
+      const std::optional<long> index = next_integer(fields);
+      if (!index || *index < 0 || *index >= counts.vertices)
         reader.fail("vertex index missing or out of range");
+      polygon.push_back(static_cast<int>(*index));
+    }
     add_polygon(mesh, polygon);
   }
   if (next_content(reader, line))
-    reader.fail("more content than the header's " + std::to_string(face_count) + " faces");
+    reader.fail("more content than the header's " + std::to_string(counts.faces) + " faces");
   return mesh;
 }
 
 // --- OBJ ------------------------------------------------------------------------------------
-// "a", "a/b", "a//c", "a/b/c": the vertex index, 1-based or negative (relative to the end).
+std::vector<std::string> split_slashes(const std::string& token) {
+  std::vector<std::string> parts(1);
+  for (const char c : token) {
+    if (c == '/')
+      parts.emplace_back();
+    else
+      parts.back() += c;
+  }
+  return parts;
+}
+
+// "a", "a/b", "a//c", "a/b/c": the vertex index, 1-based or negative (relative to the end); the
+// texture and normal indices are not used, but must be integers where given.
 int parse_obj_corner(LineReader& reader, const std::string& token, std::size_t vertex_count) {
-  const std::string first = token.substr(0, token.find('/'));
-  char* end = nullptr;
-  const long index = std::strtol(first.c_str(), &end, 10);
-  if (first.empty() || *end != '\0' || index == 0) reader.fail("bad face vertex '" + token + "'");
-  const long resolved = index > 0 ? index - 1 : static_cast<long>(vertex_count) + index;
+  const std::vector<std::string> parts = split_slashes(token);
+  const std::optional<long> index = parse_integer(parts.front());
+  bool well_formed = parts.size() <= 3 && index && *index != 0;
+  for (std::size_t i = 1; i < parts.size(); ++i)
+    well_formed = well_formed && (parts[i].empty() || parse_integer(parts[i]));
+  if (!well_formed) reader.fail("bad face vertex " + quoted_text(token));
+  const long resolved = *index > 0 ? *index - 1 : static_cast<long>(vertex_count) + *index;
   if (resolved < 0 || resolved >= static_cast<long>(vertex_count))
-    reader.fail("face vertex '" + token + "' out of range");
+    reader.fail("face vertex " + quoted_text(token) + " out of range");
   return static_cast<int>(resolved);
 }
 

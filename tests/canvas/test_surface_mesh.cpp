@@ -1,5 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <string>
+#include <utility>
+#include <vector>
+
 #include "canvas_test_support.h"
 #include "rvor/error.h"
 #include "support/temp_dir.h"
@@ -100,6 +104,35 @@ TEST(SurfaceMesh, ErrorsNameFileAndLine) {
                    "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n");
   EXPECT_NE(error_of([&] { read_surface_mesh(dir.file("cut.stl")); }).find("ends inside a facet"),
             std::string::npos);
+}
+
+TEST(SurfaceMesh, ANumberIsReadWholeOrNotAtAll) {
+  // std::istream's >> read "2,5" as 2 and left the rest: a box half as tall, without an error.
+  TempDir dir;
+  const std::string triangle = "0 0 0\n1 0 0\n0 1 0\n";
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"comma.off", "OFF\n3 1 0\n0 0 2,5\n1 0 0\n0 1 0\n3 0 1 2\n"},
+      {"letters.off", "OFF\n3 1 0\n" + triangle + "3 0 1 2abc\n"},
+      {"fraction.off", "OFF\n3 1 0\n" + triangle + "3 0 1 1.5\n"},
+      {"counts.off", "OFF\n3 1 zz\n" + triangle + "3 0 1 2\n"},
+      {"header.off", "OFF 3x 1 0\n" + triangle + "3 0 1 2\n"},
+      {"comma.obj", "v 0 0 0\nv 1 0 0\nv 0 1 1,5\nf 1 2 3\n"},
+      {"letters.obj", "v 0 0 0abc\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"},
+      {"texture.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/x 2 3\n"},
+      {"parts.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1/1/1 2 3\n"},
+      {"letters.stl", "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0abc\n"},
+  };
+  for (const auto& [name, text] : bad) {
+    test::write_text(dir.file(name), text);
+    const std::string message = error_of([&] { read_surface_mesh(dir.file(name)); });
+    EXPECT_NE(message.find(name + ":"), std::string::npos) << name << ": " << message;
+  }
+  // What the formats allow stays allowed: OFF counts on the header line, an OFF face's colour
+  // after its indices, OBJ corners with empty texture indices, signs and exponents.
+  test::write_text(dir.file("fine.off"), "OFF 3 1 0\n+0 0 0\n1e0 0 0\n0 1 -0\n3 0 1 2 255 0 0\n");
+  EXPECT_EQ(read_surface_mesh(dir.file("fine.off")).triangles.size(), 1u);
+  test::write_text(dir.file("fine.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//1 2//1 3//1\n");
+  EXPECT_EQ(read_surface_mesh(dir.file("fine.obj")).triangles.size(), 1u);
 }
 
 }  // namespace
