@@ -1,13 +1,20 @@
 #pragma once
 // OpenVDB helpers shared by the canvas library's .cpp files (private; includes OpenVDB, so only
 // the few translation units that need it include this).
+#include <fstream>
+#include <ios>
+#include <new>
+#include <stdexcept>
 #include <string>
 
 #include <openvdb/io/File.h>
+#include <openvdb/io/Stream.h>
 #include <openvdb/openvdb.h>
 
 #include "rvor/canvas.h"
 #include "rvor/error.h"
+#include "rvor/input_file.h"
+#include "rvor/spec_text.h"
 
 namespace rvor {
 
@@ -25,17 +32,29 @@ inline openvdb::Coord to_coord(const VoxelIndex& v) {
 
 inline const char* const kMetricGridNames[6] = {"m11", "m12", "m22", "m13", "m23", "m33"};
 
-// All grids of a VDB file; rvor::Error naming the file when it cannot be read.
+// All grids of a VDB file; rvor::Error naming the file when it cannot be read. OpenVDB reads a
+// string as its length, then that many bytes into a string it allocates first; in a file cut short
+// the length is read past the end and is garbage, and its error message then held up to 4 GB of
+// blanks (16.7 GB of peak memory and 59 s for a file missing its last byte). So the file is read
+// through a stream that throws at the first read past its end, and the message quotes at most
+// the start of OpenVDB's. (A damaged length inside the file is still allocated, at most 4 GiB,
+// before its read fails.)
 inline openvdb::GridPtrVec read_grids(const std::string& path) {
   openvdb::initialize();
+  std::ifstream in = open_input_file(path, "VDB file");
+  in.exceptions(std::ios::failbit | std::ios::badbit);
+  const std::string cannot = "cannot read VDB file " + path + ": ";
   try {
-    openvdb::io::File file(path);
-    file.open();
-    auto grids = file.getGrids();
-    file.close();
-    return *grids;
+    openvdb::io::Stream stream(in, /*delayLoad=*/false);
+    return *stream.getGrids();
+  } catch (const std::ios_base::failure&) {
+    throw Error(cannot + "it ends early or is damaged");
   } catch (const openvdb::Exception& error) {
-    throw Error("cannot read VDB file " + path + ": " + error.what());
+    throw Error(cannot + quoted_text(error.what(), 200));
+  } catch (const std::bad_alloc&) {
+    throw Error(cannot + "it is damaged (it gives a size too large to allocate)");
+  } catch (const std::length_error&) {
+    throw Error(cannot + "it is damaged (it gives a size too large to allocate)");
   }
 }
 
