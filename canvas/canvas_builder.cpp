@@ -119,9 +119,9 @@ Placement place_voxels(const ResolvedDomain& domain, int resolution) {
   p.dimension = domain.dimension;
   const Vec3 extent = domain.bounds.hi - domain.bounds.lo;
   const double longest = p.dimension == 3 ? extent.maxCoeff() : std::max(extent.x(), extent.y());
-  if (!(longest > 0) || !std::isfinite(longest)) fail_empty(*domain.spec, resolution);
+  if (!(longest > 0)) fail_empty(*domain.spec, resolution);
   p.h = longest / resolution;
-  check_scale(*domain.spec, domain.bounds, p.h);
+  check_scale(*domain.spec, domain.bounds, p.h);  // an extent past double's range among others
   const bool box = domain.spec->kind == DomainSpec::Kind::Box ||
                    domain.spec->kind == DomainSpec::Kind::Rectangle;
   for (int a = 0; a < 3; ++a) {

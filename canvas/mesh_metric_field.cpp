@@ -434,7 +434,10 @@ std::unique_ptr<MetricField> load_mesh_metric(const std::string& mesh_path,
   bool any_valid = false;
   for (std::size_t e = 0; e < simplices.size() && !any_valid; ++e)
     any_valid = !simplices.degenerate(e);
-  if (!any_valid) throw Error(mesh_path + ": every element is degenerate (zero area or volume)");
+  if (!any_valid)
+    throw Error(mesh_path +
+                ": every element is degenerate (zero area or volume, or below 1e-12 of its longest "
+                "edge's square or cube: flat for its size)");
   return std::make_unique<MeshMetricField>(std::move(simplices), sol.tensors,
                                            "metric from " + sol_path + " on " + mesh_path);
 }

@@ -101,7 +101,7 @@ bool has_positive_pivots(const Mat3& S) {
 bool is_spd(const Mat3& G) {
   if (!G.allFinite()) return false;
   if (G.cwiseAbs().maxCoeff() <= 0 || !is_symmetric(G)) return false;
-  const Mat3 S = 0.5 * (G + G.transpose());
+  const Mat3 S = 0.5 * G + 0.5 * G.transpose();  // not 0.5 (G + G^T): G + G^T overflows at 1e308
   if (!has_positive_pivots(S)) return false;
   // Positive pivots admit some matrices that are numerically singular: require a clearly positive
   // spectrum (S(2,2) > 0 follows from the pivots), settled without an eigen solve where
@@ -129,7 +129,7 @@ std::string spd_problem(const Mat3& G) {
   if (!G.allFinite()) return "is not finite: " + describe(G);
   if (is_spd(G)) return "";
   // Positive but nearly singular: say so, a "not positive definite" would mislead.
-  const Mat3 S = 0.5 * (G + G.transpose());
+  const Mat3 S = 0.5 * G + 0.5 * G.transpose();
   const Eigen::VectorXd values = judged_eigenvalues(S);
   if (is_symmetric(G) && values.minCoeff() > 0 && S(2, 2) > 0)
     return too_anisotropic(values, values.size() == 2 ? " in the xy plane" : "", G);

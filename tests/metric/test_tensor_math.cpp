@@ -194,6 +194,16 @@ TEST(TensorMath, NearlySingularPositiveTensorsAreCalledTooAnisotropic) {
             std::string::npos);
 }
 
+// Entries near double's largest: symmetrised as (G + G^T) / 2, the sum overflowed to inf and the
+// tensor was called "not symmetric positive definite".
+TEST(TensorMath, HugeEntriesAreJudgedWithoutOverflow) {
+  Mat3 G = Mat3::Identity();
+  G(0, 0) = 1e308;
+  const std::string problem = spd_problem(G);
+  EXPECT_NE(problem.find("too anisotropic"), std::string::npos) << problem;
+  EXPECT_EQ(spd_problem(1e307 * Mat3::Identity()), "");
+}
+
 // spd_problem cannot tell a 3D tensor with m13 = m23 = 0 from a 2D one; metric_problem judges
 // the eigenvalues of the dimension's block, so a nearly zero m33 counts in 3D only.
 TEST(TensorMath, MetricProblemJudgesTheCanvasDimension) {
