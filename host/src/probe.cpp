@@ -1,7 +1,8 @@
 #include <algorithm>
+#include <charconv>
 #include <cmath>
-#include <iomanip>
 #include <limits>
+#include <string>
 
 #include "rvor/atomic_file.h"
 #include "rvor/canvas_output.h"
@@ -63,12 +64,26 @@ std::vector<ProbeSample> probe_field(const Canvas& canvas, const VoronoiField& f
   return samples;
 }
 
+namespace {
+
+// The shortest text that reads back as the same number: a voxel centre at x = 1e7 came out as
+// 10000000.5 for 10000000.53125 with 9 significant digits.
+template <typename Real>
+std::string shortest_text(Real value) {
+  char text[64];
+  const auto result = std::to_chars(text, text + sizeof text, value);
+  return std::string(text, result.ptr);
+}
+
+}  // namespace
+
 void write_probe_csv(const std::string& path, const std::vector<ProbeSample>& samples) {
   write_file_atomically(path, [&](std::ostream& out) {
-    out << "x,y,z,distance,label\n" << std::setprecision(9);
+    out << "x,y,z,distance,label\n";
     for (const ProbeSample& s : samples)
-      out << s.voxel_centre.x() << "," << s.voxel_centre.y() << "," << s.voxel_centre.z() << ","
-          << s.distance << "," << s.label << "\n";
+      out << shortest_text(s.voxel_centre.x()) << "," << shortest_text(s.voxel_centre.y()) << ","
+          << shortest_text(s.voxel_centre.z()) << "," << shortest_text(s.distance) << "," << s.label
+          << "\n";
   });
 }
 

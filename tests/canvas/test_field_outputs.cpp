@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <functional>
 #include <string>
 #include <vector>
@@ -61,6 +62,24 @@ TEST(FieldOutputs, LabelsBeyondTheSeedsAndNonFiniteProbesAreErrors) {
 // same grid: points, connectivity, labels and distances, 2D and 3D, with the field's labels and
 // distances (their sums). The Int64 form is the one a
 // canvas of over 2^31 corner entries gets.
+// Coordinates far from the origin keep every digit of the voxel centre (9 significant digits
+// wrote 10000000.53125 as 10000000.5), and the values read back exactly.
+TEST(FieldOutputs, ProbeCsvNumbersReadBackExactly) {
+  test::TempDir dir;
+  const ProbeSample sample{Vec3(1e7, 0, 0), Vec3(10000000.53125, -0.1, 1.0 / 3.0), 0.1f, 7};
+  write_probe_csv(dir.file("probe.csv"), {sample});
+  std::ifstream in(dir.file("probe.csv"));
+  std::string header, row;
+  std::getline(in, header);
+  std::getline(in, row);
+  EXPECT_EQ(row, "10000000.53125,-0.1,0.3333333333333333,0.1,7");
+  double x = 0, y = 0, z = 0;
+  float distance = 0;
+  ASSERT_EQ(std::sscanf(row.c_str(), "%lf,%lf,%lf,%f", &x, &y, &z, &distance), 4);
+  EXPECT_EQ(Vec3(x, y, z), sample.voxel_centre);
+  EXPECT_EQ(distance, sample.distance);
+}
+
 TEST(FieldOutputs, VtuIndexWidthsReadBackAlike) {
   const std::string script =
       "import sys, vtk\n"
