@@ -51,15 +51,14 @@ class LineReader {
   int number_ = 0;
 };
 
-// The next blank-separated token of `fields`, whole, as a finite real or an integer: "2,5" or
-// "1abc" is an error, where std::istream's >> would have stopped at the comma and read 2.
-std::optional<double> next_real(std::istringstream& fields) {
-  std::string token;
-  if (!(fields >> token)) return std::nullopt;
-  return parse_decimal(token);
-}
-
+// Numbers are read as whole blank-separated tokens: "2,5" or "1abc" is an error, where
+// std::istream's >> would have stopped at the comma and read 2.
 std::optional<long> parse_integer(std::string_view token) {
+  // from_chars takes a leading '-' but not '+' (parse_decimal takes both).
+  if (!token.empty() && token.front() == '+') {
+    token.remove_prefix(1);
+    if (!token.empty() && token.front() == '-') return std::nullopt;
+  }
   long value = 0;
   const char* end = token.data() + token.size();
   const auto [stop, error] = std::from_chars(token.data(), end, value);
@@ -76,8 +75,10 @@ std::optional<long> next_integer(std::istringstream& fields) {
 Vec3 parse_point(LineReader& reader, std::istringstream& fields) {
   Vec3 p;
   for (int a = 0; a < 3; ++a) {
-    const std::optional<double> value = next_real(fields);
-    if (!value) reader.fail("expected x y z, three finite numbers");
+    std::string token;
+    if (!(fields >> token)) reader.fail("expected x y z, found the end of the line");
+    const std::optional<double> value = parse_decimal(token);
+    if (!value) reader.fail("expected x y z, three finite numbers, found " + quoted_text(token));
     p[a] = *value;
   }
   return p;
@@ -91,6 +92,15 @@ bool next_content(LineReader& reader, std::string& line) {
     if (line.find_first_not_of(" \t") != std::string::npos) return true;
   }
   return false;
+}
+
+// The next integer of an OFF line; `what` names it in the error when it is missing or not one.
+long next_off_integer(LineReader& reader, std::istringstream& fields, const std::string& what) {
+  std::string token;
+  if (!(fields >> token)) reader.fail("expected " + what + ", found the end of the line");
+  const std::optional<long> value = parse_integer(token);
+  if (!value) reader.fail("expected " + what + " (an integer), found " + quoted_text(token));
+  return *value;
 }
 
 struct OffCounts {
@@ -111,7 +121,7 @@ OffCounts read_off_counts(LineReader& reader, std::istringstream& header) {
   const std::optional<long> vertices = next_integer(*fields), faces = next_integer(*fields);
   if (!vertices || !faces) reader.fail("expected vertex and face counts");
   if (*vertices < 0 || *faces < 0) reader.fail("negative counts");
-  if (std::string edges; *fields >> edges && !parse_integer(edges))
+  if (std::string edges; *fields >> edges && !parse_decimal(edges))
     reader.fail("expected an edge count after the vertex and face counts, not " +
                 quoted_text(edges));
   return {*vertices, *faces};
@@ -135,14 +145,16 @@ SurfaceMesh read_off(const std::string& path) {
   for (long f = 0; f < counts.faces; ++f) {
     if (!next_content(reader, line)) reader.fail("unexpected end of file in faces");
     std::istringstream fields(line);
-    const std::optional<long> corners = next_integer(fields);
-    if (!corners || *corners < 3) reader.fail("expected a face with >= 3 vertices");
+    const long corners = next_off_integer(reader, fields, "the face's vertex count");
+    if (corners < 3)
+      reader.fail("a face with " + std::to_string(corners) + " vertices (at least 3)");
     std::vector<int> polygon;  // grows as indices are read: a huge corner count reserves nothing
-    while (static_cast<long>(polygon.size()) < *corners) {
-      const std::optional<long> index = next_integer(fields);
-      if (!index || *index < 0 || *index >= counts.vertices)
-        reader.fail("vertex index missing or out of range");
-      polygon.push_back(static_cast<int>(*index));
+    while (static_cast<long>(polygon.size()) < corners) {
+      const long index = next_off_integer(reader, fields, "a vertex index");
+      if (index < 0 || index >= counts.vertices)
+        reader.fail("vertex index " + std::to_string(index) + " out of range (0 to " +
+                    std::to_string(counts.vertices - 1) + ")");
+      polygon.push_back(static_cast<int>(index));
     }
     add_polygon(mesh, polygon);
   }

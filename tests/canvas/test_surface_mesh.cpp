@@ -108,30 +108,41 @@ TEST(SurfaceMesh, ErrorsNameFileAndLine) {
 
 TEST(SurfaceMesh, ANumberIsReadWholeOrNotAtAll) {
   // std::istream's >> read "2,5" as 2 and left the rest: a box half as tall, without an error.
+  // Each file below was read without an error before, or failed elsewhere for another reason.
   TempDir dir;
   const std::string triangle = "0 0 0\n1 0 0\n0 1 0\n";
-  const std::vector<std::pair<std::string, std::string>> bad = {
-      {"comma.off", "OFF\n3 1 0\n0 0 2,5\n1 0 0\n0 1 0\n3 0 1 2\n"},
-      {"letters.off", "OFF\n3 1 0\n" + triangle + "3 0 1 2abc\n"},
-      {"fraction.off", "OFF\n3 1 0\n" + triangle + "3 0 1 1.5\n"},
-      {"counts.off", "OFF\n3 1 zz\n" + triangle + "3 0 1 2\n"},
-      {"header.off", "OFF 3x 1 0\n" + triangle + "3 0 1 2\n"},
-      {"comma.obj", "v 0 0 0\nv 1 0 0\nv 0 1 1,5\nf 1 2 3\n"},
-      {"letters.obj", "v 0 0 0abc\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"},
-      {"texture.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/x 2 3\n"},
-      {"parts.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1/1/1 2 3\n"},
-      {"letters.stl", "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0abc\n"},
+  const std::string facet_end = "vertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid\n";
+  struct Case {
+    std::string name, text, expected;
   };
-  for (const auto& [name, text] : bad) {
-    test::write_text(dir.file(name), text);
-    const std::string message = error_of([&] { read_surface_mesh(dir.file(name)); });
-    EXPECT_NE(message.find(name + ":"), std::string::npos) << name << ": " << message;
+  const std::vector<Case> cases = {
+      {"comma.off", "OFF\n3 1 0\n0 0 2,5\n1 0 0\n0 1 0\n3 0 1 2\n", ":3: expected x y z"},
+      {"letters.off", "OFF\n3 1 0\n" + triangle + "3 0 1 2abc\n", ":6: expected a vertex index"},
+      {"fraction.off", "OFF\n3 1 0\n" + triangle + "3 0 1 1.5\n",
+       ":6: expected a vertex index (an integer), found '1.5'"},
+      {"corners.off", "OFF\n3 1 0\n" + triangle + "3.0 0 1 2\n",
+       ":6: expected the face's vertex count"},
+      {"counts.off", "OFF\n3 1 zz\n" + triangle + "3 0 1 2\n", ":2: expected an edge count"},
+      {"header.off", "OFF 3x 1 0\n" + triangle + "3 0 1 2\n", ":1: expected vertex and face"},
+      {"comma.obj", "v 0 0 0\nv 1 0 0\nv 0 1 1,5\nf 1 2 3\n", ":3: expected x y z"},
+      {"letters.obj", "v 0 0 0abc\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+       ":1: expected x y z, three finite numbers, found '0abc'"},
+      {"texture.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/x 2 3\n", ":4: bad face vertex '1/x'"},
+      {"parts.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1/1/1 2 3\n", ":4: bad face vertex"},
+      {"comma.stl", "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 2,5\n" + facet_end,
+       ":4: expected x y z"},
+  };
+  for (const Case& c : cases) {
+    test::write_text(dir.file(c.name), c.text);
+    const std::string message = error_of([&] { read_surface_mesh(dir.file(c.name)); });
+    EXPECT_NE(message.find(c.name + c.expected), std::string::npos) << c.name << ": " << message;
   }
   // What the formats allow stays allowed: OFF counts on the header line, an OFF face's colour
   // after its indices, OBJ corners with empty texture indices, signs and exponents.
-  test::write_text(dir.file("fine.off"), "OFF 3 1 0\n+0 0 0\n1e0 0 0\n0 1 -0\n3 0 1 2 255 0 0\n");
+  test::write_text(dir.file("fine.off"),
+                   "OFF +3 +1 0.0\n+0 0 0\n1e0 0 0\n0 1 -0\n+3 0 +1 2 255 0 0\n");
   EXPECT_EQ(read_surface_mesh(dir.file("fine.off")).triangles.size(), 1u);
-  test::write_text(dir.file("fine.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//1 2//1 3//1\n");
+  test::write_text(dir.file("fine.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//1 +2//1 3/1/\n");
   EXPECT_EQ(read_surface_mesh(dir.file("fine.obj")).triangles.size(), 1u);
 }
 
