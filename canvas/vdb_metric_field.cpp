@@ -1,6 +1,9 @@
 #include <array>
+#include <cstdint>
+#include <filesystem>
 #include <sstream>
 #include <string>
+#include <system_error>
 #include <utility>
 #include <vector>
 
@@ -99,6 +102,21 @@ void require_voxels_fit(const std::string& path, const std::array<FloatGrid::Ptr
                 " once voxelized, over the memory budget of " + format_bytes(budget) +
                 " (--memory-budget): store the metric over the domain only, or coarser");
   }
+}
+
+// read_grids reads every value of every grid in the file (io::Stream, to fail cleanly on a
+// truncated file) before require_voxels_fit can count them; their values take at least the
+// file's compressed bytes once read, so a file larger than the budget is refused first. (A small
+// file can still hold far more once decompressed: that is caught after reading, by the count.)
+void require_file_fits(const std::string& path, std::uint64_t memory_budget) {
+  std::error_code error;
+  const std::uintmax_t size = std::filesystem::file_size(path, error);
+  if (error) return;  // read_grids names what is wrong with the path
+  const double budget = static_cast<double>(resolved_memory_budget(memory_budget));
+  if (static_cast<double>(size) > budget)
+    throw Error("VDB metric file " + path + " holds " + format_bytes(static_cast<double>(size)) +
+                ", over the memory budget of " + format_bytes(budget) +
+                " (--memory-budget), even before its grids are decompressed");
 }
 
 // The six grids must have values at the same voxels (m13, m23, m33 may be absent in 2D): a
@@ -228,6 +246,7 @@ class VdbMetricField : public MetricField {
 
 std::unique_ptr<MetricField> load_vdb_metric(const std::string& vdb_path,
                                              std::uint64_t memory_budget) {
+  require_file_fits(vdb_path, memory_budget);
   const openvdb::GridPtrVec grids = read_grids(vdb_path);
   std::array<FloatGrid::Ptr, 6> components;
   for (int n = 0; n < 6; ++n)

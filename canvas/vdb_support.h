@@ -38,7 +38,8 @@ inline const char* const kMetricGridNames[6] = {"m11", "m12", "m22", "m13", "m23
 // blanks (16.7 GB of peak memory and 59 s for a file missing its last byte). So the file is read
 // through a stream that throws at the first read past its end, and the message quotes at most
 // the start of OpenVDB's. (A damaged length inside the file is still allocated, at most 4 GiB,
-// before its read fails.)
+// before its read fails. io::Stream has no delayed loading: every value of every grid is read
+// here, so callers with a memory budget check the file's size first.)
 inline openvdb::GridPtrVec read_grids(const std::string& path) {
   openvdb::initialize();
   std::ifstream in = open_input_file(path, "VDB file");

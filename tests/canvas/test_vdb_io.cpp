@@ -182,6 +182,20 @@ TEST(VdbIo, MissingFilesAndGridsAreNamed) {
             std::string::npos);
 }
 
+// The file is read whole before its voxels can be counted, so one larger than the memory budget
+// is refused before it is read.
+TEST(VdbIo, AFileLargerThanTheBudgetIsRefusedBeforeItIsRead) {
+  test::TempDir dir;
+  const Canvas canvas =
+      test::make_uniform_box_canvas(3, Vec3(0, 0, 0), Vec3(1, 1, 1), 16, Mat3::Identity());
+  write_metric_vdb(dir.file("metric.vdb"), canvas);
+  const auto size = std::filesystem::file_size(dir.file("metric.vdb"));
+  const std::string message = error_of([&] { load_vdb_metric(dir.file("metric.vdb"), size / 2); });
+  EXPECT_NE(message.find("over the memory budget"), std::string::npos) << message;
+  EXPECT_NE(message.find("even before its grids are decompressed"), std::string::npos) << message;
+  EXPECT_NO_THROW(load_vdb_metric(dir.file("metric.vdb"), 64 * size));
+}
+
 // A file cut short: OpenVDB read a string length past its end, and the message held gigabytes of
 // blanks (up to 4.3 GB, 16.7 GB of peak memory for the last byte of a voronoi.vdb missing).
 TEST(VdbIo, ATruncatedFileIsNamedAsSuchInOneShortMessage) {

@@ -55,8 +55,9 @@ std::unique_ptr<MetricField> load_mesh_metric(const std::string& mesh_path,
                                               const std::string& sol_path);
 
 // Metric stored in an OpenVDB file as six float grids named m11 m12 m22 m13 m23 m33
-// (world-space transform), sampled trilinearly. Implemented in the canvas library. Grids whose
-// voxels (tiles counted voxel by voxel) would not fit in `memory_budget` bytes are refused (0:
+// (world-space transform), sampled trilinearly. Implemented in the canvas library. The file is
+// read whole (every grid in it); a file larger than `memory_budget` bytes is refused before it
+// is read, and grids whose voxels (tiles counted voxel by voxel) would not fit after it (0:
 // default_memory_budget(), as CanvasOptions::memory_budget).
 std::unique_ptr<MetricField> load_vdb_metric(const std::string& vdb_path,
                                              std::uint64_t memory_budget = 0);
