@@ -436,8 +436,9 @@ std::unique_ptr<MetricField> load_mesh_metric(const std::string& mesh_path,
     any_valid = !simplices.degenerate(e);
   if (!any_valid)
     throw Error(mesh_path +
-                ": every element is degenerate (zero area or volume, or below 1e-12 of its longest "
-                "edge's square or cube: flat for its size)");
+                ": every element is degenerate: flat (the determinant of its edges from its first "
+                "vertex below 1e-12 of the longest one's length to the power 2 in 2D, 3 in 3D) "
+                "or too large for double precision");
   return std::make_unique<MeshMetricField>(std::move(simplices), sol.tensors,
                                            "metric from " + sol_path + " on " + mesh_path);
 }

@@ -58,10 +58,6 @@ TEST(FieldOutputs, LabelsBeyondTheSeedsAndNonFiniteProbesAreErrors) {
   EXPECT_EQ(probe_field(canvas, field, {Vec3(1e300, 0, 0)}).size(), 1u);
 }
 
-// A canvas.vtu with Int32 connectivity (where it fits) and one with Int64 read back by VTK as the
-// same grid: points, connectivity, labels and distances, 2D and 3D, with the field's labels and
-// distances (their sums). The Int64 form is the one a
-// canvas of over 2^31 corner entries gets.
 // Coordinates far from the origin keep every digit of the voxel centre (9 significant digits
 // wrote 10000000.53125 as 10000000.5), and the values read back exactly.
 TEST(FieldOutputs, ProbeCsvNumbersReadBackExactly) {
@@ -80,6 +76,10 @@ TEST(FieldOutputs, ProbeCsvNumbersReadBackExactly) {
   EXPECT_EQ(distance, sample.distance);
 }
 
+// A canvas.vtu with Int32 connectivity (where it fits) and one with Int64 read back by VTK as the
+// same grid: points, connectivity, labels and distances, 2D and 3D, with the field's labels and
+// distances (their sums). The Int64 form is the one a
+// canvas of over 2^31 corner entries gets.
 TEST(FieldOutputs, VtuIndexWidthsReadBackAlike) {
   const std::string script =
       "import sys, vtk\n"

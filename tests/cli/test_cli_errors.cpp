@@ -390,6 +390,9 @@ TEST_F(CliErrors, MoreRandomSeedsThanVoxels) {
 // when the canvas is placed, not after the solve.
 TEST_F(CliErrors, DomainScalesTheNumbersCannotHold) {
   expect_error("--domain rect:0,0,1e39,1e39 --resolution 16 --random-seeds 3", "beyond");
+  // An extent past double's range (it was called empty or thinner than a voxel).
+  expect_error("--domain box:-1e308,0,0,1e308,1,1 --resolution 16 --random-seeds 3",
+               "has coordinates beyond +-1e+15");
   expect_error("--domain rect:0,0,1e-20,1e-20 --resolution 16 --random-seeds 3", "OpenVDB");
   expect_error("--domain box:1e14,0,0,100000000000001,1,1 --resolution 16 --random-seeds 3",
                "voxels from the origin");
