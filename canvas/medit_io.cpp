@@ -104,13 +104,6 @@ bool parse_real(std::string_view text, double& value) {
   return true;
 }
 
-bool parse_integer(std::string_view text, long long& value) {
-  if (!text.empty() && text[0] == '+') text.remove_prefix(1);
-  const char* end = text.data() + text.size();
-  const auto result = std::from_chars(text.data(), end, value);
-  return result.ec == std::errc() && result.ptr == end;
-}
-
 // The token stream of one Medit file. `#` starts a comment that runs to the end of the line.
 class MeditTokens {
  public:
@@ -167,8 +160,7 @@ class MeditTokens {
   template <typename Describe>
   long long integer(Describe describe) {
     const Token token = next_value(describe);
-    long long value = 0;
-    if (parse_integer(token.text, value)) return value;
+    if (const std::optional<long long> value = parse_integer(token.text)) return *value;
     double as_real = 0;
     if (parse_real(token.text, as_real))
       fail(token.line, quoted_text(token.text) + " is not an integer (" + describe() + ")");

@@ -6,12 +6,33 @@
 
 namespace rvor {
 
-std::optional<double> parse_decimal(std::string_view text) {
-  // from_chars takes a leading '-' but not '+'; a second sign ("+-1") must still fail.
-  if (!text.empty() && text.front() == '+') {
-    text.remove_prefix(1);
-    if (!text.empty() && text.front() == '-') return std::nullopt;
-  }
+namespace {
+
+// `text` without one leading '+', which from_chars does not take (it takes '-'); nothing for a
+// second sign ("+-1").
+std::optional<std::string_view> without_plus(std::string_view text) {
+  if (text.empty() || text.front() != '+') return text;
+  text.remove_prefix(1);
+  if (!text.empty() && text.front() == '-') return std::nullopt;
+  return text;
+}
+
+}  // namespace
+
+std::optional<long long> parse_integer(std::string_view signed_text) {
+  const std::optional<std::string_view> text = without_plus(signed_text);
+  if (!text || text->empty()) return std::nullopt;
+  long long value = 0;
+  const char* end = text->data() + text->size();
+  const auto [stop, error] = std::from_chars(text->data(), end, value);
+  if (error != std::errc() || stop != end) return std::nullopt;
+  return value;
+}
+
+std::optional<double> parse_decimal(std::string_view signed_text) {
+  const std::optional<std::string_view> unsigned_text = without_plus(signed_text);
+  if (!unsigned_text) return std::nullopt;
+  const std::string_view text = *unsigned_text;
   double value = 0;
   const char* end = text.data() + text.size();
   const auto [stop, error] = std::from_chars(text.data(), end, value, std::chars_format::general);

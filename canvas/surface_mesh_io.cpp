@@ -51,22 +51,9 @@ class LineReader {
   int number_ = 0;
 };
 
-// Numbers are read as whole blank-separated tokens: "2,5" or "1abc" is an error, where
-// std::istream's >> would have stopped at the comma and read 2.
-std::optional<long> parse_integer(std::string_view token) {
-  // from_chars takes a leading '-' but not '+' (parse_decimal takes both).
-  if (!token.empty() && token.front() == '+') {
-    token.remove_prefix(1);
-    if (!token.empty() && token.front() == '-') return std::nullopt;
-  }
-  long value = 0;
-  const char* end = token.data() + token.size();
-  const auto [stop, error] = std::from_chars(token.data(), end, value);
-  if (token.empty() || error != std::errc() || stop != end) return std::nullopt;
-  return value;
-}
-
-std::optional<long> next_integer(std::istringstream& fields) {
+// Numbers are read as whole blank-separated tokens (parse_integer, parse_decimal): "2,5" or
+// "1abc" is an error, where std::istream's >> would have stopped at the comma and read 2.
+std::optional<long long> next_integer(std::istringstream& fields) {
   std::string token;
   if (!(fields >> token)) return std::nullopt;
   return parse_integer(token);
@@ -95,16 +82,17 @@ bool next_content(LineReader& reader, std::string& line) {
 }
 
 // The next integer of an OFF line; `what` names it in the error when it is missing or not one.
-long next_off_integer(LineReader& reader, std::istringstream& fields, const std::string& what) {
+long long next_off_integer(LineReader& reader, std::istringstream& fields,
+                           const std::string& what) {
   std::string token;
   if (!(fields >> token)) reader.fail("expected " + what + ", found the end of the line");
-  const std::optional<long> value = parse_integer(token);
+  const std::optional<long long> value = parse_integer(token);
   if (!value) reader.fail("expected " + what + " (an integer), found " + quoted_text(token));
   return *value;
 }
 
 struct OffCounts {
-  long vertices = 0, faces = 0;
+  long long vertices = 0, faces = 0;
 };
 
 // "V F E" after the OFF keyword on its line, or else on the next line with content; E, the edge
@@ -118,7 +106,7 @@ OffCounts read_off_counts(LineReader& reader, std::istringstream& header) {
     next_line.str(line);
     fields = &next_line;
   }
-  const std::optional<long> vertices = next_integer(*fields), faces = next_integer(*fields);
+  const std::optional<long long> vertices = next_integer(*fields), faces = next_integer(*fields);
   if (!vertices || !faces) reader.fail("expected vertex and face counts");
   if (*vertices < 0 || *faces < 0) reader.fail("negative counts");
   if (std::string edges; *fields >> edges && !parse_decimal(edges))
@@ -137,20 +125,20 @@ SurfaceMesh read_off(const std::string& path) {
   if (keyword != "OFF") reader.fail("expected OFF header");
   const OffCounts counts = read_off_counts(reader, header);
   SurfaceMesh mesh;
-  for (long v = 0; v < counts.vertices; ++v) {
+  for (long long v = 0; v < counts.vertices; ++v) {
     if (!next_content(reader, line)) reader.fail("unexpected end of file in vertices");
     std::istringstream fields(line);
     mesh.vertices.push_back(parse_point(reader, fields));
   }
-  for (long f = 0; f < counts.faces; ++f) {
+  for (long long f = 0; f < counts.faces; ++f) {
     if (!next_content(reader, line)) reader.fail("unexpected end of file in faces");
     std::istringstream fields(line);
-    const long corners = next_off_integer(reader, fields, "the face's vertex count");
+    const long long corners = next_off_integer(reader, fields, "the face's vertex count");
     if (corners < 3)
       reader.fail("a face with " + std::to_string(corners) + " vertices (at least 3)");
     std::vector<int> polygon;  // grows as indices are read: a huge corner count reserves nothing
-    while (static_cast<long>(polygon.size()) < corners) {
-      const long index = next_off_integer(reader, fields, "a vertex index");
+    while (static_cast<long long>(polygon.size()) < corners) {
+      const long long index = next_off_integer(reader, fields, "a vertex index");
       if (index < 0 || index >= counts.vertices)
         reader.fail("vertex index " + std::to_string(index) + " out of range (0 to " +
                     std::to_string(counts.vertices - 1) + ")");
@@ -179,13 +167,14 @@ std::vector<std::string> split_slashes(const std::string& token) {
 // texture and normal indices are not used, but must be integers where given.
 int parse_obj_corner(LineReader& reader, const std::string& token, std::size_t vertex_count) {
   const std::vector<std::string> parts = split_slashes(token);
-  const std::optional<long> index = parse_integer(parts.front());
+  const std::optional<long long> index = parse_integer(parts.front());
   bool well_formed = parts.size() <= 3 && index && *index != 0;
   for (std::size_t i = 1; i < parts.size(); ++i)
     well_formed = well_formed && (parts[i].empty() || parse_integer(parts[i]));
   if (!well_formed) reader.fail("bad face vertex " + quoted_text(token));
-  const long resolved = *index > 0 ? *index - 1 : static_cast<long>(vertex_count) + *index;
-  if (resolved < 0 || resolved >= static_cast<long>(vertex_count))
+  const long long resolved =
+      *index > 0 ? *index - 1 : static_cast<long long>(vertex_count) + *index;
+  if (resolved < 0 || resolved >= static_cast<long long>(vertex_count))
     reader.fail("face vertex " + quoted_text(token) + " out of range");
   return static_cast<int>(resolved);
 }

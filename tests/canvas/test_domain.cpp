@@ -113,6 +113,21 @@ TEST(SpecText, DecimalsOnlyWholeAndFinite) {
     EXPECT_FALSE(parse_decimal(text).has_value()) << "'" << text << "'";
 }
 
+TEST(SpecText, IntegersOnlyWholeAndInRange) {
+  EXPECT_EQ(parse_integer("12"), 12);
+  EXPECT_EQ(parse_integer("-3"), -3);
+  EXPECT_EQ(parse_integer("+4"), 4);
+  for (const char* text : {"", "+", "-", " 1", "1 ", "0x10", "1,5", "1.0", "1e3", "+-1", "--1",
+                           "12abc", "99999999999999999999"})
+    EXPECT_FALSE(parse_integer(text).has_value()) << "'" << text << "'";
+}
+
+TEST(SpecText, QuotedTextIsShortAndPrintable) {
+  EXPECT_EQ(quoted_text("abc"), "'abc'");
+  EXPECT_EQ(quoted_text(std::string("a\0b\r\xC3", 5)), "'a\\x00b\\x0D\\xC3'");
+  EXPECT_EQ(quoted_text(std::string(100, 'z'), 4), "'zzzz...'");
+}
+
 TEST(SpecText, SplitCommasKeepsEmptyItems) {
   EXPECT_EQ(split_commas(""), std::vector<std::string>{""});
   EXPECT_EQ(split_commas("1,,2,"), (std::vector<std::string>{"1", "", "2", ""}));

@@ -182,14 +182,18 @@ TEST(VdbIo, MissingFilesAndGridsAreNamed) {
             std::string::npos);
 }
 
+// Writes the identity metric of the unit box at `resolution` to `path`; returns its size.
+std::uintmax_t write_identity_metric_vdb(const std::string& path, int resolution) {
+  write_metric_vdb(path, test::make_uniform_box_canvas(3, Vec3(0, 0, 0), Vec3(1, 1, 1), resolution,
+                                                       Mat3::Identity()));
+  return std::filesystem::file_size(path);
+}
+
 // The file is read whole before its voxels can be counted, so one larger than the memory budget
 // is refused before it is read.
 TEST(VdbIo, AFileLargerThanTheBudgetIsRefusedBeforeItIsRead) {
   test::TempDir dir;
-  const Canvas canvas =
-      test::make_uniform_box_canvas(3, Vec3(0, 0, 0), Vec3(1, 1, 1), 16, Mat3::Identity());
-  write_metric_vdb(dir.file("metric.vdb"), canvas);
-  const auto size = std::filesystem::file_size(dir.file("metric.vdb"));
+  const auto size = write_identity_metric_vdb(dir.file("metric.vdb"), 16);
   const std::string message = error_of([&] { load_vdb_metric(dir.file("metric.vdb"), size / 2); });
   EXPECT_NE(message.find("over the memory budget"), std::string::npos) << message;
   EXPECT_NE(message.find("even before its grids are decompressed"), std::string::npos) << message;
@@ -200,10 +204,7 @@ TEST(VdbIo, AFileLargerThanTheBudgetIsRefusedBeforeItIsRead) {
 // blanks (up to 4.3 GB, 16.7 GB of peak memory for the last byte of a voronoi.vdb missing).
 TEST(VdbIo, ATruncatedFileIsNamedAsSuchInOneShortMessage) {
   test::TempDir dir;
-  const Canvas canvas =
-      test::make_uniform_box_canvas(3, Vec3(0, 0, 0), Vec3(1, 1, 1), 8, Mat3::Identity());
-  write_metric_vdb(dir.file("metric.vdb"), canvas);
-  const auto size = std::filesystem::file_size(dir.file("metric.vdb"));
+  const auto size = write_identity_metric_vdb(dir.file("metric.vdb"), 8);
   for (const std::uintmax_t cut : {std::uintmax_t{1}, std::uintmax_t{16}, size / 2, size - 60}) {
     std::filesystem::copy_file(dir.file("metric.vdb"), dir.file("cut.vdb"),
                                std::filesystem::copy_options::overwrite_existing);

@@ -14,6 +14,10 @@ namespace rvor {
 // gives nothing too.
 std::optional<double> parse_decimal(std::string_view text);
 
+// The whole text as a decimal integer ("12", "-3", "+4"), as parse_decimal reads a number: no
+// blanks, no fraction, no exponent; nothing beyond long long's range.
+std::optional<long long> parse_integer(std::string_view text);
+
 // `text` quoted for an error message: cut after `most` bytes ("..." before the closing quote), its
 // control bytes (a lone '\r' of old Mac line ends, NUL) and non-ASCII bytes written as \xNN, so
 // that the terminal shows them instead of acting on them and the message stays valid UTF-8 (a
