@@ -15,6 +15,7 @@
 #include "rvor/error.h"
 #include "rvor/input_file.h"
 #include "rvor/spec_text.h"
+#include "vdb_archive_check.h"
 
 namespace rvor {
 
@@ -37,14 +38,15 @@ inline const char* const kMetricGridNames[6] = {"m11", "m12", "m22", "m13", "m23
 // the length is read past the end and is garbage, and its error message then held up to 4 GB of
 // blanks (16.7 GB of peak memory and 59 s for a file missing its last byte). So the file is read
 // through a stream that throws at the first read past its end, and the message quotes at most
-// the start of OpenVDB's. (A damaged length inside the file is still allocated, at most 4 GiB,
-// before its read fails. io::Stream has no delayed loading: every value of every grid is read
-// here, so callers with a memory budget check the file's size first.)
+// the start of OpenVDB's; check_vdb_archive refuses a damaged string length first. (io::Stream has
+// no delayed loading: every value of every grid is read here, so callers with a memory budget
+// check the file's size first.)
 inline openvdb::GridPtrVec read_grids(const std::string& path) {
   openvdb::initialize();
   std::ifstream in = open_input_file(path, "VDB file");
   in.exceptions(std::ios::failbit | std::ios::badbit);
   const std::string cannot = "cannot read VDB file " + path + ": ";
+  check_vdb_archive(path);
   try {
     openvdb::io::Stream stream(in, /*delayLoad=*/false);
     return *stream.getGrids();

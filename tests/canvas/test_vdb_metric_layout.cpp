@@ -1,8 +1,12 @@
 // VDB metric files whose six grids do not hold values at the same voxels (written with OpenVDB
 // directly: rvor's own writer always gives them one layout).
 #include <gtest/gtest.h>
+#include <openvdb/io/Stream.h>
 #include <openvdb/openvdb.h>
 
+#include <cstdint>
+#include <cstring>
+#include <fstream>
 #include <string>
 
 #include "canvas_test_support.h"
@@ -68,6 +72,50 @@ TEST(VdbMetricLayout, ComponentsStoredWhereM11IsNotAreNamed) {
 
 std::string write_layers(const test::TempDir& dir, int z0, int z1, int dimension) {
   return write_grids(dir, identity_grids(z0, z1, dimension));
+}
+
+// The archive check (check_vdb_archive) walks every grid of a seekable archive, but only the first
+// of a streamed one (no grid offsets): both read back as written, with file metadata, a grid
+// stored as half floats and one that shares another's tree (an instance).
+TEST(VdbMetricLayout, StreamedAndSeekableArchivesAreRead) {
+  test::TempDir dir;
+  openvdb::GridPtrVec grids = identity_grids(-4, 4, 3);
+  grids[1]->setSaveFloatAsHalf(true);
+  auto instance = grids[0]->copyGrid();  // the same tree under another name
+  instance->setName("m11_instance");
+  grids.push_back(instance);
+  openvdb::MetaMap file_metadata;
+  file_metadata.insertMeta("creator", openvdb::StringMetadata("test"));
+  const std::string seekable = dir.file("seekable.vdb"), streamed = dir.file("streamed.vdb");
+  openvdb::io::File(seekable).write(grids, file_metadata);
+  {
+    std::ofstream out(streamed, std::ios::binary);
+    openvdb::io::Stream(out).write(grids, file_metadata);
+  }
+  for (const std::string& path : {seekable, streamed})
+    EXPECT_EQ(load_vdb_metric(path)->at(Vec3(0.2, 0.1, -0.3)), Mat3::Identity()) << path;
+}
+
+// A damaged string length: OpenVDB allocated it (up to 4 GiB, for seconds) before its read
+// failed; the archive check refuses it first and says where.
+TEST(VdbMetricLayout, ADamagedLengthIsRefusedBeforeOpenVdbAllocatesIt) {
+  test::TempDir dir;
+  const std::string path = write_layers(dir, -4, 4, 3);
+  std::string bytes = test::read_text(path);
+  const auto damage = [&](const std::string& field, const std::string& expected) {
+    std::string damaged = bytes;
+    const std::size_t at = damaged.find(field);
+    ASSERT_NE(at, std::string::npos) << field;
+    const std::uint32_t huge = 0xFFFFFF00u;
+    std::memcpy(&damaged[at - sizeof huge], &huge, sizeof huge);  // the length before the text
+    test::write_text(dir.file("damaged.vdb"), damaged);
+    const std::string message = test::error_of([&] { load_vdb_metric(dir.file("damaged.vdb")); });
+    EXPECT_NE(message.find("it is damaged or cut short: " + expected), std::string::npos)
+        << message;
+  };
+  damage("m11", "a grid's name at byte");
+  damage("rvor_dimension", "a metadata name at byte");
+  damage("UniformScaleMap", "a grid's transform at byte");
 }
 
 // Tiles stand for many voxels: grids whose voxels would not fit in the memory budget are refused

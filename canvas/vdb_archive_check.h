@@ -1,0 +1,17 @@
+#pragma once
+// A check of a .vdb archive's lengths before OpenVDB reads it (private to the canvas library).
+// OpenVDB reads a string as a 32-bit length and allocates that many bytes before it reads them,
+// so one damaged length cost up to 4 GiB and seconds before the read failed. This walks the parts
+// of the archive that hold strings (the header, the file's metadata, the grid descriptors, each
+// grid's metadata and the name of its transform's map) without allocating, and refuses a length
+// that runs past the end of the file, or a grid that ends past it. The voxel data that follows
+// is left to OpenVDB, as are archives of format versions other than 222 to this OpenVDB's.
+#include <string>
+
+namespace rvor {
+
+// Throws rvor::Error "cannot read VDB file PATH: ..." naming what runs past the end and where.
+// A file that cannot be opened or is no VDB archive passes: OpenVDB names those.
+void check_vdb_archive(const std::string& path);
+
+}  // namespace rvor
