@@ -567,13 +567,6 @@ class SolReader {
   detail::MeditSolTensors result_;
 };
 
-// Shortest text that reads back to the same double.
-void write_real(std::ostream& out, double value) {
-  std::array<char, 32> buffer{};
-  const auto result = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
-  out.write(buffer.data(), result.ptr - buffer.data());
-}
-
 void require_writable_dimension(const std::string& path, int dimension) {
   if (dimension != 2 && dimension != 3)
     throw Error("cannot write " + path + ": dimension " + std::to_string(dimension) +
@@ -611,7 +604,7 @@ void write_vertices(std::ostream& out, const MeditMesh& mesh) {
   out << "\nVertices\n" << mesh.vertices.size() << "\n";
   for (const Vec3& p : mesh.vertices) {
     for (int k = 0; k < mesh.dimension; ++k) {
-      write_real(out, p[k]);
+      out << exact_text(p[k]);
       out << ' ';
     }
     out << "0\n";
@@ -665,7 +658,7 @@ void write_medit_sol_tensors(const std::string& path, int dimension,
     for (const Mat3& G : tensors) {
       const SolTensor sol = tensor_to_sol(G);
       for (int k = 0; k < values; ++k) {
-        write_real(out, sol[k]);
+        out << exact_text(sol[k]);
         out << (k + 1 < values ? ' ' : '\n');
       }
     }

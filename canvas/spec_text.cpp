@@ -41,6 +41,24 @@ std::optional<double> parse_decimal(std::string_view signed_text) {
   return value;
 }
 
+namespace {
+
+template <typename Real>
+std::string shortest_text(Real value) {
+  char text[64];
+  const auto result = std::to_chars(text, text + sizeof text, value);
+  return std::string(text, result.ptr);
+}
+
+}  // namespace
+
+std::string exact_text(double value) {
+  return shortest_text(value);
+}
+std::string exact_text(float value) {
+  return shortest_text(value);
+}
+
 std::string quoted_text(std::string_view text, std::size_t most) {
   std::string quoted = "'";
   for (const char c : text.substr(0, most)) {

@@ -1,5 +1,4 @@
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -7,6 +6,7 @@
 #include "rvor/atomic_file.h"
 #include "rvor/canvas_output.h"
 #include "rvor/error.h"
+#include "rvor/spec_text.h"
 
 namespace rvor {
 
@@ -64,25 +64,12 @@ std::vector<ProbeSample> probe_field(const Canvas& canvas, const VoronoiField& f
   return samples;
 }
 
-namespace {
-
-// The shortest text that reads back as the same number: a voxel centre at x = 1e7 came out as
-// 10000000.5 for 10000000.53125 with 9 significant digits.
-template <typename Real>
-std::string shortest_text(Real value) {
-  char text[64];
-  const auto result = std::to_chars(text, text + sizeof text, value);
-  return std::string(text, result.ptr);
-}
-
-}  // namespace
-
 void write_probe_csv(const std::string& path, const std::vector<ProbeSample>& samples) {
   write_file_atomically(path, [&](std::ostream& out) {
     out << "x,y,z,distance,label\n";
     for (const ProbeSample& s : samples)
-      out << shortest_text(s.voxel_centre.x()) << "," << shortest_text(s.voxel_centre.y()) << ","
-          << shortest_text(s.voxel_centre.z()) << "," << shortest_text(s.distance) << "," << s.label
+      out << exact_text(s.voxel_centre.x()) << "," << exact_text(s.voxel_centre.y()) << ","
+          << exact_text(s.voxel_centre.z()) << "," << exact_text(s.distance) << "," << s.label
           << "\n";
   });
 }

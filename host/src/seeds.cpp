@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <iomanip>
 #include <random>
 #include <sstream>
 
@@ -159,10 +158,9 @@ void write_xyz(const std::string& path, const std::vector<Vec3>& points, int dim
     throw Error("cannot write " + path + ": dimension must be 2 or 3, not " +
                 std::to_string(dimension));
   write_file_atomically(path, [&](std::ostream& out) {
-    out << std::setprecision(17);
     for (const Vec3& p : points) {
-      out << p.x() << " " << p.y();
-      if (dimension == 3) out << " " << p.z();
+      out << exact_text(p.x()) << " " << exact_text(p.y());
+      if (dimension == 3) out << " " << exact_text(p.z());
       out << "\n";
     }
   });

@@ -122,6 +122,16 @@ TEST(SpecText, IntegersOnlyWholeAndInRange) {
     EXPECT_FALSE(parse_integer(text).has_value()) << "'" << text << "'";
 }
 
+TEST(SpecText, ExactTextReadsBackAsTheSameNumber) {
+  EXPECT_EQ(exact_text(0.1), "0.1");
+  EXPECT_EQ(exact_text(10000000.53125), "10000000.53125");
+  EXPECT_EQ(exact_text(1.0 / 3.0), "0.3333333333333333");
+  EXPECT_EQ(exact_text(0.1f), "0.1");  // a float's own shortest text, not 0.100000001
+  EXPECT_EQ(exact_text(-0.0), "-0");
+  for (const double value : {1.0 / 3.0, 1e-300, -2.5e17, 4.9e-324})
+    EXPECT_EQ(parse_decimal(exact_text(value)), value) << value;
+}
+
 TEST(SpecText, QuotedTextIsShortAndPrintable) {
   EXPECT_EQ(quoted_text("abc"), "'abc'");
   EXPECT_EQ(quoted_text(std::string("a\0b\r\xC3", 5)), "'a\\x00b\\x0D\\xC3'");

@@ -1,6 +1,7 @@
 #pragma once
 // How rvor reads numbers and lists in the text a user writes (domain and metric specs, seed and
-// probe files, command-line values): one rule everywhere, independent of the C++ locale.
+// probe files, command-line values), and writes numbers back: one rule everywhere, independent of
+// the C++ locale.
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -17,6 +18,11 @@ std::optional<double> parse_decimal(std::string_view text);
 // The whole text as a decimal integer ("12", "-3", "+4"), as parse_decimal reads a number: no
 // blanks, no fraction, no exponent; nothing beyond long long's range.
 std::optional<long long> parse_integer(std::string_view text);
+
+// The shortest text that reads back as the same number (std::to_chars): what rvor writes in its
+// text outputs (seeds.xyz, probe.csv, Medit files). inf and nan come out as "inf" and "nan".
+std::string exact_text(double value);
+std::string exact_text(float value);
 
 // `text` quoted for an error message: cut after `most` bytes ("..." before the closing quote), its
 // control bytes (a lone '\r' of old Mac line ends, NUL) and non-ASCII bytes written as \xNN, so
