@@ -1,7 +1,7 @@
 #include "vdb_archive_check.h"
 
 #include <cstdint>
-#include <fstream>
+#include <istream>
 #include <string>
 
 #include <openvdb/version.h>
@@ -15,7 +15,7 @@ namespace {
 // Reads and skips through the archive, refusing any length that runs past the end of the file.
 class ArchiveWalker {
  public:
-  ArchiveWalker(const std::string& path, std::ifstream& in, std::uint64_t size)
+  ArchiveWalker(const std::string& path, std::istream& in, std::uint64_t size)
       : path_(path), in_(in), size_(size) {}
 
   std::uint64_t position() const { return position_; }
@@ -55,7 +55,7 @@ class ArchiveWalker {
   }
 
   const std::string& path_;
-  std::ifstream& in_;
+  std::istream& in_;
   std::uint64_t size_;
   std::uint64_t position_ = 0;
 };
@@ -79,9 +79,8 @@ void skip_grid_header(ArchiveWalker& walker) {
 
 }  // namespace
 
-void check_vdb_archive(const std::string& path) {
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) return;
+void check_vdb_archive(std::istream& in, const std::string& path) {
+  in.seekg(0, std::ios::end);
   const auto end = in.tellg();
   if (end < 0) return;
   in.seekg(0);

@@ -6,12 +6,14 @@
 // grid's metadata and the name of its transform's map) without allocating, and refuses a length
 // that runs past the end of the file, or a grid that ends past it. The voxel data that follows
 // is left to OpenVDB, as are archives of format versions other than 222 to this OpenVDB's.
+#include <istream>
 #include <string>
 
 namespace rvor {
 
-// Throws rvor::Error "cannot read VDB file PATH: ..." naming what runs past the end and where.
-// A file that cannot be opened or is no VDB archive passes: OpenVDB names those.
-void check_vdb_archive(const std::string& path);
+// Walks `in`, the file at `path` opened for reading, from its start; leaves it at no particular
+// place. Throws rvor::Error "cannot read VDB file PATH: ..." naming what runs past the end and
+// where. A file that is no VDB archive passes: OpenVDB names it.
+void check_vdb_archive(std::istream& in, const std::string& path);
 
 }  // namespace rvor

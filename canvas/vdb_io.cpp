@@ -2,8 +2,13 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <ios>
 #include <limits>
 #include <memory>
+#include <new>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -11,9 +16,13 @@
 
 #include <openvdb/io/Archive.h>
 #include <openvdb/io/File.h>
+#include <openvdb/io/Stream.h>
 
 #include "rvor/atomic_file.h"
 #include "rvor/error.h"
+#include "rvor/input_file.h"
+#include "rvor/spec_text.h"
+#include "vdb_archive_check.h"
 #include "vdb_support.h"
 
 namespace rvor {
@@ -95,6 +104,35 @@ void require_same_placement(const openvdb::GridBase& grid, const Canvas& canvas,
 }
 
 }  // namespace
+
+// OpenVDB reads a string as its length, then that many bytes into a string it allocates first. In
+// a file cut short that length was read past the end, garbage, and the message held gigabytes of
+// blanks (VdbIo.ATruncatedFileIsNamedAsSuchInOneShortMessage); a length damaged inside the file
+// cost the same allocation. So check_vdb_archive walks the lengths first, the file is read through
+// a stream that throws at the first read past its end, and the message quotes at most the start
+// of OpenVDB's.
+openvdb::GridPtrVec read_grids(const std::string& path) {
+  openvdb::initialize();
+  std::ifstream in = open_input_file(path, "VDB file");
+  check_vdb_archive(in, path);
+  in.clear();
+  in.seekg(0);
+  in.exceptions(std::ios::failbit | std::ios::badbit);
+  const std::string cannot = "cannot read VDB file " + path + ": ";
+  const std::string too_large = cannot + "it is damaged (it gives a size too large to allocate)";
+  try {
+    openvdb::io::Stream stream(in, /*delayLoad=*/false);
+    return *stream.getGrids();
+  } catch (const std::ios_base::failure&) {
+    throw Error(cannot + "it ends early or is damaged");
+  } catch (const openvdb::Exception& error) {
+    throw Error(cannot + quoted_text(error.what(), 200));
+  } catch (const std::bad_alloc&) {
+    throw Error(too_large);
+  } catch (const std::length_error&) {
+    throw Error(too_large);
+  }
+}
 
 void write_voronoi_vdb(const std::string& path, const Canvas& canvas, const VoronoiField& field) {
   require_placed(canvas, "cannot write VDB file " + path);

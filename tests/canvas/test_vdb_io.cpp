@@ -200,8 +200,8 @@ TEST(VdbIo, AFileLargerThanTheBudgetIsRefusedBeforeItIsRead) {
   EXPECT_NO_THROW(load_vdb_metric(dir.file("metric.vdb"), 64 * size));
 }
 
-// A file cut short: OpenVDB read a string length past its end, and the message held gigabytes of
-// blanks (up to 4.3 GB, 16.7 GB of peak memory for the last byte of a voronoi.vdb missing).
+// A file cut short: OpenVDB read a string length past its end and allocated that garbage length;
+// its message, a string of that many blanks, reached gigabytes.
 TEST(VdbIo, ATruncatedFileIsNamedAsSuchInOneShortMessage) {
   test::TempDir dir;
   const auto size = write_identity_metric_vdb(dir.file("metric.vdb"), 8);
