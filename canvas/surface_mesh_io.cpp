@@ -53,12 +53,6 @@ class LineReader {
 
 // Numbers are read as whole blank-separated tokens (parse_integer, parse_decimal): "2,5" or
 // "1abc" is an error, where std::istream's >> would have stopped at the comma and read 2.
-std::optional<long long> next_integer(std::istringstream& fields) {
-  std::string token;
-  if (!(fields >> token)) return std::nullopt;
-  return parse_integer(token);
-}
-
 Vec3 parse_point(LineReader& reader, std::istringstream& fields) {
   Vec3 p;
   for (int a = 0; a < 3; ++a) {
@@ -106,13 +100,13 @@ OffCounts read_off_counts(LineReader& reader, std::istringstream& header) {
     next_line.str(line);
     fields = &next_line;
   }
-  const std::optional<long long> vertices = next_integer(*fields), faces = next_integer(*fields);
-  if (!vertices || !faces) reader.fail("expected vertex and face counts");
-  if (*vertices < 0 || *faces < 0) reader.fail("negative counts");
+  const long long vertices = next_off_integer(reader, *fields, "the vertex count");
+  const long long faces = next_off_integer(reader, *fields, "the face count");
+  if (vertices < 0 || faces < 0) reader.fail("negative counts");
   if (std::string edges; *fields >> edges && !parse_decimal(edges))
     reader.fail("expected an edge count after the vertex and face counts, not " +
                 quoted_text(edges));
-  return {*vertices, *faces};
+  return {vertices, faces};
 }
 
 SurfaceMesh read_off(const std::string& path) {
