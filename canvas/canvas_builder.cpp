@@ -302,8 +302,8 @@ std::size_t local_index(const openvdb::Coord& c, const Placement& p) {
 
 // Whether two tensors have the same bits, word by word from the first entry: where tensors vary,
 // the first nearly always differs already. Inline compares, not std::memcmp: a call per voxel took
-// `build/bin/bench_canvas_build`'s euclidean case from 11.3-11.6 to 15.2-16.0 ms. (A tensor is only kept once it passed the check, so a
-// NaN never matches one.)
+// `build/bin/bench_canvas_build`'s euclidean case from 11.3-11.6 to 15.2-16.0 ms. (A tensor is only
+// kept once it passed the check, so a NaN never matches one.)
 bool same_bits(const Mat3& a, const Mat3& b) {
   std::uint64_t x[9], y[9];
   std::memcpy(x, a.data(), sizeof x);

@@ -29,10 +29,7 @@ class ArchiveWalker {
     return value;
   }
 
-  void skip(std::uint64_t bytes, const char* what) {
-    require(bytes, what);
-    seek(position_ + bytes, what);
-  }
+  void skip(std::uint64_t bytes, const char* what) { seek(position_ + bytes, what); }
 
   // OpenVDB's strings: a 32-bit length, then the bytes.
   void skip_string(const char* what) { skip(read<std::uint32_t>(what), what); }

@@ -24,8 +24,8 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 // Fresh pages, 2 MiB aligned, advised for huge pages unless `small`.
 char* fresh_pages(bool small) {
-  void* region = mmap(nullptr, kBytes + kHugePage, PROT_READ | PROT_WRITE,
-                      MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  void* region =
+      mmap(nullptr, kBytes + kHugePage, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
   if (region == MAP_FAILED) return nullptr;
   const auto start = reinterpret_cast<std::uintptr_t>(region);
   char* aligned = reinterpret_cast<char*>((start + kHugePage - 1) / kHugePage * kHugePage);
