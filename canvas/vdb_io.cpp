@@ -111,10 +111,12 @@ void require_same_placement(const openvdb::GridBase& grid, const Canvas& canvas,
 // cost the same allocation. So check_vdb_archive walks the lengths first, the file is read through
 // a stream that throws at the first read past its end, and the message quotes at most the start
 // of OpenVDB's.
-openvdb::GridPtrVec read_grids(const std::string& path) {
+openvdb::GridPtrVec read_grids(const std::string& path,
+                               const std::function<void(const VdbArchiveSummary&)>& before_values) {
   openvdb::initialize();
   std::ifstream in = open_input_file(path, "VDB file");
-  check_vdb_archive(in, path);
+  const VdbArchiveSummary summary = check_vdb_archive(in, path);
+  if (before_values) before_values(summary);
   in.clear();
   in.seekg(0);
   in.exceptions(std::ios::failbit | std::ios::badbit);

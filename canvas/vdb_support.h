@@ -1,6 +1,7 @@
 #pragma once
 // OpenVDB helpers shared by the canvas library's .cpp files (private; includes OpenVDB, so only
 // the few translation units that need it include this).
+#include <functional>
 #include <string>
 
 #include <openvdb/io/File.h>
@@ -8,6 +9,7 @@
 
 #include "rvor/canvas.h"
 #include "rvor/error.h"
+#include "vdb_archive_check.h"
 
 namespace rvor {
 
@@ -26,8 +28,12 @@ inline openvdb::Coord to_coord(const VoxelIndex& v) {
 inline const char* const kMetricGridNames[6] = {"m11", "m12", "m22", "m13", "m23", "m33"};
 
 // All grids of a VDB file, every value read (no delayed loading: callers with a memory budget
-// check the file's size first); rvor::Error naming the file when it cannot be read (vdb_io.cpp).
-openvdb::GridPtrVec read_grids(const std::string& path);
+// check the file's size first, and what the archive records of its grids in `before_values`,
+// called after the archive check and before OpenVDB reads); rvor::Error naming the file when it
+// cannot be read (vdb_io.cpp).
+openvdb::GridPtrVec read_grids(
+    const std::string& path,
+    const std::function<void(const VdbArchiveSummary&)>& before_values = nullptr);
 
 // The grid called `name`; rvor::Error naming the file and the grid when missing or mistyped.
 template <typename GridType>

@@ -4,8 +4,11 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <functional>
+#include <iterator>
 #include <limits>
 #include <string>
 #include <vector>
@@ -198,6 +201,34 @@ TEST(VdbIo, AFileLargerThanTheBudgetIsRefusedBeforeItIsRead) {
   EXPECT_NE(message.find("over the memory budget"), std::string::npos) << message;
   EXPECT_NE(message.find("even before its grids are decompressed"), std::string::npos) << message;
   EXPECT_NO_THROW(load_vdb_metric(dir.file("metric.vdb"), 64 * size));
+}
+
+// OpenVDB's writer records each grid's active voxel count (file_voxel_count), and the budget
+// takes it before any value is read: a small file of constant grids took ten times its size
+// before the count after reading refused it. A file whose records claim more voxels than its
+// grids hold is refused with the recorded count, though its values would fit.
+TEST(VdbIo, RecordedVoxelCountsAreCheckedBeforeTheValuesAreRead) {
+  test::TempDir dir;
+  const auto size = write_identity_metric_vdb(dir.file("metric.vdb"), 16);
+  EXPECT_NO_THROW(load_vdb_metric(dir.file("metric.vdb"), 64 * size));
+  std::ifstream in(dir.file("metric.vdb"), std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string key = "file_voxel_count";
+  int patched = 0;
+  for (std::size_t at = bytes.find(key); at != std::string::npos; at = bytes.find(key, at + 1)) {
+    // The type name "int64" and the value's size (8) follow, each after a 32-bit length.
+    const std::size_t value = at + key.size() + 4 + 5 + 4;
+    const std::int64_t claimed = 1000000000;
+    std::memcpy(&bytes[value], &claimed, sizeof claimed);
+    ++patched;
+  }
+  ASSERT_EQ(patched, 6);
+  std::ofstream(dir.file("claimed.vdb"), std::ios::binary) << bytes;
+  const std::string message =
+      error_of([&] { load_vdb_metric(dir.file("claimed.vdb"), 64 * size); });
+  EXPECT_NE(message.find("its six grids record (as written) 6e+09 active voxels"),
+            std::string::npos)
+      << message;
 }
 
 // A file cut short: OpenVDB read a string length past its end and allocated that garbage length;
