@@ -41,7 +41,7 @@ struct ShapeHash {
 // The distinct offset sets met so far, each with its index in the shape table.
 using ShapeTable = std::unordered_map<Shape, std::uint32_t, ShapeHash>;
 
-void store_shape_index(std::vector<float>& records, std::size_t into, std::uint32_t index) {
+void store_shape_index(HugePageVector<float>& records, std::size_t into, std::uint32_t index) {
   std::memcpy(&records[kStencilRecord * into + kStencilTerms], &index, sizeof index);
 }
 
@@ -168,9 +168,6 @@ PackedStencils pack_stencils(const Canvas& canvas, double length_unit) {
 
 namespace {
 
-// Buffers from this size on live on huge pages where the device uses host memory (host_pages.h).
-constexpr std::size_t kHugePageBufferBytes = std::size_t{4} << 20;
-
 // For tests (RVOR_POISON_DEVICE_BUFFERS=1): new working buffers hold a byte pattern rather than
 // the zeros PoCL's fresh host pages give, as a GPU's new buffers hold what was there before, so
 // that a kernel reading what no command wrote shows up on PoCL too.
@@ -189,14 +186,24 @@ class BufferMaker {
         bytes_(bytes) {}
 
   // A read-only copy of `data`.
-  template <typename T>
-  cl::Buffer input(const std::vector<T>& data) {
+  template <typename Vector>
+  cl::Buffer input(const Vector& data) {
+    using T = typename Vector::value_type;
     const std::size_t size = data.size() * sizeof(T);
     count(size);
     if (size >= kHugePageBufferBytes && host_memory_)
       return huge_page_buffer(context_, CL_MEM_READ_ONLY, size, data.data());
     return cl::Buffer(context_, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, size,
                       const_cast<T*>(data.data()));
+  }
+
+  // A read-only buffer holding `data`: on its very memory where the device uses host memory.
+  template <typename T>
+  cl::Buffer adopt(HugePageVector<T>&& data) {
+    const std::size_t size = data.size() * sizeof(T);
+    if (size < kHugePageBufferBytes || !host_memory_) return input(data);
+    count(size);
+    return adopting_buffer(context_, CL_MEM_READ_ONLY, std::move(data));
   }
 
   // A working buffer of `size` bytes.
@@ -278,7 +285,7 @@ DeviceCanvas upload_canvas(const cl::Context& context, const Canvas& canvas, int
   d.bricks = canvas.brick_count();
   if (d.bricks == 0) throw Error("the canvas has no active voxels");
   d.length_unit = device_length_unit(canvas);
-  const PackedStencils stencils = pack_stencils(canvas, d.length_unit);
+  PackedStencils stencils = pack_stencils(canvas, d.length_unit);
   BufferMaker make(context, d.bytes);
   const int edges[3] = {Canvas::kBrickEdge, Canvas::kBrickEdge, canvas.brick_edge_z()};
   for (int a = 0; a < 3; ++a) {
@@ -300,7 +307,8 @@ DeviceCanvas upload_canvas(const cl::Context& context, const Canvas& canvas, int
     d.uniform_diagonal = first_metric_is_diagonal(canvas);
   }
   d.activity = make.input(activity_bits(canvas));
-  d.stencils = make.input(stencils.records);
+  const std::vector<std::uint32_t> reaches = reader_reach(canvas, stencils);
+  d.stencils = make.adopt(std::move(stencils.records));  // their last use is reader_reach's
   d.shapes = make.input(stencils.shapes);
   d.table = make.input(canvas.brick_table);
   d.origins = make.input(origins);
@@ -314,7 +322,6 @@ DeviceCanvas upload_canvas(const cl::Context& context, const Canvas& canvas, int
   d.changed = make.scratch(d.slots * sizeof(cl_uint));
   d.flags = make.scratch(d.bricks);
   d.touched = make.scratch(d.bricks);
-  const std::vector<std::uint32_t> reaches = reader_reach(canvas, stencils);
   d.axis_readers = std::all_of(reaches.begin(), reaches.end(),
                                [](std::uint32_t r) { return (r & kAxisReaders) != 0; });
   d.reader_reach = make.input(reaches);

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <optional>
 
+#include "host_pages.h"
 #include "opencl_runtime.h"
 #include "rvor/canvas.h"
 
@@ -25,8 +26,9 @@ constexpr int kStencilRecord = kStencilTerms + 1;
 // stencil 0). Inactive slots: all-zero weights, shape 0.
 struct PackedStencils {
   // kStencilRecord words per slot: kStencilTerms float weights, then the uint32 index of the
-  // slot's offsets in `shapes`.
-  std::vector<float> records;
+  // slot's offsets in `shapes`. Large ones are packed on huge pages, which the device buffer of a
+  // CPU device then takes over (upload_canvas): no second copy.
+  HugePageVector<float> records;
   std::vector<std::int8_t> shapes;  // 3 * kStencilTerms per distinct offset set
   std::array<int, 3> reach{};       // largest |offset| per axis, in voxels
   bool uniform = false;

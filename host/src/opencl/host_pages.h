@@ -4,13 +4,58 @@
 // MB at 256^3) at scattered bricks; with 4 KiB pages nearly every brick a relaxation touches is
 // another TLB entry. Measured in docs/scheme.md ("Memory").
 #include <cstddef>
+#include <new>
+#include <utility>
+#include <vector>
 
 #include "opencl_runtime.h"
 
 namespace rvor::opencl {
 
+// Buffers from this size on live on huge pages where the device uses host memory.
+constexpr std::size_t kHugePageBufferBytes = std::size_t{4} << 20;
+
 // Whether buffers of the context's device live in host memory (a CPU device).
 bool device_uses_host_memory(const cl::Context& context);
+
+// `size` bytes of zeros, 2 MiB aligned and advised for huge pages before any is touched; throws
+// rvor::Error when the memory cannot be had. unmap_huge_pages(address, size) gives them back.
+void* map_huge_pages(std::size_t size);
+void unmap_huge_pages(void* address, std::size_t size) noexcept;
+
+// An allocator whose blocks of kHugePageBufferBytes and more are map_huge_pages's (smaller ones
+// are plain new): a vector that will become a device buffer is filled on the pages the buffer
+// keeps (adopting_buffer), with no second copy of it in memory.
+template <typename T>
+struct HugePageAllocator {
+  using value_type = T;
+  HugePageAllocator() = default;
+  template <typename U>
+  HugePageAllocator(const HugePageAllocator<U>&) noexcept {}
+  T* allocate(std::size_t n) {
+    const std::size_t bytes = n * sizeof(T);
+    return static_cast<T*>(bytes >= kHugePageBufferBytes ? map_huge_pages(bytes)
+                                                         : ::operator new(bytes));
+  }
+  void deallocate(T* p, std::size_t n) noexcept {
+    const std::size_t bytes = n * sizeof(T);
+    if (bytes >= kHugePageBufferBytes)
+      unmap_huge_pages(p, bytes);
+    else
+      ::operator delete(p);
+  }
+  template <typename U>
+  bool operator==(const HugePageAllocator<U>&) const noexcept {
+    return true;
+  }
+  template <typename U>
+  bool operator!=(const HugePageAllocator<U>&) const noexcept {
+    return false;
+  }
+};
+
+template <typename T>
+using HugePageVector = std::vector<T, HugePageAllocator<T>>;
 
 // A buffer of `size` bytes (flags: CL_MEM_READ_ONLY or CL_MEM_READ_WRITE) on pages allocated
 // here, 2 MiB aligned and advised for huge pages (its whole 2 MiB ranges get them), holding a copy
@@ -18,5 +63,25 @@ bool device_uses_host_memory(const cl::Context& context);
 // when the memory cannot be had.
 cl::Buffer huge_page_buffer(const cl::Context& context, cl_mem_flags flags, std::size_t size,
                             const void* initial);
+
+// A buffer (for a device in host memory) on the memory of `data`, which it takes over: the vector
+// lives until the buffer is released.
+template <typename T>
+cl::Buffer adopting_buffer(const cl::Context& context, cl_mem_flags flags,
+                           HugePageVector<T>&& data) {
+  auto* owner = new HugePageVector<T>(std::move(data));
+  try {
+    cl::Buffer buffer(context, flags | CL_MEM_USE_HOST_PTR, owner->size() * sizeof(T),
+                      owner->data());
+    const cl_int status = clSetMemObjectDestructorCallback(
+        buffer(), [](cl_mem, void* vector) { delete static_cast<HugePageVector<T>*>(vector); },
+        owner);
+    if (status != CL_SUCCESS) throw cl::Error(status, "clSetMemObjectDestructorCallback");
+    return buffer;
+  } catch (...) {
+    delete owner;
+    throw;
+  }
+}
 
 }  // namespace rvor::opencl
