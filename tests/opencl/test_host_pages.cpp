@@ -63,6 +63,30 @@ TEST(HugePageBuffers, HoldTheirDataTakeDeviceWritesAndReleaseTheirPages) {
   EXPECT_LT(resident_bytes() - before, long{128} << 20) << "the pages of released buffers stay";
 }
 
+// A vector filled on huge pages (HugePageAllocator) becomes a buffer without a copy: the buffer
+// reads its very memory, and the pages go when the buffer goes, not with the moved-from vector.
+TEST(HugePageBuffers, AnAdoptedVectorIsTheBufferAndLeavesWithIt) {
+  std::string why;
+  const std::optional<opencl::Device> device = pocl_device(why);
+  if (!device) GTEST_SKIP() << "no usable OpenCL device: " << why;
+  const cl::Context context = opencl::context_for(*device);
+  cl::CommandQueue queue(context, device->device);
+  const std::size_t count = (std::size_t{32} << 20) / sizeof(cl_uint);
+  std::vector<cl_uint> expected(count), back(count);
+  std::iota(expected.begin(), expected.end(), 1u);
+  const long before = resident_bytes();
+  for (int round = 0; round < 16; ++round) {  // 512 MiB in all if the pages were kept
+    opencl::HugePageVector<cl_uint> data(expected.begin(), expected.end());
+    const void* memory = data.data();
+    ASSERT_EQ(reinterpret_cast<std::uintptr_t>(memory) % (std::uintptr_t{2} << 20), 0u);
+    const cl::Buffer buffer = opencl::adopting_buffer(context, CL_MEM_READ_ONLY, std::move(data));
+    EXPECT_EQ(buffer.getInfo<CL_MEM_HOST_PTR>(), memory) << "round " << round;
+    queue.enqueueReadBuffer(buffer, CL_TRUE, 0, count * sizeof(cl_uint), back.data());
+    ASSERT_EQ(back, expected) << "round " << round;
+  }
+  EXPECT_LT(resident_bytes() - before, long{128} << 20) << "the pages of released buffers stay";
+}
+
 // 84^3 slots: the state buffer (8 B per slot) is above 4 MiB; radial_shock_3d at 64^3: its
 // per-voxel stencil weights (24 B per slot) and offsets (18 B) are.
 TEST(HugePageBuffers, EnginesOnThemMatchTheReference) {
