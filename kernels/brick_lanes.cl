@@ -855,10 +855,10 @@ inline float layer_minimum(__global const ulong* state, int brick, int first, in
   return least;
 }
 
-// upwind_corner (propagation.cl) of a brick, from the state instead of a tile: per axis, whether
+// upwind_corner_of_layers (propagation.cl) from the state instead of a tile: per axis, whether
 // the two layers at its high side (its last, the next brick's first) hold a smaller distance than
 // the two at its low side.
-inline int upwind_corner_of(const int* near, __global const ulong* state) {
+inline int upwind_corner_of_faces(const int* near, __global const ulong* state) {
   const int centre = 13, below[3] = {12, 10, 4}, above[3] = {14, 16, 22};  // in near
   // A layer across axis a at local coordinate c: its first slot, run length, runs and stride.
   const int length[3] = {1, EDGE, EDGE * EDGE};
@@ -877,6 +877,16 @@ inline int upwind_corner_of(const int* near, __global const ulong* state) {
     if (high < low) corner |= 1 << a;
   }
   return corner;
+}
+
+// upwind_corner (propagation.cl) of a brick, from the state instead of a tile (the distances are
+// the high float halves of the state words).
+inline int upwind_corner_of(const int* near, __global const ulong* state) {
+  __global const float* distance =
+      (__global const float*)(state + (size_t)near[13] * BRICK_VOLUME);  // near[13]: the brick
+  float u[8];
+  for (int c = 0; c < 8; ++c) u[c] = distance[2 * brick_corner_index(c) + 1];
+  return corners_reached(u) ? upwind_corner_of_corners(u) : upwind_corner_of_faces(near, state);
 }
 
 // Tile slot `real` of lane k's brick, stored at frame index f: distance, low word, change stamp.

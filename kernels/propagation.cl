@@ -323,11 +323,42 @@ inline void load_tile(ulong* tile, uint* tile_stamp, __global const ulong* state
   }
 }
 
-// The corner a sweep starts from, as the direction bits of the sweep (bit a: axis a descending):
-// per axis, the side whose face layer of the brick, or of the neighbour beyond it, holds the
-// smaller value. Information flows from small values to large ones, so starting there lets one
-// sweep carry an incoming front through the whole brick.
-inline int upwind_corner(const ulong* tile) {
+// The corner a sweep starts from, as the direction bits of the sweep (bit a: axis a descending).
+// Information flows from small values to large ones, so starting there lets one sweep carry an
+// incoming front through the whole brick. A brick whose corner voxels all hold a value (reached,
+// or started at the nearest seeds' distances) takes, per axis, the side whose four corners hold
+// the smaller value (u: corner c = (c & 1, c & 2, c & 4), each bit its high end): 8 reads.
+// Otherwise, where a front may be coming in, upwind_corner_of_layers looks at the faces.
+// docs/scheme.md "Upwind corner" has the measurements.
+inline bool corners_reached(const float* u) {
+  bool reached = true;
+  for (int c = 0; c < 8; ++c) reached = reached && !isinf(u[c]);
+  return reached;
+}
+
+inline int upwind_corner_of_corners(const float* u) {
+  int corner = 0;
+  for (int a = 0; a < DIM; ++a) {
+    float low = INFINITY, high = INFINITY;
+    for (int c = 0; c < 8; ++c) {
+      if ((c >> a) & 1)
+        high = min(high, u[c]);
+      else
+        low = min(low, u[c]);
+    }
+    if (high < low) corner |= 1 << a;
+  }
+  return corner;
+}
+
+// The local index of brick corner c (upwind_corner_of_corners).
+inline int brick_corner_index(int c) {
+  return local_index((int3)(c & 1 ? EDGE - 1 : 0, c & 2 ? EDGE - 1 : 0, c & 4 ? EDGE_Z - 1 : 0));
+}
+
+// Per axis, the side whose face layer of the brick, or of the neighbour beyond it, holds the
+// smaller value.
+inline int upwind_corner_of_layers(const ulong* tile) {
   const int edge[3] = {EDGE, EDGE, EDGE_Z};
   int corner = 0;
   for (int a = 0; a < DIM; ++a) {
@@ -347,6 +378,13 @@ inline int upwind_corner(const ulong* tile) {
     if (high < low) corner |= 1 << a;
   }
   return corner;
+}
+
+inline int upwind_corner(const ulong* tile) {
+  float u[8];
+  for (int c = 0; c < 8; ++c)
+    u[c] = state_distance(tile[tile_index(local_coordinates(brick_corner_index(c)))]);
+  return corners_reached(u) ? upwind_corner_of_corners(u) : upwind_corner_of_layers(tile);
 }
 
 // The tile offsets of a stencil's terms; returns whether every offset stays within one voxel per
