@@ -1,23 +1,14 @@
 #include "rvor/vdb_io.h"
 
-#include <poll.h>
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <algorithm>
-#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <ios>
 #include <limits>
 #include <memory>
 #include <new>
-#include <optional>
 #include <stdexcept>
 #include <string>
 #include <system_error>
@@ -30,6 +21,7 @@
 #include <openvdb/io/File.h>
 #include <openvdb/io/Stream.h>
 
+#include "child_check.h"
 #include "rvor/atomic_file.h"
 #include "rvor/error.h"
 #include "rvor/input_file.h"
@@ -125,18 +117,23 @@ void require_same_placement(const openvdb::GridBase& grid, const Canvas& canvas,
 // of OpenVDB's.
 namespace {
 
+std::string cannot_read(const std::string& path) {
+  return "cannot read VDB file " + path + ": ";
+}
+
 // Every grid of the archive at `path` (opened as `in`, at its start), every value read; the
 // failures as rvor::Error naming the file.
 openvdb::GridPtrVec read_stream(const std::string& path, std::istream& in) {
-  const std::string cannot = "cannot read VDB file " + path + ": ";
-  const std::string too_large = cannot + "it is damaged (it gives a size too large to allocate)";
+  const std::string too_large =
+      cannot_read(path) + "it is damaged (it gives a size too large to allocate)";
+  in.exceptions(std::ios::failbit | std::ios::badbit);
   try {
     openvdb::io::Stream stream(in, /*delayLoad=*/false);
     return *stream.getGrids();
   } catch (const std::ios_base::failure&) {
-    throw Error(cannot + "it ends early or is damaged");
+    throw Error(cannot_read(path) + "it ends early or is damaged");
   } catch (const openvdb::Exception& error) {
-    throw Error(cannot + quoted_text(error.what(), 200));
+    throw Error(cannot_read(path) + quoted_text(error.what(), 200));
   } catch (const std::bad_alloc&) {
     throw Error(too_large);
   } catch (const std::length_error&) {
@@ -144,88 +141,34 @@ openvdb::GridPtrVec read_stream(const std::string& path, std::istream& in) {
   }
 }
 
-std::ifstream throwing_stream(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  in.exceptions(std::ios::failbit | std::ios::badbit);
-  return in;
-}
-
-// In a child process: reads the archive and exits 0, or writes why it could not to `report` and
-// exits 1 (2: an exception without a message of ours). Only _exit: the parent's atexit handlers
-// and stdio buffers are not the child's to run.
-[[noreturn]] void read_in_child(const std::string& path, int report) {
-  try {
-    std::ifstream in = throwing_stream(path);
-    read_stream(path, in);
-    _exit(0);
-  } catch (const Error& e) {
-    const std::string why = e.what();
-    for (std::size_t done = 0; done < why.size();) {
-      const ssize_t written = write(report, why.data() + done, why.size() - done);
-      if (written <= 0) break;
-      done += static_cast<std::size_t>(written);
-    }
-    _exit(1);
-  } catch (...) {
-    _exit(2);
-  }
-}
-
-// What the child wrote to `report` until it closed it (by exiting), or nullopt past `deadline`.
-std::optional<std::string> child_report(int report,
-                                        std::chrono::steady_clock::time_point deadline) {
-  std::string text;
-  char buffer[512];
-  for (;;) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-        deadline - std::chrono::steady_clock::now());
-    if (left.count() <= 0) return std::nullopt;
-    pollfd ready{report, POLLIN, 0};
-    const int polled = poll(&ready, 1, static_cast<int>(std::min<long long>(left.count(), 1000)));
-    if (polled < 0 && errno != EINTR) return std::nullopt;
-    if (polled <= 0) continue;
-    const ssize_t got = read(report, buffer, sizeof buffer);
-    if (got == 0) return text;  // closed: the child is done
-    if (got < 0 && errno != EINTR) return std::nullopt;
-    if (got > 0) text.append(buffer, static_cast<std::size_t>(got));
-  }
-}
-
 // OpenVDB's reader trusts the counts and sizes inside a grid's voxel data, which the archive
-// check cannot follow: one flipped bit there corrupted its heap, and the process died (a
-// segmentation fault or an abort, in 1 to 2 of 150 random bit flips of a metric file), and a
-// failed read leaked what it had allocated (~260 KB for a truncated file). So the archive is
-// read first in a child process: its death or its error becomes this one, and only an archive
-// it read whole is read here. Returns false where no child could tell (no process, or none done
-// within a minute plus a second per 10 MB): the caller then reads it unguarded.
-bool read_in_a_child_first(const std::string& path, std::uintmax_t bytes) {
-  int pipe_ends[2];
-  if (pipe(pipe_ends) != 0) return false;
-  const pid_t child = fork();
-  if (child == 0) {
-    close(pipe_ends[0]);
-    read_in_child(path, pipe_ends[1]);
-  }
-  close(pipe_ends[1]);
-  if (child < 0) {
-    close(pipe_ends[0]);
-    return false;
-  }
+// check cannot follow: one flipped bit there corrupted its heap and the process died (6 of 378
+// random single-bit flips of a metric file aborted rvor, VdbIo.AFileThatKillsOpenVdbsReader...).
+// So the archive is read first in a child process (child_check.h): its death or its error becomes
+// this one, and the caller reads only an archive the child read whole. The child reports while
+// its grids still exist: destroying them runs TBB, which can wait forever on a lock that another
+// thread of the caller held at the fork. Where no child can tell (none made, or none done within
+// a minute plus a second per 10 MB), the read goes ahead unguarded.
+void read_in_a_child_first(const std::string& path) {
+  std::error_code error;
+  const std::uintmax_t bytes = std::filesystem::file_size(path, error);
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60) +
-                        std::chrono::milliseconds(bytes / 10000);
-  const std::optional<std::string> report = child_report(pipe_ends[0], deadline);
-  close(pipe_ends[0]);
-  if (!report) kill(child, SIGKILL);  // stuck: as if no child had been made
-  int status = 0;
-  while (waitpid(child, &status, 0) < 0)
-    if (errno != EINTR) return false;
-  if (!report) return false;
-  if (WIFSIGNALED(status))
-    throw Error("cannot read VDB file " + path +
-                ": it is damaged (OpenVDB's reader died on its voxel data: " +
-                strsignal(WTERMSIG(status)) + ")");
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 1) throw Error(*report);
-  return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+                        std::chrono::milliseconds(error ? 0 : bytes / 10000);
+  const ChildEnd end = end_of_child(
+      [&](const ChildReport& report) {
+        try {
+          std::ifstream in(path, std::ios::binary);
+          const openvdb::GridPtrVec grids = read_stream(path, in);
+          report("");
+        } catch (const Error& e) {
+          report(e.what());
+        }
+      },
+      deadline);
+  if (end.how == ChildEnd::How::died)
+    throw Error(cannot_read(path) +
+                "it is damaged (OpenVDB's reader died on its voxel data: " + end.text + ")");
+  if (end.how == ChildEnd::How::reported && !end.text.empty()) throw Error(end.text);
 }
 
 }  // namespace
@@ -236,12 +179,9 @@ openvdb::GridPtrVec read_grids(const std::string& path,
   std::ifstream in = open_input_file(path, "VDB file");
   const VdbArchiveSummary summary = check_vdb_archive(in, path);
   if (before_values) before_values(summary);
+  read_in_a_child_first(path);
   in.clear();
   in.seekg(0);
-  in.exceptions(std::ios::failbit | std::ios::badbit);
-  std::error_code error;
-  const std::uintmax_t bytes = std::filesystem::file_size(path, error);
-  read_in_a_child_first(path, error ? 0 : bytes);
   return read_stream(path, in);
 }
 

@@ -3,6 +3,7 @@
 #include "canvas_test_support.h"
 
 #include <cmath>
+#include <csignal>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -257,6 +258,23 @@ TEST(VdbIo, AFileThatKillsOpenVdbsReaderIsAnErrorNotACrash) {
     }
   }
   EXPECT_GT(died, 0) << "no flip killed the reader: the file's layout changed";
+}
+
+// The child's verdict comes through its pipe, not its exit status, which a caller that ignores
+// SIGCHLD (or reaps its children itself) never gets: there the guard turned itself off and the
+// damaged file killed the process.
+TEST(VdbIo, TheReadIsGuardedWhenTheCallerIgnoresItsChildren) {
+  test::TempDir dir;
+  write_identity_metric_vdb(dir.file("metric.vdb"), 16);
+  std::ifstream in(dir.file("metric.vdb"), std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GT(bytes.size(), 32680u);
+  bytes[32680] = static_cast<char>(bytes[32680] ^ 1);  // one of the flips above
+  std::ofstream(dir.file("flipped.vdb"), std::ios::binary) << bytes;
+  const auto previous = std::signal(SIGCHLD, SIG_IGN);
+  const std::string message = error_of([&] { load_vdb_metric(dir.file("flipped.vdb")); });
+  std::signal(SIGCHLD, previous);
+  EXPECT_NE(message.find("OpenVDB's reader died on its voxel data"), std::string::npos) << message;
 }
 
 // A file cut short: OpenVDB read a string length past its end and allocated that garbage length;
