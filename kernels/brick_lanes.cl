@@ -844,14 +844,15 @@ inline lane_float lane_change_tolerance(const LaneStencil* st) {
 
 // The smallest distance in `runs` runs of `length` consecutive slots of brick `brick` (+inf
 // without one), the runs `stride` slots apart from slot `first`: a layer of the brick across an
-// axis. The distances are read as the high float halves of the state words.
+// axis.
 inline float layer_minimum(__global const ulong* state, int brick, int first, int length, int runs,
                            int stride) {
   if (brick < 0) return INFINITY;
-  __global const float* distance = (__global const float*)(state + (size_t)brick * BRICK_VOLUME);
+  __global const ulong* slots = state + (size_t)brick * BRICK_VOLUME;
   float least = INFINITY;
   for (int r = 0; r < runs; ++r)
-    for (int i = 0; i < length; ++i) least = min(least, distance[2 * (first + stride * r + i) + 1]);
+    for (int i = 0; i < length; ++i)
+      least = min(least, state_distance(slots[first + stride * r + i]));
   return least;
 }
 
@@ -879,13 +880,11 @@ inline int upwind_corner_of_faces(const int* near, __global const ulong* state) 
   return corner;
 }
 
-// upwind_corner (propagation.cl) of a brick, from the state instead of a tile (the distances are
-// the high float halves of the state words).
+// upwind_corner (propagation.cl) of a brick, from the state instead of a tile.
 inline int upwind_corner_of(const int* near, __global const ulong* state) {
-  __global const float* distance =
-      (__global const float*)(state + (size_t)near[13] * BRICK_VOLUME);  // near[13]: the brick
+  __global const ulong* brick = state + (size_t)near[13] * BRICK_VOLUME;  // near[13]: the brick
   float u[8];
-  for (int c = 0; c < 8; ++c) u[c] = distance[2 * brick_corner_index(c) + 1];
+  for (int c = 0; c < 8; ++c) u[c] = state_distance(brick[brick_corner_index(c)]);
   return corners_reached(u) ? upwind_corner_of_corners(u) : upwind_corner_of_faces(near, state);
 }
 

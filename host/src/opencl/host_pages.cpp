@@ -23,27 +23,14 @@ std::size_t mapped_length(std::size_t size) {
   return (size + page - 1) / page * page;
 }
 
-struct Pages {
-  void* address;
-  std::size_t size;
-};
-
-void CL_CALLBACK release_pages(cl_mem, void* user_data) {
-  const auto* pages = static_cast<Pages*>(user_data);
-  unmap_huge_pages(pages->address, pages->size);
-  delete pages;
-}
-
 }  // namespace
 
-void* map_huge_pages(std::size_t size) {
+void* map_huge_pages(std::size_t size) noexcept {
   const std::size_t length = mapped_length(size);
   // Over-allocate by a huge page so that the block can start on a 2 MiB boundary.
   const std::size_t mapped = length + kHugePage;
   void* region = mmap(nullptr, mapped, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-  if (region == MAP_FAILED)
-    throw Error("cannot allocate " + std::to_string(size) + " bytes of host memory for a device " +
-                "buffer: " + std::strerror(errno));
+  if (region == MAP_FAILED) return nullptr;
   const auto start = reinterpret_cast<std::uintptr_t>(region);
   const std::uintptr_t aligned = (start + kHugePage - 1) / kHugePage * kHugePage;
   if (aligned > start) munmap(region, aligned - start);
@@ -65,18 +52,15 @@ bool device_uses_host_memory(const cl::Context& context) {
 
 cl::Buffer huge_page_buffer(const cl::Context& context, cl_mem_flags flags, std::size_t size,
                             const void* initial) {
-  auto* pages = new Pages{map_huge_pages(size), size};
-  if (initial != nullptr) std::memcpy(pages->address, initial, size);
+  HugePageVector<unsigned char> bytes;
   try {
-    cl::Buffer buffer(context, flags | CL_MEM_USE_HOST_PTR, size, pages->address);
-    const cl_int status = clSetMemObjectDestructorCallback(buffer(), release_pages, pages);
-    if (status != CL_SUCCESS) throw cl::Error(status, "clSetMemObjectDestructorCallback");
-    return buffer;
-  } catch (...) {
-    unmap_huge_pages(pages->address, pages->size);
-    delete pages;
-    throw;
+    bytes.resize(size);  // zeros, left to the device's first writes to touch
+  } catch (const std::bad_alloc&) {
+    throw Error("cannot allocate " + std::to_string(size) + " bytes of host memory for a device " +
+                "buffer: " + std::strerror(errno));
   }
+  if (initial != nullptr) std::memcpy(bytes.data(), initial, size);
+  return adopting_buffer(context, flags, std::move(bytes));
 }
 
 }  // namespace rvor::opencl

@@ -4,7 +4,9 @@
 // MB at 256^3) at scattered bricks; with 4 KiB pages nearly every brick a relaxation touches is
 // another TLB entry. Measured in docs/scheme.md ("Memory").
 #include <cstddef>
+#include <cstring>
 #include <new>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -18,31 +20,50 @@ constexpr std::size_t kHugePageBufferBytes = std::size_t{4} << 20;
 // Whether buffers of the context's device live in host memory (a CPU device).
 bool device_uses_host_memory(const cl::Context& context);
 
-// `size` bytes of zeros, 2 MiB aligned and advised for huge pages before any is touched; throws
-// rvor::Error when the memory cannot be had. unmap_huge_pages(address, size) gives them back.
-void* map_huge_pages(std::size_t size);
+// `size` bytes of zeros, 2 MiB aligned and advised for huge pages before any is touched (their
+// pages are first touched by whoever writes them); nullptr when the memory cannot be had.
+// unmap_huge_pages(address, size) gives them back.
+void* map_huge_pages(std::size_t size) noexcept;
 void unmap_huge_pages(void* address, std::size_t size) noexcept;
 
 // An allocator whose blocks of kHugePageBufferBytes and more are map_huge_pages's (smaller ones
-// are plain new): a vector that will become a device buffer is filled on the pages the buffer
-// keeps (adopting_buffer), with no second copy of it in memory.
+// plain aligned new): a vector that will become a device buffer is filled on the pages the buffer
+// keeps (adopting_buffer), with no second copy of it in memory. Its blocks come zeroed and
+// resize() leaves new elements as the block holds them (default-initialised, not written), so a
+// fresh vector sized by resize(n) is all zeros without a zeroing pass over its pages; beware that
+// elements dropped by a shrink and exposed again by a resize keep their old values.
 template <typename T>
 struct HugePageAllocator {
+  static_assert(std::is_trivially_copyable<T>::value, "blocks hold plain data");
   using value_type = T;
   HugePageAllocator() = default;
   template <typename U>
   HugePageAllocator(const HugePageAllocator<U>&) noexcept {}
   T* allocate(std::size_t n) {
     const std::size_t bytes = n * sizeof(T);
-    return static_cast<T*>(bytes >= kHugePageBufferBytes ? map_huge_pages(bytes)
-                                                         : ::operator new(bytes));
+    if (bytes >= kHugePageBufferBytes) {
+      void* pages = map_huge_pages(bytes);
+      if (pages == nullptr) throw std::bad_alloc();
+      return static_cast<T*>(pages);
+    }
+    void* block = ::operator new (bytes, std::align_val_t{alignof(T)});
+    std::memset(block, 0, bytes);  // as mapped pages are
+    return static_cast<T*>(block);
   }
   void deallocate(T* p, std::size_t n) noexcept {
     const std::size_t bytes = n * sizeof(T);
     if (bytes >= kHugePageBufferBytes)
       unmap_huge_pages(p, bytes);
     else
-      ::operator delete(p);
+      ::operator delete (p, std::align_val_t{alignof(T)});
+  }
+  template <typename U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <typename U, typename... Arguments>
+  void construct(U* p, Arguments&&... arguments) {
+    ::new (static_cast<void*>(p)) U(std::forward<Arguments>(arguments)...);
   }
   template <typename U>
   bool operator==(const HugePageAllocator<U>&) const noexcept {
