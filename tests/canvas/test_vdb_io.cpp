@@ -188,6 +188,11 @@ TEST(VdbIo, MissingFilesAndGridsAreNamed) {
 }
 
 // Writes the identity metric of the unit box at `resolution` to `path`; returns its size.
+std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
 std::uintmax_t write_identity_metric_vdb(const std::string& path, int resolution) {
   write_metric_vdb(path, test::make_uniform_box_canvas(3, Vec3(0, 0, 0), Vec3(1, 1, 1), resolution,
                                                        Mat3::Identity()));
@@ -213,8 +218,7 @@ TEST(VdbIo, RecordedVoxelCountsAreCheckedBeforeTheValuesAreRead) {
   test::TempDir dir;
   const auto size = write_identity_metric_vdb(dir.file("metric.vdb"), 16);
   EXPECT_NO_THROW(load_vdb_metric(dir.file("metric.vdb"), 64 * size));
-  std::ifstream in(dir.file("metric.vdb"), std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string bytes = file_bytes(dir.file("metric.vdb"));
   const std::string key = "file_voxel_count";
   int patched = 0;
   for (std::size_t at = bytes.find(key); at != std::string::npos; at = bytes.find(key, at + 1)) {
@@ -240,8 +244,7 @@ TEST(VdbIo, RecordedVoxelCountsAreCheckedBeforeTheValuesAreRead) {
 TEST(VdbIo, AFileThatKillsOpenVdbsReaderIsAnErrorNotACrash) {
   test::TempDir dir;
   write_identity_metric_vdb(dir.file("metric.vdb"), 16);
-  std::ifstream in(dir.file("metric.vdb"), std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string bytes = file_bytes(dir.file("metric.vdb"));
   const std::pair<std::size_t, int> flips[] = {{32680, 0}, {9428, 2}, {67525, 5},
                                                {67763, 2}, {9331, 5}, {67723, 1}};
   int died = 0;
@@ -266,8 +269,7 @@ TEST(VdbIo, AFileThatKillsOpenVdbsReaderIsAnErrorNotACrash) {
 TEST(VdbIo, TheReadIsGuardedWhenTheCallerIgnoresItsChildren) {
   test::TempDir dir;
   write_identity_metric_vdb(dir.file("metric.vdb"), 16);
-  std::ifstream in(dir.file("metric.vdb"), std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string bytes = file_bytes(dir.file("metric.vdb"));
   ASSERT_GT(bytes.size(), 32680u);
   bytes[32680] = static_cast<char>(bytes[32680] ^ 1);  // one of the flips above
   std::ofstream(dir.file("flipped.vdb"), std::ios::binary) << bytes;
