@@ -56,13 +56,15 @@ struct ChildHandle {
   bool reaped = false;
   int status = 0;
 
-  // Waits for the child's exit; false where it cannot be had (SIGCHLD ignored, or reaped by
-  // another handler of the caller's).
+  // Waits for the child's exit; false where its status cannot be had (SIGCHLD ignored, or reaped
+  // by another handler of the caller's). Either way it is gone: its pid is no longer ours to kill.
   bool reap() {
-    while (waitpid(pid, &status, 0) < 0)
-      if (errno != EINTR) return false;
+    int result;
+    do {
+      result = waitpid(pid, &status, 0);
+    } while (result < 0 && errno == EINTR);
     reaped = true;
-    return true;
+    return result == pid;
   }
 
   ~ChildHandle() {
