@@ -74,14 +74,18 @@ std::string quoted_text(std::string_view text, std::size_t most) {
   return quoted + (text.size() > most ? "...'" : "'");
 }
 
-std::vector<std::string> split_commas(std::string_view text) {
+std::vector<std::string> split_at(std::string_view text, char separator) {
   std::vector<std::string> items;
   while (true) {
-    const std::size_t comma = text.find(',');
-    items.emplace_back(text.substr(0, comma));
-    if (comma == std::string_view::npos) return items;
-    text.remove_prefix(comma + 1);
+    const std::size_t at = text.find(separator);
+    items.emplace_back(text.substr(0, at));
+    if (at == std::string_view::npos) return items;
+    text.remove_prefix(at + 1);
   }
+}
+
+std::vector<std::string> split_commas(std::string_view text) {
+  return split_at(text, ',');
 }
 
 }  // namespace rvor

@@ -1,6 +1,5 @@
 #include <algorithm>
 #include <cctype>
-#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
@@ -146,21 +145,10 @@ SurfaceMesh read_off(const std::string& path) {
 }
 
 // --- OBJ ------------------------------------------------------------------------------------
-std::vector<std::string> split_slashes(const std::string& token) {
-  std::vector<std::string> parts(1);
-  for (const char c : token) {
-    if (c == '/')
-      parts.emplace_back();
-    else
-      parts.back() += c;
-  }
-  return parts;
-}
-
 // "a", "a/b", "a//c", "a/b/c": the vertex index, 1-based or negative (relative to the end); the
 // texture and normal indices are not used, but must be integers where given.
 int parse_obj_corner(LineReader& reader, const std::string& token, std::size_t vertex_count) {
-  const std::vector<std::string> parts = split_slashes(token);
+  const std::vector<std::string> parts = split_at(token, '/');
   const std::optional<long long> index = parse_integer(parts.front());
   bool well_formed = parts.size() <= 3 && index && *index != 0;
   for (std::size_t i = 1; i < parts.size(); ++i)

@@ -142,6 +142,7 @@ TEST(SpecText, SplitCommasKeepsEmptyItems) {
   EXPECT_EQ(split_commas(""), std::vector<std::string>{""});
   EXPECT_EQ(split_commas("1,,2,"), (std::vector<std::string>{"1", "", "2", ""}));
   EXPECT_EQ(split_commas("a"), std::vector<std::string>{"a"});
+  EXPECT_EQ(split_at("1//3", '/'), (std::vector<std::string>{"1", "", "3"}));  // OBJ corners
 }
 
 }  // namespace

@@ -30,8 +30,11 @@ std::string exact_text(float value);
 // binary file's bytes are not) and short (a damaged file's token can be megabytes).
 std::string quoted_text(std::string_view text, std::size_t most = 80);
 
-// The items between commas, every one of them: "1,,2," gives "1", "", "2", "" so that callers
-// can report empty items; "" gives one empty item.
+// The items between separators, every one of them: with ',', "1,,2," gives "1", "", "2", "" so
+// that callers can report empty items; "" gives one empty item.
+std::vector<std::string> split_at(std::string_view text, char separator);
+
+// split_at(text, ','): the lists of specs and options.
 std::vector<std::string> split_commas(std::string_view text);
 
 }  // namespace rvor
