@@ -18,7 +18,6 @@
 #include <tbb/parallel_for.h>
 
 #include <openvdb/io/Archive.h>
-#include <openvdb/io/File.h>
 #include <openvdb/io/Stream.h>
 
 #include "child_check.h"
@@ -26,7 +25,6 @@
 #include "rvor/error.h"
 #include "rvor/input_file.h"
 #include "rvor/spec_text.h"
-#include "vdb_archive_check.h"
 #include "vdb_support.h"
 
 namespace rvor {

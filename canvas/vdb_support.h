@@ -4,7 +4,6 @@
 #include <functional>
 #include <string>
 
-#include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
 
 #include "rvor/canvas.h"

@@ -56,9 +56,10 @@ std::unique_ptr<MetricField> load_mesh_metric(const std::string& mesh_path,
 
 // Metric stored in an OpenVDB file as six float grids named m11 m12 m22 m13 m23 m33
 // (world-space transform), sampled trilinearly. Implemented in the canvas library. The file is
-// read whole (every grid in it); a file larger than `memory_budget` bytes is refused before it
-// is read, and grids whose voxels (tiles counted voxel by voxel) would not fit after it (0:
-// default_memory_budget(), as CanvasOptions::memory_budget).
+// read whole (every grid in it); refused before any value is read when it is larger than
+// `memory_budget` bytes or its grids' voxel counts as OpenVDB's writers record them (tiles
+// counted voxel by voxel) would not fit, and after reading when the counts themselves do not (0:
+// default_memory_budget(), as CanvasOptions::memory_budget). A damaged file is an rvor::Error.
 std::unique_ptr<MetricField> load_vdb_metric(const std::string& vdb_path,
                                              std::uint64_t memory_budget = 0);
 

@@ -149,8 +149,8 @@ PackedStencils pack_stencils(const Canvas& canvas, double length_unit) {
   if (has_uniform_metric(canvas)) return pack_uniform_stencil(canvas, length_unit);
   PackedStencils out;
   const std::size_t slots = canvas.slot_count();
-  out.records.resize(kStencilRecord *
-                     slots);  // zeros, with no pass over the pages (HugePageAllocator)
+  // Zeros with no pass over the pages (HugePageAllocator): the packing threads touch them first.
+  out.records.resize(kStencilRecord * slots);
   const unsigned threads = slot_threads();
   std::vector<StencilPacker> packers(threads, StencilPacker(canvas, out, length_unit));
   for_slot_ranges(slots, threads, [&](unsigned t, std::size_t begin, std::size_t end) {
