@@ -37,13 +37,23 @@ std::optional<opencl::Device> pocl_device(std::string& why) {
   }
 }
 
-TEST(HugePageBuffers, HoldTheirDataTakeDeviceWritesAndReleaseTheirPages) {
-  std::string why;
-  const std::optional<opencl::Device> device = pocl_device(why);
-  if (!device) GTEST_SKIP() << "no usable OpenCL device: " << why;
-  const cl::Context context = opencl::context_for(*device);
-  ASSERT_TRUE(opencl::device_uses_host_memory(context));
-  cl::CommandQueue queue(context, device->device);
+// The PoCL device's context and a queue on it; the test is skipped without one.
+class HugePageBuffers : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::string why;
+    const std::optional<opencl::Device> device = pocl_device(why);
+    if (!device) GTEST_SKIP() << "no usable OpenCL device: " << why;
+    context = opencl::context_for(*device);
+    ASSERT_TRUE(opencl::device_uses_host_memory(context));
+    queue = cl::CommandQueue(context, device->device);
+  }
+
+  cl::Context context;
+  cl::CommandQueue queue;
+};
+
+TEST_F(HugePageBuffers, HoldTheirDataTakeDeviceWritesAndReleaseTheirPages) {
   const std::size_t count = (std::size_t{32} << 20) / sizeof(cl_uint);
   const std::size_t bytes = count * sizeof(cl_uint);
   std::vector<cl_uint> data(count), back(count);
@@ -63,33 +73,32 @@ TEST(HugePageBuffers, HoldTheirDataTakeDeviceWritesAndReleaseTheirPages) {
   EXPECT_LT(resident_bytes() - before, long{128} << 20) << "the pages of released buffers stay";
 }
 
-// A vector filled on huge pages (HugePageAllocator) becomes a buffer without a copy: the buffer
-// reads its very memory, and the pages go when the buffer goes, not with the moved-from vector.
-TEST(HugePageBuffers, AnAdoptedVectorIsTheBufferAndLeavesWithIt) {
-  std::string why;
-  const std::optional<opencl::Device> device = pocl_device(why);
-  if (!device) GTEST_SKIP() << "no usable OpenCL device: " << why;
-  const cl::Context context = opencl::context_for(*device);
-  cl::CommandQueue queue(context, device->device);
+// A vector filled on huge pages (HugePageAllocator) becomes a buffer without a copy: the device
+// reads it and writes into its very memory, and the pages go when the buffer goes, not with the
+// moved-from vector.
+TEST_F(HugePageBuffers, AnAdoptedVectorIsTheBufferAndLeavesWithIt) {
   const std::size_t count = (std::size_t{32} << 20) / sizeof(cl_uint);
   std::vector<cl_uint> expected(count), back(count);
   std::iota(expected.begin(), expected.end(), 1u);
   const long before = resident_bytes();
   for (int round = 0; round < 16; ++round) {  // 512 MiB in all if the pages were kept
     opencl::HugePageVector<cl_uint> data(expected.begin(), expected.end());
-    const void* memory = data.data();
+    const cl_uint* memory = data.data();
     ASSERT_EQ(reinterpret_cast<std::uintptr_t>(memory) % (std::uintptr_t{2} << 20), 0u);
-    const cl::Buffer buffer = opencl::adopting_buffer(context, CL_MEM_READ_ONLY, std::move(data));
-    EXPECT_EQ(buffer.getInfo<CL_MEM_HOST_PTR>(), memory) << "round " << round;
+    const cl::Buffer buffer = opencl::adopting_buffer(context, CL_MEM_READ_WRITE, std::move(data));
     queue.enqueueReadBuffer(buffer, CL_TRUE, 0, count * sizeof(cl_uint), back.data());
     ASSERT_EQ(back, expected) << "round " << round;
+    queue.enqueueFillBuffer(buffer, cl_uint(0xC0FFEE), 0, count * sizeof(cl_uint));
+    queue.finish();
+    ASSERT_EQ(std::vector<cl_uint>(memory, memory + count), std::vector<cl_uint>(count, 0xC0FFEE))
+        << "round " << round << ": the device wrote elsewhere";
   }
   EXPECT_LT(resident_bytes() - before, long{128} << 20) << "the pages of released buffers stay";
 }
 
 // 84^3 slots: the state buffer (8 B per slot) is above 4 MiB; radial_shock_3d at 64^3: its
 // per-voxel stencil weights (24 B per slot) and offsets (18 B) are.
-TEST(HugePageBuffers, EnginesOnThemMatchTheReference) {
+TEST_F(HugePageBuffers, EnginesOnThemMatchTheReference) {
   REQUIRE_ENGINE_WITH(OpenCLOptions{});
   const Canvas uniform = test::domain_canvas("box:-1,-1,-1,1,1,1", "euclidean", 84);
   ASSERT_GE(uniform.slot_count() * sizeof(cl_ulong), std::size_t{4} << 20);
@@ -101,12 +110,9 @@ TEST(HugePageBuffers, EnginesOnThemMatchTheReference) {
 
 // RVOR_POISON_DEVICE_BUFFERS=1 (test_opencl_poisoned_buffers) fills new working buffers, small
 // and on huge pages alike, with 0xA5 bytes; the buffers uploaded from the canvas keep its data.
-TEST(PoisonedBuffers, NewWorkingBuffersHoldThePattern) {
-  std::string why;
-  const std::optional<opencl::Device> device = pocl_device(why);
-  if (!device) GTEST_SKIP() << "no usable OpenCL device: " << why;
-  const cl::Context context = opencl::context_for(*device);
-  cl::CommandQueue queue(context, device->device);
+class PoisonedBuffers : public HugePageBuffers {};
+
+TEST_F(PoisonedBuffers, NewWorkingBuffersHoldThePattern) {
   const Canvas canvas = test::domain_canvas("box:-1,-1,-1,1,1,1", "euclidean", 84);
   ASSERT_EQ(setenv("RVOR_POISON_DEVICE_BUFFERS", "1", 1), 0);
   const opencl::DeviceCanvas d = opencl::upload_canvas(context, canvas, 8);
