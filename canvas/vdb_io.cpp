@@ -141,7 +141,8 @@ openvdb::GridPtrVec read_stream(const std::string& path, std::istream& in) {
 
 // OpenVDB's reader trusts the counts and sizes inside a grid's voxel data, which the archive
 // check cannot follow: one flipped bit there corrupted its heap and the process died (6 of 378
-// random single-bit flips of a metric file aborted rvor, VdbIo.AFileThatKillsOpenVdbsReader...).
+// random single-bit flips of a metric file aborted rvor, VdbIo.AFileThatKillsOpenVdbsReader...;
+// docs/measurements/vdb_guard.sh counts them).
 // So the archive is read first in a child process (child_check.h): its death or its error becomes
 // this one, and the caller reads only an archive the child read whole. The child reports while
 // its grids still exist: destroying them runs TBB, which can wait forever on a lock that another

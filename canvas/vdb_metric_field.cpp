@@ -113,7 +113,8 @@ void require_voxels_fit(const std::string& path, const std::array<FloatGrid::Ptr
 
 // The same from the counts OpenVDB's writers record in each grid's metadata (file_voxel_count),
 // before any value is read: decompressed, a small file can take far more than its size (six
-// constant 300^3 grids: 73 MB on disk, 726 MB read). A file without them is counted once read.
+// constant 300^3 grids: 73 MB on disk, a 749 MB peak before the refusal after reading, 40 MB now;
+// docs/measurements/vdb_guard.sh). A file without them is counted once read.
 void require_recorded_voxels_fit(const std::string& path, const VdbArchiveSummary& summary,
                                  std::uint64_t memory_budget) {
   double voxels = 0;
