@@ -94,7 +94,11 @@ std::string read_whole_file(const std::string& path) {
 
 // Parses a real the way strtod does, but without locale dependence and on a string_view.
 bool parse_real(std::string_view text, double& value) {
-  if (!text.empty() && text[0] == '+') text.remove_prefix(1);
+  if (!text.empty() && text[0] == '+') {
+    text.remove_prefix(1);
+    // from_chars takes a '-', so "+-1" would pass for -1.
+    if (!text.empty() && text[0] == '-') return false;
+  }
   const char* end = text.data() + text.size();
   const auto result = std::from_chars(text.data(), end, value);
   if (result.ptr != end) return false;

@@ -163,6 +163,11 @@ TEST(MeditMeshErrors, WordWhereACoordinateBelongs) {
                     "'zero' is not a number (vertex 2 of 2 in the Vertices section)");
 }
 
+TEST(MeditMeshErrors, TwoSignsBeforeACoordinate) {
+  expect_read_error(std::string(kHeader3D) + "Vertices\n2\n0 0 0 0\n1 +-1 0 0\n", 6,
+                    "'+-1' is not a number (vertex 2 of 2 in the Vertices section)");
+}
+
 TEST(MeditMeshErrors, NonIntegerVertexIndex) {
   expect_read_error(
       std::string(kHeader3D) + "Vertices\n3\n0 0 0 0\n1 0 0 0\n0 1 0 0\nTriangles\n1\n1 2.5 3 0\n",
