@@ -401,7 +401,9 @@ void add_voronoi_command(CLI::App& app) {
   // One source of the metric: a second one would be ignored.
   metric_option->excludes(sol_option)->excludes(mesh_option)->excludes(vdb_option);
   vdb_option->excludes(sol_option)->excludes(mesh_option);
-  cmd->add_option("--seeds", options->seeds_file, "Seeds, one point per line (2 or 3 coordinates)")
+  cmd->add_option(
+         "--seeds", options->seeds_file,
+         "Seeds, one point per line (2 or 3 coordinates, separated by blanks or by commas)")
       ->check(non_empty_path);
   CLI::Option* random_option =
       cmd->add_option("--random-seeds", options->random_seed_count,

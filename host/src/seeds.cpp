@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <random>
 #include <sstream>
 
@@ -27,39 +28,45 @@ std::string format_point(const Vec3& p) {
          ")";
 }
 
-// Whether a separator (',' or ';') has no number before or after it: "1,,2", ",1,2", "1,2,".
-bool has_empty_field(const std::string& line) {
-  bool after_separator = true;  // the line's start counts as one
-  bool any_separator = false;
-  for (const char c : line) {
-    if (c == ' ' || c == '\t' || c == '\r') continue;
-    const bool separator = c == ',' || c == ';';
-    if (separator && after_separator) return true;
-    after_separator = separator;
-    any_separator = any_separator || separator;
+// The number fields of a line: split at its commas and semicolons where it has any (blanks
+// around them allowed), else at its blanks. nullopt where a field is empty ("1,,2", ",1,2") or
+// holds a blank: "0.5 0,5" mixes both kinds, and its comma is likely a decimal one, which read
+// as a separator would give the point (0.5, 0, 5).
+std::optional<std::vector<std::string>> number_fields(const std::string& line) {
+  std::vector<std::string> fields;
+  if (line.find_first_of(",;") == std::string::npos) {
+    std::istringstream in(line);
+    for (std::string token; in >> token;) fields.push_back(token);
+    return fields;
   }
-  return any_separator && after_separator;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t end = std::min(line.find_first_of(",;", start), line.size());
+    const std::string field = line.substr(start, end - start);
+    const std::size_t first = field.find_first_not_of(" \t\r");
+    if (first == std::string::npos) return std::nullopt;
+    const std::size_t last = field.find_last_not_of(" \t\r");
+    const std::string number = field.substr(first, last - first + 1);
+    if (number.find_first_of(" \t\r") != std::string::npos) return std::nullopt;
+    fields.push_back(number);
+    if (end == line.size()) return fields;
+    start = end + 1;
+  }
 }
 
-// Parses 2 or 3 numbers separated by whitespace and/or commas; nothing else may follow. Returns
-// how many, 0 on a malformed line.
-int parse_point(std::string line, Vec3& point) {
-  if (has_empty_field(line)) return 0;
-  for (char& c : line)
-    if (c == ',' || c == ';' || c == '\t') c = ' ';
-  std::istringstream in(line);
-  double values[4];
-  int count = 0;
-  std::string token;
-  while (in >> token) {
-    if (count == 4) return 0;
-    const std::optional<double> value = parse_decimal(token);
+// Parses 2 or 3 numbers (number_fields); nothing else may follow. Returns how many, 0 on a
+// malformed line.
+int parse_point(const std::string& line, Vec3& point) {
+  const std::optional<std::vector<std::string>> fields = number_fields(line);
+  if (!fields || (fields->size() != 2 && fields->size() != 3)) return 0;
+  double values[3] = {0, 0, 0};
+  for (std::size_t i = 0; i < fields->size(); ++i) {
+    const std::optional<double> value = parse_decimal((*fields)[i]);
     if (!value) return 0;
-    values[count++] = *value;
+    values[i] = *value;
   }
-  if (count != 2 && count != 3) return 0;
-  point = Vec3(values[0], values[1], count == 3 ? values[2] : 0.0);
-  return count;
+  point = Vec3(values[0], values[1], values[2]);
+  return static_cast<int>(fields->size());
 }
 
 struct PointFile {
@@ -81,7 +88,9 @@ PointFile read_point_file(const std::string& path) {
     Vec3 point;
     const int columns = parse_point(line, point);
     if (columns == 0)
-      throw Error(where + "expected 2 or 3 finite numbers (within double's range) per line, got " +
+      throw Error(where +
+                  "expected 2 or 3 finite numbers (within double's range) per line, separated by "
+                  "blanks or by commas, got " +
                   quoted_text(line));
     if (file.columns != 0 && columns != file.columns)
       throw Error(where + std::to_string(columns) + " coordinates, but the lines before have " +

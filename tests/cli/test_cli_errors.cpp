@@ -92,6 +92,17 @@ TEST_F(CliErrors, SeedFilesWithEmptyFieldsOrControlBytes) {
   EXPECT_EQ(result.exit_code, 0) << result.err;
 }
 
+// A line separates its numbers by blanks or by commas: "0.5 0,5", a decimal comma, was read as
+// the 3D point (0.5, 0, 5); commas with blanks around them are still one kind.
+TEST_F(CliErrors, ASeedLineMixingBlanksAndCommasIsRefused) {
+  const std::string domain = "--domain box:-10,-10,-10,10,10,10 --resolution 16 --seeds ";
+  write_text(dir.file("comma.xyz"), "1 2 3\n0.5 0,5\n");
+  expect_error(domain + dir.file("comma.xyz"), "comma.xyz:2: expected 2 or 3 finite numbers");
+  write_text(dir.file("spaced.xyz"), "1, 2, 3\n-1 ;2; 2.5\n");
+  const CommandResult result = run_command(voronoi(domain + dir.file("spaced.xyz")));
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+}
+
 TEST_F(CliErrors, EmptySeedFile) {
   write_text(dir.file("empty.xyz"), "# nothing\n");
   expect_error("--domain rect:-1,-1,1,1 --resolution 16 --seeds " + dir.file("empty.xyz"),

@@ -9,7 +9,8 @@
 
 namespace rvor {
 
-// Reads a .xyz file: one point per line, 2 or 3 whitespace- or comma-separated coordinates, the
+// Reads a .xyz file: one point per line, 2 or 3 coordinates separated by blanks or by commas (or
+// semicolons, blanks around them allowed; not both kinds on one line: "0.5 0,5" is refused), the
 // same count on every line; blank lines and lines starting with '#' are skipped. Throws
 // "FILE:LINE: ..." on malformed lines and on an empty file.
 std::vector<Vec3> read_xyz(const std::string& path);
