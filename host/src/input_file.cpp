@@ -17,11 +17,26 @@ std::ifstream open_input_file(const std::string& path, const std::string& what) 
   return in;
 }
 
+namespace {
+
+// The file buffer throws where the system's read fails (EIO, or /proc/self/mem), with a message
+// that names no file.
+int next_byte(std::streambuf& buffer, const std::string& path, long number) {
+  try {
+    return buffer.sbumpc();
+  } catch (const std::ios_base::failure& failure) {
+    throw Error("cannot read " + path + " at line " + std::to_string(number) + ": " +
+                (errno != 0 ? std::strerror(errno) : failure.what()));
+  }
+}
+
+}  // namespace
+
 bool read_input_line(std::istream& in, std::string& line, const std::string& path, long number) {
   line.clear();
   std::streambuf* buffer = in.rdbuf();
   for (;;) {
-    const int c = buffer->sbumpc();
+    const int c = next_byte(*buffer, path, number);
     if (c == std::char_traits<char>::eof()) {
       in.setstate(std::ios::eofbit);
       return !line.empty();

@@ -103,6 +103,14 @@ TEST_F(CliErrors, ASeedLineMixingBlanksAndCommasIsRefused) {
   EXPECT_EQ(result.exit_code, 0) << result.err;
 }
 
+// A failing read (here EIO: the process's own memory at address 0) names the file; the stream's
+// exception said only "basic_filebuf::underflow error reading the file".
+TEST_F(CliErrors, AReadErrorNamesTheFile) {
+  if (!std::filesystem::exists("/proc/self/mem")) GTEST_SKIP() << "no /proc/self/mem";
+  expect_error("--domain rect:-1,-1,1,1 --resolution 16 --seeds /proc/self/mem",
+               "cannot read /proc/self/mem at line 1: ");
+}
+
 TEST_F(CliErrors, EmptySeedFile) {
   write_text(dir.file("empty.xyz"), "# nothing\n");
   expect_error("--domain rect:-1,-1,1,1 --resolution 16 --seeds " + dir.file("empty.xyz"),
