@@ -31,8 +31,6 @@ using BoolLeaf = BoolTree::LeafNodeType;
 constexpr int kEdge = Canvas::kBrickEdge;
 static_assert(BoolLeaf::DIM == kEdge, "canvas bricks are OpenVDB leaves");
 
-constexpr int kMinResolution = 2;
-constexpr int kMaxResolution = 65536;
 constexpr int kCoarseEstimateResolution = 64;
 
 // Where the voxels go: cell-centred, `resolution` voxels along the longest side of the bounds
@@ -381,9 +379,10 @@ std::string describe(const DomainSpec& domain, const MetricField& metric, int re
 
 Canvas build_canvas(const DomainSpec& domain, const MetricField& metric,
                     const CanvasOptions& options) {
-  if (options.resolution < kMinResolution || options.resolution > kMaxResolution)
+  if (options.resolution < kLeastCanvasResolution || options.resolution > kMostCanvasResolution)
     throw Error("canvas resolution " + std::to_string(options.resolution) + " is not in [" +
-                std::to_string(kMinResolution) + ", " + std::to_string(kMaxResolution) + "]");
+                std::to_string(kLeastCanvasResolution) + ", " +
+                std::to_string(kMostCanvasResolution) + "]");
   const ResolvedDomain resolved = resolve(domain);
   if (metric.dimension() == 2 && resolved.dimension == 3)
     throw Error("metric '" + metric.description() + "' is 2D but domain " + domain.description() +

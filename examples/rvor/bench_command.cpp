@@ -25,6 +25,9 @@ namespace rvor::cli {
 
 namespace {
 
+const CLI::Validator phase_iteration_count =
+    whole_number_in(1, kMostVisitsPerRelaxation, std::to_string(kMostVisitsPerRelaxation));
+
 struct BenchOptions {
   std::optional<std::string> domain, metric;
   std::optional<int> resolution;
@@ -319,8 +322,7 @@ void add_bench_command(CLI::App& app) {
                   metric_help() + " (default: euclidean when --domain is given)");
   cmd->add_option("--resolution", options->resolution,
                   "Voxels along the longest side (default 256)")
-      ->transform(decimal_integer)
-      ->check(CLI::Range(2, 65536));
+      ->transform(resolution_value);
   cmd->add_option("--seeds", options->seeds, "Number of random seeds (default 1000)")
       ->transform(seed_count(1));
   cmd->add_option("--rng-seed", options->rng_seed, "Random generator seed")
@@ -343,18 +345,18 @@ void add_bench_command(CLI::App& app) {
                   "voxel_phases (an explicit --variant, or auto on a GPU): most iterations per "
                   "round of a solve (default " +
                       std::to_string(OpenCLOptions{}.phase_iterations) + ")")
-      ->check(CLI::Range(1, kMostVisitsPerRelaxation));
+      ->transform(phase_iteration_count);
   cmd->add_option("--insertion-phase-iterations", options->insertion_phase_iterations,
                   "voxel_phases: most iterations per round of an insertion (default " +
                       std::to_string(OpenCLOptions{}.insertion_phase_iterations) + ")")
-      ->check(CLI::Range(1, kMostVisitsPerRelaxation));
+      ->transform(phase_iteration_count);
   cmd->add_option("--repeat", options->repetitions,
                   "Solves per case with the same engine, and runs of FastSweeping; the fastest "
                   "of each counts (the engine's first solve also "
                   "uploads the canvas, and compiles the kernels where PoCL's cache lacks them: "
                   "seconds at small sizes; with --insert and 2 or more, an untimed insertion "
                   "follows it, so that the timed ones find their kernels built)")
-      ->check(CLI::Range(1, 100))
+      ->transform(whole_number_in(1, 100, "100"))
       ->capture_default_str();
   CLI::Option* insert =
       cmd->add_option(

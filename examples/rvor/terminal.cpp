@@ -10,6 +10,7 @@
 #include <iostream>
 #include <optional>
 
+#include "rvor/canvas_builder.h"
 #include "rvor/devices.h"
 #include "rvor/error.h"
 #include "rvor/metric_field.h"
@@ -105,7 +106,8 @@ CLI::Validator whole_number_in(double least, double most, const std::string& mos
       "COUNT");
 }
 
-const CLI::Validator decimal_integer = whole_number_in(-2147483648.0, 2147483647.0, "2^31 - 1");
+const CLI::Validator resolution_value = whole_number_in(
+    kLeastCanvasResolution, kMostCanvasResolution, std::to_string(kMostCanvasResolution));
 
 const CLI::Validator rng_seed_value(
     [](std::string& text) -> std::string {

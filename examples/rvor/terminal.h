@@ -51,9 +51,9 @@ std::string parse_error_text(const CLI::App& app, const CLI::ParseError& error, 
 // Option validators: a whole number in [least, most] (CLI11 takes "-1" for the largest unsigned),
 // a finite number (its ranges let NaN through).
 CLI::Validator whole_number_in(double least, double most, const std::string& most_text);
-// Any int, handed on in plain decimal (the range is checked elsewhere). Whole-number validators
-// rewrite their text and go in transform(), not check(): CLI11 converts with base 0 ("010" is 8).
-extern const CLI::Validator decimal_integer;
+// Whole-number validators rewrite their text and go in transform(), not check(): CLI11 converts
+// with base 0 ("010" is 8). A canvas resolution:
+extern const CLI::Validator resolution_value;
 // Seed counts up to the OpenCL engine's most.
 inline CLI::Validator seed_count(double least) {
   return whole_number_in(least, static_cast<double>(kMostOpenCLSeeds),

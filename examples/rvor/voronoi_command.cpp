@@ -381,7 +381,7 @@ void add_voronoi_command(CLI::App& app) {
   cmd->add_option("--domain", options->domain, domain_help())->required();
   cmd->add_option("--resolution", options->resolution,
                   "Voxels along the longest side of the domain")
-      ->transform(decimal_integer)
+      ->transform(resolution_value)
       ->capture_default_str();
   CLI::Option* metric_option =
       cmd->add_option("--metric", options->metric, metric_help())->capture_default_str();
@@ -410,7 +410,7 @@ void add_voronoi_command(CLI::App& app) {
                       "Draw N seeds uniformly in distinct voxels of the canvas (the domain to half "
                       "a voxel); two of them closer than the canvas resolves can still share a "
                       "cell (report.json: field.empty_cells)")
-          ->transform(seed_count(0));
+          ->transform(seed_count(1));
   cmd->add_option("--rng-seed", options->rng_seed, "Random generator seed for --random-seeds")
       ->transform(rng_seed_value)
       ->capture_default_str()

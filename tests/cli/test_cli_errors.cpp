@@ -391,6 +391,29 @@ TEST_F(CliErrors, WholeNumbersWithLeadingZerosAreDecimal) {
             seeds_of("--resolution 16 --random-seeds 9 --rng-seed 9"));
 }
 
+// bench's counts too ("--repeat 010" ran 8 times, "--phase-iterations 0x10" 16), and a count out
+// of format or range is named with the range the option takes (--resolution said "from
+// -2147483648 to 2^31 - 1", then the canvas refused it).
+TEST_F(CliErrors, CountsAreDecimalAndNamedWithTheirRange) {
+  const std::string bench = rvor_binary() +
+                            " bench --json --domain rect:-1,-1,1,1 --resolution 8 --seeds 2 "
+                            "--no-reference --no-fastsweeping ";
+  const CommandResult repeated = run_command(bench + "--repeat 010");
+  EXPECT_EQ(repeated.exit_code, 0) << repeated.err;
+  EXPECT_NE(repeated.out.find("\"repeat\": 10,"), std::string::npos) << repeated.out;
+  for (const std::string& args : {std::string("--variant voxel_phases --phase-iterations 0x10"),
+                                  std::string("--variant voxel_phases --phase-iterations 010.5"),
+                                  std::string("--repeat 0x10")}) {
+    const CommandResult result = run_command(bench + args);
+    EXPECT_EQ(result.exit_code, 1) << args;
+    EXPECT_NE(result.err.find("is not a whole number from 1 to "), std::string::npos) << result.err;
+  }
+  expect_error("--domain rect:-1,-1,1,1 --random-seeds 5 --resolution 1.5",
+               "--resolution: '1.5' is not a whole number from 2 to 65536");
+  expect_error("--domain rect:-1,-1,1,1 --resolution 16 --random-seeds 0",
+               "--random-seeds: '0' is not a whole number from 1 to ");
+}
+
 // A seed file with more seeds than voxels (here 300 copies of one point on 256 voxels) is refused
 // before the solve: the seed blocks' claims grew with the square of the seeds per voxel.
 TEST_F(CliErrors, MoreSeedsInAFileThanVoxels) {

@@ -12,6 +12,10 @@
 
 namespace rvor {
 
+// The resolutions a canvas takes (voxels along the longest side).
+inline constexpr int kLeastCanvasResolution = 2;
+inline constexpr int kMostCanvasResolution = 65536;
+
 struct CanvasOptions {
   int resolution = 128;             // voxels along the longest side of the domain's bounding box
   std::uint64_t memory_budget = 0;  // bytes; 0 = 75% of physical memory
