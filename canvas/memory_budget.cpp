@@ -57,10 +57,11 @@ std::uint64_t resolved_memory_budget(std::uint64_t budget) {
 }
 
 std::string format_bytes(double bytes) {
-  static const char* const units[] = {"B", "kB", "MB", "GB", "TB", "PB", "EB", "ZB", "YB"};
+  // Binary units, as --memory-budget's suffixes: "200M" shows as 200 MiB, not "210 MB".
+  static const char* const units[] = {"B", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB", "ZiB", "YiB"};
   int unit = 0;
-  while (bytes >= 1000.0 && unit < 8) {
-    bytes /= 1000.0;
+  while (bytes >= 1024.0 && unit < 8) {
+    bytes /= 1024.0;
     ++unit;
   }
   char text[32];

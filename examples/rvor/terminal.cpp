@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
@@ -62,13 +63,16 @@ double Progress::end(const std::string& detail) {
 }
 
 std::uint64_t parse_byte_size(const std::string& text) {
-  static const std::string suffixes = "KkMGT";
-  static const double factors[] = {1024.0, 1024.0, std::pow(1024.0, 2), std::pow(1024.0, 3),
-                                   std::pow(1024.0, 4)};
-  const std::size_t suffix = text.empty() ? std::string::npos : suffixes.find(text.back());
+  // Binary multiples, in either case: 8G and 8g are 8 GiB.
+  static const std::string suffixes = "KMGT";
+  const std::size_t suffix =
+      text.empty()
+          ? std::string::npos
+          : suffixes.find(static_cast<char>(std::toupper(static_cast<unsigned char>(text.back()))));
   const std::optional<double> value =
       parse_decimal(suffix == std::string::npos ? text : text.substr(0, text.size() - 1));
-  const double factor = suffix == std::string::npos ? 1.0 : factors[suffix];
+  const double factor =
+      suffix == std::string::npos ? 1.0 : std::pow(1024.0, static_cast<double>(suffix + 1));
   // At least one byte: a budget that rounds to 0 would mean "the default".
   if (!value || !(*value * factor >= 1) || !std::isfinite(*value * factor) ||
       *value * factor > 1.8e19)

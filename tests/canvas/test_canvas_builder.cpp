@@ -466,12 +466,12 @@ TEST(BuildCanvas, HugeCanvasesAreRejectedInstantlyByTheMemoryEstimate) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     EXPECT_LT(seconds, 1.0) << spec;
     EXPECT_NE(message.find("active voxels needs ~"), std::string::npos) << message;
-    EXPECT_NE(message.find("over the memory budget of 19.3 GB (--memory-budget)"),
+    EXPECT_NE(message.find("over the memory budget of 18 GiB (--memory-budget)"),
               std::string::npos)
         << message;
   }
   EXPECT_NE(build_error(parse_domain("box:0,0,0,1,1,1"), test::euclidean_metric(3), options)
-                .find("canvas of ~2.8e+14 active voxels"),
+                .find("canvas of ~2.81e+14 active voxels"),
             std::string::npos);
 }
 
@@ -493,11 +493,11 @@ TEST(BuildCanvas, TheMetricFieldsMemoryCountsAgainstTheBudget) {
   const DomainSpec box = parse_domain("box:0,0,0,1,1,1");
   CanvasOptions options;
   options.resolution = 32;
-  options.memory_budget = std::uint64_t{10} << 20;  // 10.5 MB; the canvas needs ~4.2 MB
+  options.memory_budget = std::uint64_t{10} << 20;  // 10 MiB; the canvas needs ~4 MiB
   EXPECT_NO_THROW(build_canvas(box, HeldMemoryMetric(std::uint64_t{5} << 20), options));
   const std::string message = build_error(box, HeldMemoryMetric(std::uint64_t{7} << 20), options);
-  EXPECT_NE(message.find("with the metric field's 7.34 MB already held, over the memory budget "
-                         "of 10.5 MB (--memory-budget)"),
+  EXPECT_NE(message.find("with the metric field's 7 MiB already held, over the memory budget "
+                         "of 10 MiB (--memory-budget)"),
             std::string::npos)
       << message;
 }
@@ -507,7 +507,7 @@ TEST(BuildCanvas, MemoryBudgetOverride) {
   CanvasOptions options;
   options.resolution = 32;
   options.memory_budget = 100000;
-  EXPECT_NE(build_error(box, test::euclidean_metric(3), options).find("budget of 100 kB"),
+  EXPECT_NE(build_error(box, test::euclidean_metric(3), options).find("budget of 97.7 KiB"),
             std::string::npos);
   options.memory_budget = std::uint64_t{1} << 30;
   EXPECT_EQ(build_canvas(box, test::euclidean_metric(3), options).active_voxel_count,

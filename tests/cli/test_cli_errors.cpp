@@ -222,7 +222,9 @@ TEST_F(CliErrors, CurvedDualWhoseLocalFieldsDoNotFitIsRefused) {
   const std::string args =
       "--domain box:-1,-1,-1,1,1,1 --resolution 32 --random-seeds 5 --dual curved --memory-budget ";
   expect_error(args + "7M", "curved dual: the seeds' local fields need");
-  expect_error(args + "7M", "over the memory budget of 7.34 MB (--memory-budget)");
+  // Sizes are shown in the budget's binary units (7M said "7.34 MB"); suffixes in either case.
+  expect_error(args + "7M", "over the memory budget of 7 MiB (--memory-budget)");
+  expect_error(args + "7m", "over the memory budget of 7 MiB (--memory-budget)");
   const CommandResult fits = run_command(voronoi(args + "12M"));  // one solve at a time
   EXPECT_EQ(fits.exit_code, 0) << fits.err;
   EXPECT_TRUE(std::filesystem::exists(out() + "/curved_faces.vtu"));

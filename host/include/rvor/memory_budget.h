@@ -26,7 +26,7 @@ void require_memory_for(const std::string& what, double needed, std::uint64_t bu
                         const std::string& advice);
 // `budget`, or default_memory_budget() for 0 (the meaning of 0 in every budget option).
 std::uint64_t resolved_memory_budget(std::uint64_t budget);
-// "1.2 GB", "120 TB": decimal units, three significant digits.
+// "1.2 GiB", "120 TiB": binary units (as --memory-budget's suffixes), three significant digits.
 std::string format_bytes(double bytes);
 
 }  // namespace rvor
