@@ -19,7 +19,8 @@ void check_memory_budget(double active_voxels, double brick_table_cells, bool un
   const double held = static_cast<double>(held_bytes);
   if (needed + held <= static_cast<double>(budget)) return;
   char voxels[32];
-  std::snprintf(voxels, sizeof voxels, "%.3g", active_voxels);  // "256", "1.68e+07"
+  // Whole below ten million ("4096"), three digits above ("2.81e+14").
+  std::snprintf(voxels, sizeof voxels, active_voxels < 1e7 ? "%.0f" : "%.3g", active_voxels);
   const std::string held_text =
       held_bytes != 0 ? ", with the metric field's " + format_bytes(held) + " already held" : "";
   throw Error("canvas of ~" + std::string(voxels) + " active voxels needs ~" +

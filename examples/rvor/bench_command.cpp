@@ -41,6 +41,7 @@ struct BenchOptions {
   std::size_t inserted_seeds = 0;
   std::size_t insert_batch = 1;
   bool checked_insert = false;
+  std::optional<std::string> memory_budget;
   bool no_exact_start = false;
   bool no_reference = false;
   bool no_fastsweeping = false;
@@ -141,6 +142,7 @@ std::vector<BenchCase> chosen_cases(const BenchOptions& o) {
   check_variant_options(o);
   if ((o.domain && o.domain->empty()) || (o.metric && o.metric->empty()))
     throw Error(std::string(o.domain && o.domain->empty() ? "--domain" : "--metric") + " is empty");
+  const std::uint64_t memory_budget = o.memory_budget ? parse_byte_size(*o.memory_budget) : 0;
   std::vector<BenchCase> cases;
   if (!o.domain && !o.metric) {
     cases = standard_bench_cases();
@@ -166,6 +168,7 @@ std::vector<BenchCase> chosen_cases(const BenchOptions& o) {
     c.exact_start = !o.no_exact_start;
     c.reference = !o.no_reference;
     c.fastsweeping = !o.no_fastsweeping;
+    c.memory_budget = memory_budget;
   }
   return cases;
 }
@@ -387,6 +390,10 @@ void add_bench_command(CLI::App& app) {
   cmd->add_flag("--no-reference", options->no_reference, "Skip the CPU reference (slow at 256^3)");
   cmd->add_flag("--no-fastsweeping", options->no_fastsweeping,
                 "Skip OpenVDB FastSweeping (it runs on 3D canvases only)");
+  cmd->add_option("--memory-budget", options->memory_budget,
+                  "Refuse canvases needing more memory than this, and a CPU reference solve whose "
+                  "arrays would not fit (bytes, or with K/M/G/T, powers of 1024); default 75% of "
+                  "physical memory (for the CPU reference's arrays, the memory available)");
   cmd->add_flag("--json", options->json, "Print one JSON object with a `cases` array");
   cmd->add_flag("--quiet", options->quiet, "No progress lines on stderr");
   cmd->callback([options, device] {

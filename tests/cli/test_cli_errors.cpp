@@ -230,6 +230,26 @@ TEST_F(CliErrors, CurvedDualWhoseLocalFieldsDoNotFitIsRefused) {
   EXPECT_TRUE(std::filesystem::exists(out() + "/curved_faces.vtu"));
 }
 
+// bench takes --memory-budget as voronoi does (its refusals named an option it did not have), for
+// the canvas and for the CPU reference, whose refusal says how to skip it.
+TEST_F(CliErrors, BenchTakesAMemoryBudget) {
+  const std::string bench = rvor_binary() +
+                            " bench --quiet --domain rect:-1,-1,1,1 --resolution 64 --seeds 3 "
+                            "--no-fastsweeping --memory-budget ";
+  const CommandResult canvas = run_command(bench + "100K");
+  EXPECT_EQ(canvas.exit_code, 1);
+  EXPECT_NE(canvas.err.find("canvas of ~4096 active voxels needs ~192 KiB, over the memory budget "
+                            "of 100 KiB (--memory-budget)"),
+            std::string::npos)
+      << canvas.err;
+  const CommandResult reference = run_command(bench + "400K");
+  EXPECT_EQ(reference.exit_code, 1);
+  EXPECT_NE(reference.err.find("over the memory budget of 400 KiB"), std::string::npos)
+      << reference.err;
+  EXPECT_NE(reference.err.find("--no-reference skips it"), std::string::npos) << reference.err;
+  EXPECT_EQ(run_command(bench + "400K --no-reference").exit_code, 0);
+}
+
 TEST_F(CliErrors, MalformedDomain) {
   expect_error("--domain box:1,2,3 --resolution 16 --random-seeds 3", "box:1,2,3");
 }

@@ -38,6 +38,9 @@ struct BenchCase {
   std::size_t inserted_seeds = 0;
   std::size_t insert_batch = 1;  // seeds per insertion (the last may take fewer)
   bool checked_insert = false;
+  // CanvasOptions::memory_budget for the canvas, and Propagator::set_memory_budget for the CPU
+  // reference's arrays (0: the defaults).
+  std::uint64_t memory_budget = 0;
 };
 
 // The cases `rvor bench` runs without case options: euclidean on [-1,1]^3 and radial_shock_3d on

@@ -42,15 +42,20 @@ double per_second(std::size_t voxels, double seconds) {
   return seconds > 0 ? static_cast<double>(voxels) / seconds : 0.0;
 }
 
+std::unique_ptr<Propagator> budgeted(std::unique_ptr<Propagator> propagator, const BenchCase& c) {
+  propagator->set_memory_budget(c.memory_budget);
+  return propagator;
+}
+
 std::unique_ptr<Propagator> make_engine(const BenchCase& c) {
-  if (c.device == "cpu") return make_reference_propagator(c.exact_start);
+  if (c.device == "cpu") return budgeted(make_reference_propagator(c.exact_start), c);
   OpenCLOptions options;
   options.variant = c.variant;
   options.front_step = c.front_step;
   options.phase_iterations = c.phase_iterations;
   options.insertion_phase_iterations = c.insertion_phase_iterations;
   options.exact_start = c.exact_start;
-  return make_opencl_propagator(c.device, options);
+  return budgeted(make_opencl_propagator(c.device, options), c);
 }
 
 // Inserts the seeds after the first r.bench_case.seeds, insert_batch at a time: insert(next, end)
@@ -189,11 +194,21 @@ void compare_with_reference(const Canvas& canvas, const VoronoiField& engine,
   r.reference_label_mismatches = mismatches;
 }
 
+// The reference beside an engine: its refusals say how to do without it.
+PropagationStats solve_reference(const BenchCase& c, const Canvas& canvas,
+                                 const std::vector<Vec3>& seeds, VoronoiField& reference) {
+  try {
+    return budgeted(make_reference_propagator(c.exact_start), c)->solve(canvas, seeds, reference);
+  } catch (const Error& error) {
+    throw Error(std::string(error.what()) +
+                " (the bench's CPU reference: --no-reference skips it)");
+  }
+}
+
 void time_reference(const BenchCase& c, const Canvas& canvas, const std::vector<Vec3>& seeds,
                     const VoronoiField& engine_field, BenchResult& r) {
   VoronoiField reference;
-  const PropagationStats stats =
-      make_reference_propagator(c.exact_start)->solve(canvas, seeds, reference);
+  const PropagationStats stats = solve_reference(c, canvas, seeds, reference);
   r.reference_seconds = stats.seconds;
   r.cpu_reference_voxels_per_second = per_second(r.active_voxels, stats.seconds);
   r.reference_ratio = r.voxels_per_second / *r.cpu_reference_voxels_per_second;
@@ -219,6 +234,7 @@ BenchResult run_benchmark_case(const BenchCase& c,
   const std::unique_ptr<MetricField> metric = make_analytic_metric(c.metric, domain.dimension());
   CanvasOptions canvas_options;
   canvas_options.resolution = c.resolution;
+  canvas_options.memory_budget = c.memory_budget;
   const Canvas canvas = build_canvas(domain, *metric, canvas_options);
   r.domain_description = domain.description();
   r.metric_description = metric->description();
