@@ -41,7 +41,7 @@ int main(int argc, char** argv) {
                  "this process may use; lower --resolution or the seed count, or free memory\n";
     return 1;
   } catch (const std::exception& e) {
-    std::cerr << "rvor: error: " << e.what() << "\n";
+    std::cerr << "rvor: error: " << rvor::cli::one_line(e.what()) << "\n";
     return 1;
   }
   return 0;

@@ -10,6 +10,7 @@
 #include <iomanip>
 #include <iostream>
 #include <optional>
+#include <sstream>
 
 #include "rvor/canvas_builder.h"
 #include "rvor/devices.h"
@@ -130,6 +131,19 @@ const CLI::Validator non_empty_path(
       return text.empty() ? "an empty path (an unset variable?)" : "";
     },
     "PATH");
+
+std::string one_line(const std::string& text) {
+  constexpr std::size_t kMostCharacters = 4000;
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.find_first_not_of(" \t") != std::string::npos) lines.push_back(line);
+  }
+  std::string joined = join(lines, " | ");
+  if (joined.size() > kMostCharacters) joined = joined.substr(0, kMostCharacters) + " ...";
+  return joined;
+}
 
 std::string join(const std::vector<std::string>& items, const std::string& separator) {
   std::string joined;

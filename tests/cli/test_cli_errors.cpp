@@ -553,5 +553,24 @@ TEST_F(CliErrors, CanvasTooBigForTheDeviceNamesTheSizes) {
   EXPECT_FALSE(std::filesystem::exists(out() + "/voronoi.vdb"));
 }
 
+// A kernel build that fails without a compiler message (PoCL unable to write its cache, here by a
+// file size limit on a fresh cache) is one line, says where to look, and keeps the build log; it
+// was four lines, one of them blank, naming no cause.
+TEST_F(CliErrors, AKernelBuildFailureIsOneLineAndNamesTheCache) {
+  bool pocl = false;
+  for (const OpenCLDeviceInfo& device : list_opencl_devices())
+    pocl = pocl || device.platform == "Portable Computing Language";
+  if (!pocl) GTEST_SKIP() << "no PoCL device";
+  const CommandResult result = run_command(
+      "(ulimit -f 8; POCL_CACHE_DIR=" + dir.file("fresh-pocl-cache") + " " +
+      voronoi("--device pocl --domain rect:-1,-1,1,1 --resolution 16 --random-seeds 3") + ")");
+  EXPECT_EQ(result.exit_code, 1) << "stderr: " << result.err;
+  EXPECT_EQ(result.err.find('\n'), result.err.size() - 1) << "more than one line: " << result.err;
+  EXPECT_NE(result.err.find("OpenCL program build failed"), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find("the build log holds no compiler message"), std::string::npos)
+      << result.err;
+  EXPECT_NE(result.err.find("build log: | Device "), std::string::npos) << result.err;
+}
+
 }  // namespace
 }  // namespace rvor::test

@@ -2,6 +2,8 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
@@ -162,6 +164,23 @@ cl::Context context_for(const Device& device) {
   }
 }
 
+namespace {
+
+// "; the build log holds no compiler message ..." where it has no "error" (PoCL's log then says
+// only that the build failed: what failed was not the source, and was seen with its kernel cache
+// unwritable, by a full disk or a file size limit), else "".
+std::string without_diagnostics(const std::string& log) {
+  std::string lower = log;
+  std::transform(lower.begin(), lower.end(), lower.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (lower.find("error") != std::string::npos) return "";
+  return "; the build log holds no compiler message: the device's compiler may have failed to "
+         "write its files (PoCL: POCL_CACHE_DIR, else ~/.cache/pocl; a full disk, a quota or a "
+         "file size limit)";
+}
+
+}  // namespace
+
 cl::Program build_program(const cl::Context& context, const cl::Device& device,
                           const std::string& source, const std::string& options) {
   using Key = std::tuple<cl_context, cl_device_id, std::size_t, std::string, std::string>;
@@ -188,7 +207,7 @@ cl::Program build_program(const cl::Context& context, const cl::Device& device,
       log = "(no build log)";
     }
     throw Error("OpenCL program build failed (" + status_name(e.err()) + ", options '" + options +
-                "'" + pocl_cache_problem() + "); build log:\n" + log);
+                "'" + pocl_cache_problem() + without_diagnostics(log) + "); build log:\n" + log);
   }
   cache.emplace(key, program);
   return program;
