@@ -174,18 +174,48 @@ SellingStencil selling_decomposition(const Mat3& D_in, int dimension) {
   return stencil;
 }
 
+namespace {
+
+// "canvas voxel (i, j, k) at (x, y, z): metric"
+std::string voxel_metric_text(const Canvas& canvas, std::size_t slot) {
+  const VoxelIndex v = canvas.voxel_of(slot);
+  const Vec3 p = canvas.world_of(v);
+  std::ostringstream where;
+  where << "canvas voxel (" << v.i << ", " << v.j << ", " << v.k << ") at (" << p.x() << ", "
+        << p.y() << ", " << p.z() << "): metric";
+  return where.str();
+}
+
+// The offsets depend on the tensor alone, so no resolution and no engine takes a longer one.
+void require_storable_offsets(const Canvas& canvas, std::size_t slot,
+                              const SellingStencil& stencil) {
+  for (int i = 0; i < stencil.size; ++i)
+    for (int a = 0; a < 3; ++a) {
+      const int e = stencil.offset[i][a];
+      if (std::abs(e) <= kMostStencilOffset) continue;
+      throw Error(voxel_metric_text(canvas, slot) + " " +
+                  describe(canvas.metric_at(slot), canvas.dimension) +
+                  " is too anisotropic for rvor's stencils: its Selling stencil has an offset of " +
+                  std::to_string(e) + " voxels along " + "xyz"[a] + ", past the " +
+                  std::to_string(kMostStencilOffset) +
+                  " either engine stores (the offsets follow the metric's anisotropy and "
+                  "orientation, not the resolution; anisotropy up to ~170 always fits)");
+    }
+}
+
+}  // namespace
+
 SellingStencil canvas_selling_decomposition(const Canvas& canvas, std::size_t slot, const Mat3& D) {
+  SellingStencil stencil;
   try {
-    return selling_decomposition(D, canvas.dimension);
+    stencil = selling_decomposition(D, canvas.dimension);
   } catch (const Error&) {
-    const VoxelIndex v = canvas.voxel_of(slot);
-    const Vec3 p = canvas.world_of(v);
-    std::ostringstream where;
-    where << "canvas voxel (" << v.i << ", " << v.j << ", " << v.k << ") at (" << p.x() << ", "
-          << p.y() << ", " << p.z() << "): metric";
     const std::string problem = metric_problem(canvas.metric_at(slot), canvas.dimension);
-    throw Error(where.str() + " " + (problem.empty() ? "has no Selling decomposition" : problem));
+    throw Error(voxel_metric_text(canvas, slot) + " " +
+                (problem.empty() ? "has no Selling decomposition" : problem));
   }
+  require_storable_offsets(canvas, slot, stencil);
+  return stencil;
 }
 
 }  // namespace rvor

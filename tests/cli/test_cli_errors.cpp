@@ -250,6 +250,21 @@ TEST_F(CliErrors, BenchTakesAMemoryBudget) {
   EXPECT_EQ(run_command(bench + "400K --no-reference").exit_code, 0);
 }
 
+// A tensor whose Selling offsets pass what the engines store (int8) is refused by both with its
+// position and why: the OpenCL engine named a slot index and advised refining, which cannot help
+// (offsets do not depend on the resolution), and the reference gave neither. Anisotropy 1e4.
+TEST_F(CliErrors, StencilOffsetsPastWhatTheEnginesStoreAreNamed) {
+  for (const char* device : {"cpu", "pocl"}) {
+    if (std::string(device) == "pocl" && list_opencl_devices().empty()) continue;
+    expect_error(std::string("--device ") + device +
+                     " --domain rect:-1,-1,1,1 --resolution 16 --random-seeds 3 --metric "
+                     "uniform:20574944.93148327,40424819.7867313,79425056.06851673",
+                 "canvas voxel (0, 0, 0) at (-0.9375, -0.9375, 0): metric [20574944 40424820 "
+                 "40424820 79425056] is too anisotropic for rvor's stencils: its Selling stencil "
+                 "has an offset of 167 voxels along x, past the 127 either engine stores");
+  }
+}
+
 TEST_F(CliErrors, MalformedDomain) {
   expect_error("--domain box:1,2,3 --resolution 16 --random-seeds 3", "box:1,2,3");
 }

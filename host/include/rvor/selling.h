@@ -24,9 +24,13 @@ struct SellingStencil {
 // if D is not SPD or the iteration does not terminate (which only happens for non-SPD input).
 SellingStencil selling_decomposition(const Mat3& D, int dimension);
 
+// The longest offset component the engines store (int8 in both).
+inline constexpr int kMostStencilOffset = 127;
+
 // selling_decomposition of D, the dual of `canvas`'s tensor at `slot`, for the engines: a tensor
-// that is not SPD (written with Canvas::mutable_metric after the builder checked it) is an
-// rvor::Error naming the voxel, its world position and the tensor as stored, not its inverse.
+// that is not SPD (written with Canvas::mutable_metric after the builder checked it), or whose
+// stencil has an offset component beyond kMostStencilOffset, is an rvor::Error naming the voxel,
+// its world position and the tensor as stored, not its inverse.
 SellingStencil canvas_selling_decomposition(const Canvas& canvas, std::size_t slot, const Mat3& D);
 
 }  // namespace rvor

@@ -70,7 +70,7 @@ struct StencilPacker {
     if (!has_last || m != last_metric) {
       last_stencil = canvas_selling_decomposition(canvas, slot, canvas.metric_at(slot).inverse());
       last_metric = m;
-      last_shape = shape_index(slot);
+      last_shape = shape_index();
       has_last = true;
     }
     for (int i = 0; i < last_stencil.size; ++i)
@@ -79,16 +79,12 @@ struct StencilPacker {
   }
 
   // The local index of last_stencil's offsets, added to this packer's table when new.
-  std::uint32_t shape_index(std::size_t slot) {
+  std::uint32_t shape_index() {
     Shape shape{};
     for (int i = 0; i < last_stencil.size; ++i)
       for (int a = 0; a < 3; ++a) {
+        // Within int8: canvas_selling_decomposition refuses longer offsets.
         const int e = last_stencil.offset[i][a];
-        if (std::abs(e) > 127)
-          throw Error("the metric at voxel slot " + std::to_string(slot) +
-                      " is too anisotropic for the OpenCL engine: a Selling stencil offset of " +
-                      std::to_string(e) +
-                      " voxels exceeds 127 (refine the canvas or use --device cpu)");
         shape[3 * i + a] = static_cast<std::int8_t>(e);
         reach[a] = std::max(reach[a], std::abs(e));
       }
