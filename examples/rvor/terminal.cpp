@@ -126,6 +126,17 @@ const CLI::Validator rng_seed_value(
     },
     "SEED");
 
+const CLI::Validator byte_size(
+    [](const std::string& text) -> std::string {
+      try {
+        parse_byte_size(text);
+        return "";
+      } catch (const Error& error) {
+        return error.what();
+      }
+    },
+    "SIZE");
+
 const CLI::Validator non_empty_path(
     [](const std::string& text) -> std::string {
       return text.empty() ? "an empty path (an unset variable?)" : "";

@@ -43,6 +43,9 @@ class Progress {
 
 // "512M", "2G", "1.5T" or plain bytes. Throws rvor::Error on anything else.
 std::uint64_t parse_byte_size(const std::string& text);
+// --memory-budget's check at parse time (parse_byte_size), so that a bad size is reported before
+// anything else (it came after "out/voronoi.vdb already exists").
+extern const CLI::Validator byte_size;
 std::string join(const std::vector<std::string>& items, const std::string& separator = ", ");
 // A command-line parse error as one line: CLI11's message, or "unknown sub-command" for a word it
 // took for one, and where to read the options.

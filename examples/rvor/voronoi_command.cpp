@@ -142,13 +142,17 @@ void refuse_replacing_inputs(const VoronoiOptions& o, const std::vector<std::str
   }
 }
 
-// The seeds of a --seeds file, read before the canvas is built (a bad file is reported at once,
-// not after a long build); none with --random-seeds, which are drawn on the canvas.
-XyzPoints seeds_from_file(const VoronoiOptions& o, int dimension) {
+// Before anything is written: the outputs' checks would otherwise come first.
+void require_one_seed_source(const VoronoiOptions& o) {
   if (!o.seeds_file.empty() && o.random_seed_count > 0)
     throw Error("give either --seeds or --random-seeds, not both");
   if (o.seeds_file.empty() && o.random_seed_count == 0)
     throw Error("no seeds: give --seeds FILE.xyz or --random-seeds N");
+}
+
+// The seeds of a --seeds file, read before the canvas is built (a bad file is reported at once,
+// not after a long build); none with --random-seeds, which are drawn on the canvas.
+XyzPoints seeds_from_file(const VoronoiOptions& o, int dimension) {
   return o.seeds_file.empty() ? XyzPoints{} : read_xyz_with_lines(o.seeds_file, dimension);
 }
 
@@ -348,13 +352,39 @@ void write_voronoi(const VoronoiOptions& o) {
 
 // write_voronoi; an --out directory it had to create is removed again when the run fails and
 // leaves it empty (a refused option would otherwise leave an empty directory behind).
-void run_voronoi(const VoronoiOptions& o) {
+// The highest folder of `path` that does not exist yet (the path itself when its parent does;
+// empty when it exists): what a failed run must remove, since it created it.
+std::filesystem::path first_missing_folder(const std::filesystem::path& path) {
   std::error_code error;
-  const bool out_existed = std::filesystem::exists(o.out_dir, error);
+  std::filesystem::path missing;
+  for (std::filesystem::path p = std::filesystem::absolute(path, error).lexically_normal();
+       !p.empty() && !std::filesystem::exists(p, error) && p != p.parent_path();
+       p = p.parent_path())
+    missing = p;
+  return missing;
+}
+
+// Removes `path` and its parents up to `highest`, each only when empty (the output set may have
+// removed `path` already).
+void remove_created_folders(std::filesystem::path path, const std::filesystem::path& highest) {
+  std::error_code error;
+  path = std::filesystem::absolute(path, error).lexically_normal();
+  while (!highest.empty() && path.native().size() >= highest.native().size()) {
+    if (!path.has_filename()) path = path.parent_path();  // a trailing '/'
+    const bool there = std::filesystem::exists(path, error);
+    if (there && !std::filesystem::remove(path, error)) return;  // not empty
+    if (path == highest) return;
+    path = path.parent_path();
+  }
+}
+
+void run_voronoi(const VoronoiOptions& o) {
+  require_one_seed_source(o);
+  const std::filesystem::path created = first_missing_folder(o.out_dir);
   try {
     write_voronoi(o);
   } catch (...) {
-    if (!out_existed) std::filesystem::remove(o.out_dir, error);  // fails unless it is empty
+    remove_created_folders(o.out_dir, created);
     throw;
   }
 }
@@ -447,7 +477,8 @@ void add_voronoi_command(CLI::App& app) {
                   "(--device cpu) whose arrays would not fit, and a curved dual whose local "
                   "fields do not fit beside its canvas (bytes, or with K/M/G/T, powers of 1024); "
                   "default 75% of "
-                  "physical memory (for the CPU reference's arrays, the memory available)");
+                  "physical memory (for the CPU reference's arrays, the memory available)")
+      ->check(byte_size);
   cmd->add_flag("--quiet", options->quiet, "Print nothing but errors");
   cmd->callback([options, device] {
     require_chosen_device(device, options->device);

@@ -201,6 +201,32 @@ TEST_F(CliErrors, FailedRunRemovesTheOutputDirectoryItCreated) {
   EXPECT_TRUE(std::filesystem::exists(out())) << "a directory the run did not create";
 }
 
+// Its parents too, where it created them (they were left behind), but no folder that was there.
+TEST_F(CliErrors, FailedRunRemovesTheFoldersItCreatedAboveTheOutputDirectory) {
+  const std::string args = "--quiet --domain rect:-1,-1,1,1 --metric bogus --random-seeds 3 --out ";
+  EXPECT_EQ(run_command(rvor_binary() + " voronoi " + args + dir.file("n1/n2/n3/")).exit_code, 1);
+  EXPECT_FALSE(std::filesystem::exists(dir.file("n1")));
+  std::filesystem::create_directories(dir.file("kept/a"));
+  write_text(dir.file("kept/a/file"), "mine");
+  EXPECT_EQ(run_command(rvor_binary() + " voronoi " + args + dir.file("kept/a/b/c")).exit_code, 1);
+  EXPECT_FALSE(std::filesystem::exists(dir.file("kept/a/b")));
+  EXPECT_EQ(read_text(dir.file("kept/a/file")), "mine");
+}
+
+// A bad value is reported before the outputs are looked at: it came after "... already exists".
+TEST_F(CliErrors, BadValuesComeBeforeTheOutputsChecks) {
+  const std::string args = "--domain rect:-1,-1,1,1 --resolution 8 --random-seeds 3";
+  ASSERT_EQ(run_command(voronoi(args)).exit_code, 0);
+  for (const auto& [more, fragment] :
+       {std::pair<std::string, std::string>{" --memory-budget 12Q",
+                                            "--memory-budget: memory budget '12Q' is not"},
+        {" --seeds " + seeds2d(), "give either --seeds or --random-seeds, not both"}}) {
+    const CommandResult result = run_command(voronoi(args + more));
+    EXPECT_EQ(result.exit_code, 1);
+    EXPECT_NE(result.err.find(fragment), std::string::npos) << result.err;
+  }
+}
+
 TEST_F(CliErrors, ZeroResolution) {
   expect_error("--domain rect:-1,-1,1,1 --resolution 0 --seeds " + seeds2d(), "resolution");
 }
