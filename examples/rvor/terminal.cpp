@@ -84,9 +84,13 @@ std::uint64_t parse_byte_size(const std::string& text) {
 std::string parse_error_text(const CLI::App& app, const CLI::ParseError& error, int argc,
                              char** argv) {
   const std::vector<CLI::App*> chosen = app.get_subcommands();
-  if (chosen.empty() && argc > 1 && argv[1][0] != '-') {
+  if (chosen.empty() && argc > 1) {
     std::vector<std::string> names;
     for (const CLI::App* sub : app.get_subcommands({})) names.push_back(sub->get_name());
+    // CLI11 reports "A subcommand is required" before an option it does not know.
+    if (argv[1][0] == '-')
+      return "unknown option '" + std::string(argv[1]) + "': options follow a sub-command (" +
+             join(names) + "; see `rvor --help`)";
     return "unknown sub-command '" + std::string(argv[1]) + "' (one of " + join(names) + ")";
   }
   std::string text = error.what();

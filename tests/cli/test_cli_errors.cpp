@@ -417,6 +417,12 @@ TEST_F(CliErrors, ParseErrorsAreOneLineWithExitCodeOne) {
   }
   EXPECT_NE(run_command(tool + " frobnicate").err.find("unknown sub-command 'frobnicate'"),
             std::string::npos);
+  // An option before any sub-command is named (CLI11 said "A subcommand is required").
+  EXPECT_NE(run_command(tool + " --frobnicate").err.find("unknown option '--frobnicate'"),
+            std::string::npos);
+  const CommandResult version = run_command(tool + " --version");
+  EXPECT_EQ(version.exit_code, 0);
+  EXPECT_EQ(version.out.rfind("rvor ", 0), 0u) << version.out;
 }
 
 // Seed files must match the domain: one coordinate count on every line, 3 in 3D, z = 0 in 2D.
