@@ -163,6 +163,17 @@ nlohmann::json summary_json(const FieldSummary& s) {
           {"max_distance", s.max_distance},          {"mean_distance", s.mean_distance}};
 }
 
+// The straight dual in the progress line: whether it is a triangulation, and its element count;
+// fewer seeds than a simplex has vertices make none, which is not a failed triangulation.
+std::string straight_dual_detail(const StraightDual& dual, std::size_t seeds, int dimension) {
+  if (seeds <= static_cast<std::size_t>(dimension))
+    return "no elements: " + std::to_string(seeds) + (seeds == 1 ? " seed" : " seeds") +
+           ", and a " + (dimension == 2 ? "triangle" : "tetrahedron") + " needs " +
+           std::to_string(dimension + 1);
+  return std::string(dual.checks.is_triangulation ? "a triangulation" : "NOT a triangulation") +
+         ", " + std::to_string(dual.top_count()) + " elements";
+}
+
 // The curved dual with its faces, on the nerve decided as the straight dual decides it (both duals
 // then have the same simplices): per-seed local fields first (one small solve per seed, on the
 // CPU), then the geodesics; writes curved_dual.vtu and curved_faces.vtu and fills `report`.
@@ -285,9 +296,7 @@ void write_voronoi(const VoronoiOptions& o) {
         write_dual_medit(path("dual.mesh"), *dual);
         write_dual_vtu(path("dual_flagged.vtu"), *dual, /*only_flagged=*/true);
         dual_report = nlohmann::json::parse(dual_report_json(*dual));
-        detail =
-            std::string(dual->checks.is_triangulation ? "a triangulation" : "NOT a triangulation") +
-            ", " + std::to_string(dual->top_count()) + " elements";
+        detail = straight_dual_detail(*dual, seeds.size(), canvas.dimension);
       }
       if (o.dual != "straight") {
         curved = build_curved(canvas, field, nerve, seeds, canvas_options.memory_budget, progress,

@@ -291,6 +291,18 @@ TEST_F(CliErrors, StencilOffsetsPastWhatTheEnginesStoreAreNamed) {
   }
 }
 
+// One seed makes no element, which is not a failed triangulation ("NOT a triangulation, 0
+// elements" said so).
+TEST_F(CliErrors, ADualOfTooFewSeedsSaysWhyItHasNoElements) {
+  write_text(dir.file("one.xyz"), "0.1 0.2\n");
+  const CommandResult result = run_command(
+      rvor_binary() + " voronoi --out " + out() +
+      " --domain rect:-1,-1,1,1 --resolution 16 --dual straight --seeds " + dir.file("one.xyz"));
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.err.find("(no elements: 1 seed, and a triangle needs 3)"), std::string::npos)
+      << result.err;
+}
+
 TEST_F(CliErrors, MalformedDomain) {
   expect_error("--domain box:1,2,3 --resolution 16 --random-seeds 3", "box:1,2,3");
 }
