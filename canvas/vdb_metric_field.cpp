@@ -15,6 +15,7 @@
 #include "rvor/canvas_builder.h"
 #include "rvor/error.h"
 #include "rvor/metric_field.h"
+#include "rvor/spec_text.h"
 #include "vdb_support.h"
 
 namespace rvor {
@@ -168,8 +169,13 @@ void require_same_voxels(const std::string& path, const std::array<FloatGrid::Pt
 int stored_dimension(const std::string& path, const FloatGrid& grid) {
   const openvdb::CoordBBox box = grid.evalActiveVoxelBoundingBox();
   const bool one_layer = box.min().z() == box.max().z();
+  const openvdb::Metadata::ConstPtr any = grid["rvor_dimension"];
+  if (!any) return one_layer ? 2 : 3;
+  // Of another type it was ignored, and the layers decided, whatever it said.
   const auto meta = grid.getMetadata<openvdb::Int32Metadata>("rvor_dimension");
-  if (!meta) return one_layer ? 2 : 3;
+  if (!meta)
+    throw Error("VDB metric file " + path + ": metadata rvor_dimension is a " + any->typeName() +
+                " (" + quoted_text(any->str(), 40) + "), not an int32 of 2 or 3");
   if (meta->value() != 2 && meta->value() != 3)
     throw Error("VDB metric file " + path + ": metadata rvor_dimension is " +
                 std::to_string(meta->value()) + ", not 2 or 3");

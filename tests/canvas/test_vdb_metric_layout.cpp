@@ -149,6 +149,14 @@ TEST(VdbMetricLayout, FilesMarkedTwoDimensionalHoldOneLayer) {
             }).find("metadata rvor_dimension is 5, not 2 or 3"),
             std::string::npos);
   EXPECT_EQ(load_vdb_metric(write_layers(dir, 3, 3, 2))->dimension(), 2);
+  // Metadata of another type was ignored.
+  openvdb::GridPtrVec text_marked = identity_grids(0, 0, 0);
+  for (const auto& grid : text_marked)
+    grid->insertMeta("rvor_dimension", openvdb::StringMetadata("3"));
+  EXPECT_NE(test::error_of([&] {
+              load_vdb_metric(write_grids(dir, text_marked));
+            }).find("metadata rvor_dimension is a string ('3'), not an int32 of 2 or 3"),
+            std::string::npos);
   // Marked 3D, one layer is a 3D field (a slab); without metadata it is taken as 2D and says so.
   EXPECT_EQ(load_vdb_metric(write_layers(dir, 3, 3, 3))->dimension(), 3);
   const auto guessed = load_vdb_metric(write_layers(dir, 3, 3, 0));
