@@ -466,8 +466,7 @@ TEST(BuildCanvas, HugeCanvasesAreRejectedInstantlyByTheMemoryEstimate) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     EXPECT_LT(seconds, 1.0) << spec;
     EXPECT_NE(message.find("active voxels needs ~"), std::string::npos) << message;
-    EXPECT_NE(message.find("over the memory budget of 18 GiB (--memory-budget)"),
-              std::string::npos)
+    EXPECT_NE(message.find("over the memory budget of 18 GiB (--memory-budget)"), std::string::npos)
         << message;
   }
   EXPECT_NE(build_error(parse_domain("box:0,0,0,1,1,1"), test::euclidean_metric(3), options)

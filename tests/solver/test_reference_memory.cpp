@@ -91,7 +91,8 @@ TEST(ReferenceMemory, ASolveOverTheBudgetIsRefusedBeforeItAllocates) {
     EXPECT_NE(message.find("the CPU reference's solve of 32768 active voxels needs ~"),
               std::string::npos)
         << message;
-    EXPECT_NE(message.find("over the memory budget of 977 KiB (--memory-budget)"), std::string::npos)
+    EXPECT_NE(message.find("over the memory budget of 977 KiB (--memory-budget)"),
+              std::string::npos)
         << message;
   }
   reference->set_memory_budget(0);  // the memory available
