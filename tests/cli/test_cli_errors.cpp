@@ -1,5 +1,6 @@
 // Bad input through the real tool: each case must end with exit code 1 (not a crash), exactly one
 // line on stderr that names the problem and where, and no output file left behind.
+#include <algorithm>
 #include <filesystem>
 #include <string>
 
@@ -592,14 +593,18 @@ TEST_F(CliErrors, UnusablePoclCacheDirectoriesAreNamed) {
   }
 }
 
+bool has_pocl_device() {
+  const std::vector<OpenCLDeviceInfo> devices = list_opencl_devices();
+  return std::any_of(devices.begin(), devices.end(), [](const OpenCLDeviceInfo& device) {
+    return device.platform == "Portable Computing Language";
+  });
+}
+
 // A canvas too big for the device is refused before the solve with the sizes, not a failure at a
 // later command. POCL_MEMORY_LIMIT=1 gives PoCL's device 1 GiB, buffers up to 256 MiB; the stencil
 // records of radial_shock_3d at 224^3 (28 B for each of 11.2M slots) need 300.1 MiB.
 TEST_F(CliErrors, CanvasTooBigForTheDeviceNamesTheSizes) {
-  bool pocl = false;
-  for (const OpenCLDeviceInfo& device : list_opencl_devices())
-    pocl = pocl || device.platform == "Portable Computing Language";
-  if (!pocl) GTEST_SKIP() << "no PoCL device";
+  if (!has_pocl_device()) GTEST_SKIP() << "no PoCL device";
   const CommandResult result = run_command(
       "POCL_MEMORY_LIMIT=1 " + voronoi("--device pocl --domain box:1,1,1,11,11,11 --metric "
                                        "radial_shock_3d --resolution 224 --random-seeds 10"));
@@ -616,10 +621,7 @@ TEST_F(CliErrors, CanvasTooBigForTheDeviceNamesTheSizes) {
 // file size limit on a fresh cache) is one line, says where to look, and keeps the build log; it
 // was four lines, one of them blank, naming no cause.
 TEST_F(CliErrors, AKernelBuildFailureIsOneLineAndNamesTheCache) {
-  bool pocl = false;
-  for (const OpenCLDeviceInfo& device : list_opencl_devices())
-    pocl = pocl || device.platform == "Portable Computing Language";
-  if (!pocl) GTEST_SKIP() << "no PoCL device";
+  if (!has_pocl_device()) GTEST_SKIP() << "no PoCL device";
   const CommandResult result = run_command(
       "(ulimit -f 8; POCL_CACHE_DIR=" + dir.file("fresh-pocl-cache") + " " +
       voronoi("--device pocl --domain rect:-1,-1,1,1 --resolution 16 --random-seeds 3") + ")");
