@@ -65,7 +65,8 @@ std::string format_bytes(double bytes) {
     ++unit;
   }
   char text[32];
-  std::snprintf(text, sizeof text, "%.3g %s", bytes, units[unit]);
+  // 1000 to 1023 of a unit are whole ("1000 MiB"): "%.3g" gave "1e+03 MiB".
+  std::snprintf(text, sizeof text, bytes >= 999.5 ? "%.0f %s" : "%.3g %s", bytes, units[unit]);
   return text;
 }
 

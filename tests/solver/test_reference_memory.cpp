@@ -100,5 +100,17 @@ TEST(ReferenceMemory, ASolveOverTheBudgetIsRefusedBeforeItAllocates) {
   EXPECT_GT(available_memory(), 0u);
 }
 
+// Sizes in the budget's binary units, three digits, and whole from 1000 of a unit on ("1000M" was
+// shown as "1e+03 MiB").
+TEST(MemoryBudget, SizesAreShownInBinaryUnits) {
+  EXPECT_EQ(format_bytes(512), "512 B");
+  EXPECT_EQ(format_bytes(1000), "1000 B");
+  EXPECT_EQ(format_bytes(1024), "1 KiB");
+  EXPECT_EQ(format_bytes(200.0 * (1 << 20)), "200 MiB");
+  EXPECT_EQ(format_bytes(1000.0 * (1 << 20)), "1000 MiB");
+  EXPECT_EQ(format_bytes(1023.4 * (1 << 20)), "1023 MiB");
+  EXPECT_EQ(format_bytes(1.5 * (1 << 30)), "1.5 GiB");
+}
+
 }  // namespace
 }  // namespace rvor
