@@ -199,7 +199,8 @@ void require_storable_offsets(const Canvas& canvas, std::size_t slot,
                   std::to_string(e) + " voxels along " + "xyz"[a] + ", past the " +
                   std::to_string(kMostStencilOffset) +
                   " either engine stores (the offsets follow the metric's anisotropy and "
-                  "orientation, not the resolution; anisotropy up to ~170 always fits)");
+                  "orientation, not the resolution; anisotropy up to ~150 fits at any "
+                  "orientation)");
     }
 }
 

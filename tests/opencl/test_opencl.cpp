@@ -736,5 +736,10 @@ TEST(OpenCLSeeds, SeedOutsideTheDomainIsAnError) {
   EXPECT_THROW(engine->solve(canvas, {Vec3(5, 0, 0)}, field), Error);
 }
 
+TEST(OpenCLStencils, OffsetsPastInt8AreRefusedWithTheVoxel) {
+  REQUIRE_ENGINE(RelaxationVariant::automatic);
+  test::expect_offsets_past_int8_refused(*engine);
+}
+
 }  // namespace
 }  // namespace rvor

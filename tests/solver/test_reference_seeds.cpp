@@ -372,5 +372,9 @@ TEST(CanvasTensors, ATensorThatIsNotSpdIsNamedByItsVoxel) {
   }
 }
 
+TEST(ReferenceStencils, OffsetsPastInt8AreRefusedWithTheVoxel) {
+  expect_offsets_past_int8_refused(*make_reference_propagator());
+}
+
 }  // namespace
 }  // namespace rvor::test

@@ -1,5 +1,6 @@
 #pragma once
-// Fields that no solve returns, for checking that insert() refuses them with a clear error.
+// Fields that no solve returns, for checking that insert() refuses them with a clear error; and a
+// metric no engine can solve.
 #include <cstddef>
 #include <vector>
 
@@ -14,5 +15,10 @@ namespace rvor::test {
 void expect_corrupted_fields_refused(Propagator& engine, const Canvas& canvas,
                                      const std::vector<Vec3>& seeds, std::size_t first_new,
                                      const VoronoiField& solved);
+
+// Expects engine.solve to refuse a uniform 2D metric of anisotropy 1e4 whose Selling stencil has an
+// offset of 167 voxels (past the int8 both engines store), naming the voxel and why; the engines'
+// own checks gave neither, and library callers reach them without the CLI's earlier ones.
+void expect_offsets_past_int8_refused(Propagator& engine);
 
 }  // namespace rvor::test

@@ -12,7 +12,9 @@ namespace rvor {
 // Offset size (measured on 20000 random orientations per anisotropy, tests/solver/test_selling.cpp;
 // anisotropy = sqrt of the eigenvalue ratio of D, i.e. the eigenvalue ratio of F = G^{1/2}):
 // max |component| is about anisotropy/2 in 2D and 0.71 * anisotropy in 3D (1 at <= 2, 5/7 at 10,
-// 15/21 at 30, 50/71 at 100). int8 offsets are therefore safe up to anisotropy ~170. Reconstruction
+// 15/21 at 30, 50/71 at 100). The worst orientations are larger: a search over orientations of a
+// needle (middle eigenvalue equal to the smallest; session 37's review) found 101 at anisotropy
+// 120, 125 at 150, 134 at 160, so int8 offsets hold every orientation to ~150. Reconstruction
 // sum rho e e^T = D holds to ~4e-16 relative up to anisotropy 100 (weights in extended precision).
 struct SellingStencil {
   int size = 0;                                // number of terms with rho > 0 (<= 6)
