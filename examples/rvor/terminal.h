@@ -47,11 +47,11 @@ std::uint64_t parse_byte_size(const std::string& text);
 // anything else (it came after "out/voronoi.vdb already exists").
 extern const CLI::Validator byte_size;
 std::string join(const std::vector<std::string>& items, const std::string& separator = ", ");
-// A command-line parse error as one line: CLI11's message, or "unknown sub-command" for a word it
-// took for one, and where to read the options.
 // An error's text as one line, the CLI's rule: its lines (an OpenCL build log's) joined by " | ",
 // blank ones dropped, at most 4000 characters.
 std::string one_line(const std::string& text);
+// A command-line parse error as one line: CLI11's message, or "unknown sub-command" (or option)
+// for a word it took for one, and where to read the options.
 std::string parse_error_text(const CLI::App& app, const CLI::ParseError& error, int argc,
                              char** argv);
 // Option validators: a whole number in [least, most] (CLI11 takes "-1" for the largest unsigned),

@@ -359,41 +359,39 @@ void write_voronoi(const VoronoiOptions& o) {
   }
 }
 
-// write_voronoi; an --out directory it had to create is removed again when the run fails and
-// leaves it empty (a refused option would otherwise leave an empty directory behind).
-// The highest folder of `path` that does not exist yet (the path itself when its parent does;
-// empty when it exists): what a failed run must remove, since it created it.
-std::filesystem::path first_missing_folder(const std::filesystem::path& path) {
+// The folders of `path` that do not exist yet, outermost first: those a run creates, as
+// create_directories makes them, so prefixes of the path as written ("new/../out" makes new and
+// new/../out).
+std::vector<std::filesystem::path> missing_folders(const std::filesystem::path& path) {
+  std::vector<std::filesystem::path> missing;
+  std::filesystem::path prefix;
   std::error_code error;
-  std::filesystem::path missing;
-  for (std::filesystem::path p = std::filesystem::absolute(path, error).lexically_normal();
-       !p.empty() && !std::filesystem::exists(p, error) && p != p.parent_path();
-       p = p.parent_path())
-    missing = p;
+  for (const std::filesystem::path& part : path) {
+    prefix /= part;
+    if (part.empty() || part == "." || part == "..") continue;
+    if (!std::filesystem::exists(prefix, error)) missing.push_back(prefix);
+  }
   return missing;
 }
 
-// Removes `path` and its parents up to `highest`, each only when empty (the output set may have
-// removed `path` already).
-void remove_created_folders(std::filesystem::path path, const std::filesystem::path& highest) {
+// Removes the folders a failed run created, innermost first, each only when empty (remove fails
+// on the others, which then hold something: outputs of the user's, or a folder they made).
+void remove_created_folders(const std::vector<std::filesystem::path>& created) {
   std::error_code error;
-  path = std::filesystem::absolute(path, error).lexically_normal();
-  while (!highest.empty() && path.native().size() >= highest.native().size()) {
-    if (!path.has_filename()) path = path.parent_path();  // a trailing '/'
-    const bool there = std::filesystem::exists(path, error);
-    if (there && !std::filesystem::remove(path, error)) return;  // not empty
-    if (path == highest) return;
-    path = path.parent_path();
-  }
+  for (auto folder = created.rbegin(); folder != created.rend(); ++folder)
+    std::filesystem::remove(*folder, error);
 }
 
+// write_voronoi; the --out directory and the folders above it that it had to create are removed
+// again when the run fails and leaves them empty (a refused option would otherwise leave empty
+// folders behind).
 void run_voronoi(const VoronoiOptions& o) {
   require_one_seed_source(o);
-  const std::filesystem::path created = first_missing_folder(o.out_dir);
+  const std::vector<std::filesystem::path> created = missing_folders(o.out_dir);
   try {
     write_voronoi(o);
   } catch (...) {
-    remove_created_folders(o.out_dir, created);
+    remove_created_folders(created);
     throw;
   }
 }
@@ -440,9 +438,9 @@ void add_voronoi_command(CLI::App& app) {
   // One source of the metric: a second one would be ignored.
   metric_option->excludes(sol_option)->excludes(mesh_option)->excludes(vdb_option);
   vdb_option->excludes(sol_option)->excludes(mesh_option);
-  cmd->add_option(
-         "--seeds", options->seeds_file,
-         "Seeds, one point per line (2 or 3 coordinates, separated by blanks or by commas)")
+  cmd->add_option("--seeds", options->seeds_file,
+                  "Seeds, one point per line (2 or 3 coordinates, separated by blanks, commas or "
+                  "semicolons)")
       ->check(non_empty_path);
   CLI::Option* random_option =
       cmd->add_option("--random-seeds", options->random_seed_count,

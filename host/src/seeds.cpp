@@ -28,26 +28,37 @@ std::string format_point(const Vec3& p) {
          ")";
 }
 
-// The number fields of a line: split at its commas and semicolons where it has any (blanks
-// around them allowed), else at its blanks. nullopt where a field is empty ("1,,2", ",1,2") or
-// holds a blank: "0.5 0,5" mixes both kinds, and its comma is likely a decimal one, which read
-// as a separator would give the point (0.5, 0, 5).
+// The number fields of a line: split at its commas, or at its semicolons, where it has any, else
+// at its blanks. One kind of separator per line, spaced alike: a decimal comma read as a
+// separator would give a point of other coordinates ("0.5 0,5", "1;2,5" and "0.5, 0,5" as
+// (0.5, 0, 5), (1, 2, 5) and (0.5, 0, 5)), so such lines are refused (nullopt), as are empty
+// fields ("1,,2", ",1,2").
 std::optional<std::vector<std::string>> number_fields(const std::string& line) {
+  constexpr const char* kBlanks = " \t\r";
   std::vector<std::string> fields;
-  if (line.find_first_of(",;") == std::string::npos) {
+  const bool commas = line.find(',') != std::string::npos;
+  const bool semicolons = line.find(';') != std::string::npos;
+  if (!commas && !semicolons) {
     std::istringstream in(line);
     for (std::string token; in >> token;) fields.push_back(token);
     return fields;
   }
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t end = std::min(line.find_first_of(",;", start), line.size());
+  if (commas && semicolons) return std::nullopt;
+  const char separator = commas ? ',' : ';';
+  std::optional<bool> blank_after;  // whether a blank follows each separator, alike on the line
+  for (std::size_t start = 0;;) {
+    const std::size_t end = std::min(line.find(separator, start), line.size());
     const std::string field = line.substr(start, end - start);
-    const std::size_t first = field.find_first_not_of(" \t\r");
+    const std::size_t first = field.find_first_not_of(kBlanks);
     if (first == std::string::npos) return std::nullopt;
-    const std::size_t last = field.find_last_not_of(" \t\r");
+    const std::size_t last = field.find_last_not_of(kBlanks);
     const std::string number = field.substr(first, last - first + 1);
-    if (number.find_first_of(" \t\r") != std::string::npos) return std::nullopt;
+    if (number.find_first_of(kBlanks) != std::string::npos) return std::nullopt;
+    if (start != 0) {
+      const bool blank = first != 0;
+      if (blank_after && *blank_after != blank) return std::nullopt;
+      blank_after = blank;
+    }
     fields.push_back(number);
     if (end == line.size()) return fields;
     start = end + 1;
@@ -90,7 +101,8 @@ PointFile read_point_file(const std::string& path) {
     if (columns == 0)
       throw Error(where +
                   "expected 2 or 3 finite numbers (within double's range) per line, separated by "
-                  "blanks or by commas, got " +
+                  "blanks, by commas or by semicolons, one kind spaced alike (a decimal comma?), "
+                  "got " +
                   quoted_text(line));
     if (file.columns != 0 && columns != file.columns)
       throw Error(where + std::to_string(columns) + " coordinates, but the lines before have " +

@@ -93,13 +93,16 @@ TEST_F(CliErrors, SeedFilesWithEmptyFieldsOrControlBytes) {
   EXPECT_EQ(result.exit_code, 0) << result.err;
 }
 
-// A line separates its numbers by blanks or by commas: "0.5 0,5", a decimal comma, was read as
-// the 3D point (0.5, 0, 5); commas with blanks around them are still one kind.
-TEST_F(CliErrors, ASeedLineMixingBlanksAndCommasIsRefused) {
+// A line separates its numbers by blanks, by commas or by semicolons, one kind spaced alike: a
+// decimal comma read as a separator gave another point ("0.5 0,5", "1;2,5" and "0.5, 0,5" were
+// all read as 3D points).
+TEST_F(CliErrors, ASeedLineWhoseCommaMayBeADecimalOneIsRefused) {
   const std::string domain = "--domain box:-10,-10,-10,10,10,10 --resolution 16 --seeds ";
-  write_text(dir.file("comma.xyz"), "1 2 3\n0.5 0,5\n");
-  expect_error(domain + dir.file("comma.xyz"), "comma.xyz:2: expected 2 or 3 finite numbers");
-  write_text(dir.file("spaced.xyz"), "1, 2, 3\n-1 ;2; 2.5\n");
+  for (const char* line : {"0.5 0,5\n", "1;2,5\n", "0.5, 0,5\n", "2,5;0\n"}) {
+    write_text(dir.file("comma.xyz"), std::string("1 2 3\n") + line);
+    expect_error(domain + dir.file("comma.xyz"), "comma.xyz:2: expected 2 or 3 finite numbers");
+  }
+  write_text(dir.file("spaced.xyz"), "1, 2, 3\n-1 ; 2 ; 2.5\n1,2,3\n1;2;3\n");
   const CommandResult result = run_command(voronoi(domain + dir.file("spaced.xyz")));
   EXPECT_EQ(result.exit_code, 0) << result.err;
 }
@@ -207,6 +210,11 @@ TEST_F(CliErrors, FailedRunRemovesTheFoldersItCreatedAboveTheOutputDirectory) {
   const std::string args = "--quiet --domain rect:-1,-1,1,1 --metric bogus --random-seeds 3 --out ";
   EXPECT_EQ(run_command(rvor_binary() + " voronoi " + args + dir.file("n1/n2/n3/")).exit_code, 1);
   EXPECT_FALSE(std::filesystem::exists(dir.file("n1")));
+  // Folders the path names on its way, beyond where it ends.
+  EXPECT_EQ(run_command(rvor_binary() + " voronoi " + args + dir.file("new/./n/../out")).exit_code,
+            1);
+  EXPECT_FALSE(std::filesystem::exists(dir.file("new")));
+  EXPECT_FALSE(std::filesystem::exists(dir.file("out")));
   std::filesystem::create_directories(dir.file("kept/a"));
   write_text(dir.file("kept/a/file"), "mine");
   EXPECT_EQ(run_command(rvor_binary() + " voronoi " + args + dir.file("kept/a/b/c")).exit_code, 1);

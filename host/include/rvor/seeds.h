@@ -9,10 +9,11 @@
 
 namespace rvor {
 
-// Reads a .xyz file: one point per line, 2 or 3 coordinates separated by blanks or by commas (or
-// semicolons, blanks around them allowed; not both kinds on one line: "0.5 0,5" is refused), the
-// same count on every line; blank lines and lines starting with '#' are skipped. Throws
-// "FILE:LINE: ..." on malformed lines and on an empty file.
+// Reads a .xyz file: one point per line, 2 or 3 coordinates separated by blanks, by commas or by
+// semicolons (one kind per line, blanks after every separator or after none: "0.5 0,5", "1;2,5"
+// and "0.5, 0,5" are refused, their comma likely a decimal one), the same count on every line;
+// blank lines and lines starting with '#' are skipped. Throws "FILE:LINE: ..." on malformed lines
+// and on an empty file.
 std::vector<Vec3> read_xyz(const std::string& path);
 // The same for a domain of `dimension`: 3D needs 3 coordinates; 2D takes 2, or 3 with z = 0.
 std::vector<Vec3> read_xyz(const std::string& path, int dimension);
