@@ -171,20 +171,25 @@ int stored_dimension(const std::string& path, const FloatGrid& grid) {
   const bool one_layer = box.min().z() == box.max().z();
   const openvdb::Metadata::ConstPtr any = grid["rvor_dimension"];
   if (!any) return one_layer ? 2 : 3;
-  // Of another type it was ignored, and the layers decided, whatever it said.
-  const auto meta = grid.getMetadata<openvdb::Int32Metadata>("rvor_dimension");
-  if (!meta)
-    throw Error("VDB metric file " + path + ": metadata rvor_dimension is a " + any->typeName() +
-                " (" + quoted_text(any->str(), 40) + "), not an int32 of 2 or 3");
-  if (meta->value() != 2 && meta->value() != 3)
+  // Of another type it was ignored, and the layers decided, whatever it said. An int64 is what
+  // pyopenvdb stores for a Python int.
+  std::int64_t value = 0;
+  if (const auto int32 = grid.getMetadata<openvdb::Int32Metadata>("rvor_dimension"))
+    value = int32->value();
+  else if (const auto int64 = grid.getMetadata<openvdb::Int64Metadata>("rvor_dimension"))
+    value = int64->value();
+  else
+    throw Error("VDB metric file " + path + ": metadata rvor_dimension is of type " +
+                any->typeName() + " (" + quoted_text(any->str(), 40) + "), not an integer 2 or 3");
+  if (value != 2 && value != 3)
     throw Error("VDB metric file " + path + ": metadata rvor_dimension is " +
-                std::to_string(meta->value()) + ", not 2 or 3");
-  if (meta->value() == 2 && !one_layer)
+                std::to_string(value) + ", not 2 or 3");
+  if (value == 2 && !one_layer)
     throw Error("VDB metric file " + path +
                 ": marked 2D (metadata rvor_dimension = 2) but grid 'm11' holds values on z " +
                 "layers " + std::to_string(box.min().z()) + " to " + std::to_string(box.max().z()) +
                 " (a 2D metric is one layer)");
-  return meta->value();
+  return static_cast<int>(value);
 }
 
 class VdbMetricField : public MetricField {

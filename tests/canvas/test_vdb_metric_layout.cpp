@@ -155,8 +155,13 @@ TEST(VdbMetricLayout, FilesMarkedTwoDimensionalHoldOneLayer) {
     grid->insertMeta("rvor_dimension", openvdb::StringMetadata("3"));
   EXPECT_NE(test::error_of([&] {
               load_vdb_metric(write_grids(dir, text_marked));
-            }).find("metadata rvor_dimension is a string ('3'), not an int32 of 2 or 3"),
+            }).find("metadata rvor_dimension is of type string ('3'), not an integer 2 or 3"),
             std::string::npos);
+  // pyopenvdb stores a Python int as an int64.
+  openvdb::GridPtrVec int64_marked = identity_grids(0, 0, 0);
+  for (const auto& grid : int64_marked)
+    grid->insertMeta("rvor_dimension", openvdb::Int64Metadata(3));
+  EXPECT_EQ(load_vdb_metric(write_grids(dir, int64_marked))->dimension(), 3);
   // Marked 3D, one layer is a 3D field (a slab); without metadata it is taken as 2D and says so.
   EXPECT_EQ(load_vdb_metric(write_layers(dir, 3, 3, 3))->dimension(), 3);
   const auto guessed = load_vdb_metric(write_layers(dir, 3, 3, 0));
