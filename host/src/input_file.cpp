@@ -34,6 +34,7 @@ int next_byte(std::streambuf& buffer, const std::string& path, long number) {
 
 bool read_input_line(std::istream& in, std::string& line, const std::string& path, long number) {
   line.clear();
+  errno = 0;  // next_byte's message reads it: only a failed read sets it in the loop
   std::streambuf* buffer = in.rdbuf();
   for (;;) {
     const int c = next_byte(*buffer, path, number);
