@@ -19,7 +19,8 @@ constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP};
 
 // What the handler removes, in storage it can read without allocating.
 char staging_path[PATH_MAX];
-char created_dir_path[PATH_MAX];
+char created_paths[InterruptCleanup::kMostCreatedFolders][PATH_MAX];  // innermost first
+volatile sig_atomic_t created_count = 0;
 struct sigaction previous[sizeof kSignals / sizeof *kSignals];
 // hold(): a signal is kept in `pending` rather than acted on. (sigprocmask would block it for the
 // calling thread only, and PoCL's and TBB's threads can take it.)
@@ -54,7 +55,7 @@ void remove_staging_and_die(int signal_number) {
     close(dir);
     rmdir(staging_path);
   }
-  if (created_dir_path[0] != '\0') rmdir(created_dir_path);  // only when empty
+  for (int n = 0; n < created_count; ++n) rmdir(created_paths[n]);  // only when empty
   // Death by this signal, as without the handler: the default action, pending until the handler
   // returns (the signal is blocked while it runs).
   struct sigaction default_action {};
@@ -70,9 +71,13 @@ void copy_path(const std::string& path, char (&into)[PATH_MAX]) {
 
 }  // namespace
 
-InterruptCleanup::InterruptCleanup(const std::string& staging, const std::string& created_dir) {
+InterruptCleanup::InterruptCleanup(const std::string& staging,
+                                   const std::vector<std::string>& created_folders) {
   copy_path(staging, staging_path);
-  copy_path(created_dir, created_dir_path);
+  created_count = 0;
+  for (auto folder = created_folders.rbegin();
+       folder != created_folders.rend() && created_count < kMostCreatedFolders; ++folder)
+    copy_path(*folder, created_paths[created_count++]);
   holding = pending = 0;
   cleaning.clear();
   struct sigaction action {};

@@ -61,9 +61,30 @@ class DirectoryLock {
 
 }  // namespace
 
+std::vector<std::string> missing_folders(const std::string& path) {
+  std::vector<std::string> missing;
+  fs::path prefix;
+  std::error_code error;
+  for (const fs::path& part : fs::path(path)) {
+    prefix /= part;
+    if (part.empty() || part == "." || part == "..") continue;
+    if (!fs::exists(prefix, error)) missing.push_back(prefix.string());
+  }
+  return missing;
+}
+
+void remove_empty_folders(const std::vector<std::string>& folders) {
+  std::error_code error;
+  for (auto folder = folders.rbegin(); folder != folders.rend(); ++folder)
+    fs::remove(*folder, error);  // fails on a folder that holds something
+}
+
 OutputSet::OutputSet(std::string dir, std::vector<std::string> names, bool replace,
-                     bool created_dir)
-    : dir_(std::move(dir)), names_(std::move(names)), replace_(replace), created_dir_(created_dir) {
+                     std::vector<std::string> created_folders)
+    : dir_(std::move(dir)),
+      names_(std::move(names)),
+      created_folders_(std::move(created_folders)),
+      replace_(replace) {
   remove_abandoned_staging(dir_);
   for (const std::string& name : names_) {
     const fs::path target = fs::path(dir_) / name;
@@ -81,13 +102,13 @@ OutputSet::OutputSet(std::string dir, std::vector<std::string> names, bool repla
   if (!fs::create_directory(staging_, error))
     throw Error("cannot write to output directory " + dir_ + ": " +
                 (error ? error.message() : "cannot create a staging directory"));
-  interrupt_cleanup_.emplace(staging_, created_dir_ ? dir_ : std::string());
+  interrupt_cleanup_.emplace(staging_, created_folders_);
 }
 
 OutputSet::~OutputSet() {
   std::error_code ignored;
   fs::remove_all(staging_, ignored);
-  if (created_dir_ && !committed_) fs::remove(dir_, ignored);  // only when empty
+  if (!committed_) remove_empty_folders(created_folders_);
 }
 
 std::string OutputSet::path(const std::string& name) const {

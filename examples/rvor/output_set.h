@@ -11,14 +11,23 @@
 
 namespace rvor::cli {
 
+// The folders of `path` that do not exist yet, outermost first: those prepare_output_directory
+// creates, as create_directories makes them, so prefixes of the path as written ("new/../out"
+// makes new and new/../out).
+std::vector<std::string> missing_folders(const std::string& path);
+// Removes `folders` innermost first, each only when empty.
+void remove_empty_folders(const std::vector<std::string>& folders);
+
 class OutputSet {
  public:
   // `names`: the files this run writes into `dir` (which must exist: prepare_output_directory).
   // `replace`: earlier files of those names may be replaced; otherwise their presence is an
-  // error. `created_dir`: this run created `dir`, so a run that fails or is interrupted removes it
-  // again when it is empty. Throws rvor::Error before anything is written when a name is taken by
+  // error. `created_folders`: the folders this run created for `dir` (prepare_output_directory),
+  // outermost first, `dir` last; a run that fails or is interrupted removes them again, each when
+  // it is empty. Throws rvor::Error before anything is written when a name is taken by
   // something that is not a regular file, or exists without `replace`.
-  OutputSet(std::string dir, std::vector<std::string> names, bool replace, bool created_dir);
+  OutputSet(std::string dir, std::vector<std::string> names, bool replace,
+            std::vector<std::string> created_folders);
   OutputSet(const OutputSet&) = delete;
   OutputSet& operator=(const OutputSet&) = delete;
   ~OutputSet();  // removes what is still staged: before commit(), `dir` is as it was (also when
@@ -41,8 +50,8 @@ class OutputSet {
   void publish_all_new();
 
   std::string dir_, staging_;
-  std::vector<std::string> names_;
-  bool replace_, created_dir_, committed_ = false;
+  std::vector<std::string> names_, created_folders_;
+  bool replace_, committed_ = false;
   std::optional<InterruptCleanup> interrupt_cleanup_;
 };
 

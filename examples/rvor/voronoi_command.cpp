@@ -209,16 +209,17 @@ CurvedDual build_curved(const Canvas& canvas, const VoronoiField& field, const N
   return curved;
 }
 
-void write_voronoi(const VoronoiOptions& o) {
+// `created`: the folders of --out that do not exist before the run (missing_folders).
+void write_voronoi(const VoronoiOptions& o, const std::vector<std::string>& created) {
   const auto start = std::chrono::steady_clock::now();
   Progress progress(o.quiet);
   const std::string out = o.out_dir;
-  const bool created_out = prepare_output_directory(out);
+  prepare_output_directory(out);
   const std::vector<std::string> earlier =
       o.overwrite ? earlier_outputs(out, o) : std::vector<std::string>{};
   refuse_replacing_inputs(o, earlier);
   // In place once everything succeeded.
-  OutputSet outputs(out, output_names(o), o.overwrite, created_out);
+  OutputSet outputs(out, output_names(o), o.overwrite, created);
   auto path = [&](const std::string& name) { return outputs.path(name); };
   try {
     progress.begin("building canvas");
@@ -359,39 +360,16 @@ void write_voronoi(const VoronoiOptions& o) {
   }
 }
 
-// The folders of `path` that do not exist yet, outermost first: those a run creates, as
-// create_directories makes them, so prefixes of the path as written ("new/../out" makes new and
-// new/../out).
-std::vector<std::filesystem::path> missing_folders(const std::filesystem::path& path) {
-  std::vector<std::filesystem::path> missing;
-  std::filesystem::path prefix;
-  std::error_code error;
-  for (const std::filesystem::path& part : path) {
-    prefix /= part;
-    if (part.empty() || part == "." || part == "..") continue;
-    if (!std::filesystem::exists(prefix, error)) missing.push_back(prefix);
-  }
-  return missing;
-}
-
-// Removes the folders a failed run created, innermost first, each only when empty (remove fails
-// on the others, which then hold something: outputs of the user's, or a folder they made).
-void remove_created_folders(const std::vector<std::filesystem::path>& created) {
-  std::error_code error;
-  for (auto folder = created.rbegin(); folder != created.rend(); ++folder)
-    std::filesystem::remove(*folder, error);
-}
-
 // write_voronoi; the --out directory and the folders above it that it had to create are removed
 // again when the run fails and leaves them empty (a refused option would otherwise leave empty
 // folders behind).
 void run_voronoi(const VoronoiOptions& o) {
   require_one_seed_source(o);
-  const std::vector<std::filesystem::path> created = missing_folders(o.out_dir);
+  const std::vector<std::string> created = missing_folders(o.out_dir);
   try {
-    write_voronoi(o);
+    write_voronoi(o, created);
   } catch (...) {
-    remove_created_folders(created);
+    remove_empty_folders(created);  // where the output set did not (it was not made yet)
     throw;
   }
 }

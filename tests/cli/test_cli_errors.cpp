@@ -168,8 +168,9 @@ TEST_F(CliErrors, TextInputsWithoutLineEndsAreRefusedEarly) {
 }
 
 // A run interrupted by SIGTERM, SIGINT or SIGHUP (`timeout`, Ctrl-C, a closed terminal) removes
-// its staging directory, and the output directory it created, before it dies of the signal; they
-// stayed until a later run into the same --out. `timeout` signals the process and then its group,
+// its staging directory, and the output directory and the folders above it that it created
+// (those were left), before it dies of the signal; they stayed until a later run into the same
+// --out. `timeout` signals the process and then its group,
 // whose second signal once killed the process while another thread cleaned. (SIGINT is left out
 // here: a shell's background job ignores it, and rvor keeps a signal its caller ignores.)
 TEST_F(CliErrors, InterruptedRunLeavesNoStagingBehind) {
@@ -179,7 +180,8 @@ TEST_F(CliErrors, InterruptedRunLeavesNoStagingBehind) {
   };
   for (const Case signal : {Case{"TERM", 15}, Case{"HUP", 1}}) {
     const std::string parent = dir.file(std::string("interrupted-") + signal.name);
-    const std::string out_dir = parent + "/out";
+    std::filesystem::create_directories(parent);
+    const std::string out_dir = parent + "/made/out";
     // A CPU solve of seconds, signalled once its staging directory is there.
     const std::string script =
         "(" + rvor_binary() + " voronoi --quiet --device cpu --domain box:1,1,1,11,11,11 " +
@@ -190,7 +192,7 @@ TEST_F(CliErrors, InterruptedRunLeavesNoStagingBehind) {
     const CommandResult result = run_command(script);
     EXPECT_EQ(result.out, std::to_string(128 + signal.number) + "\n")
         << signal.name << ": " << result.err;
-    EXPECT_FALSE(std::filesystem::exists(out_dir)) << signal.name;
+    EXPECT_FALSE(std::filesystem::exists(parent + "/made")) << signal.name;
     EXPECT_TRUE(std::filesystem::exists(parent)) << "a directory the run did not create";
   }
 }
