@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
+#include <limits>
 #include <string>
 
 #include "../host/src/canvas_identity.h"
@@ -192,6 +194,12 @@ VoxelIndex Canvas::voxel_containing(const Vec3& world) const {
           dimension == 3 ? to_int(c.z(), dims[2]) : 0};
 }
 
+void Canvas::require_slot(std::size_t slot, const char* caller) const {
+  if (slot >= active.size())
+    throw Error(std::string(caller) + ": slot " + std::to_string(slot) + " is past the canvas's " +
+                std::to_string(active.size()) + " slots");
+}
+
 Mat3 Canvas::metric_at(std::size_t slot) const {
   const float* m = metric_of(slot);
   return tensor_from_sol({m[0], m[1], m[2], m[3], m[4], m[5]});
@@ -204,6 +212,7 @@ std::optional<Mat3> Canvas::uniform_metric() const {
 }
 
 float* Canvas::mutable_metric(std::size_t slot) {
+  require_slot(slot, "mutable_metric");
   content_hash_.reset();
   store_metric_per_slot();
   return &metric_[6 * slot];
@@ -217,6 +226,22 @@ void Canvas::store_metric_per_slot() {
       std::copy(uniform_metric_->begin(), uniform_metric_->end(), &metric_[6 * slot]);
   uniform_metric_.reset();
 }
+
+namespace {
+
+// The brick table holds an int32 per brick of the index box; past 2^31 cells its size wrapped (a
+// box of 2^30 voxels a side: a table of 0 cells, then a write past it).
+void require_brick_table_fits(const std::array<int, 3>& brick_grid_dims,
+                              const std::array<int, 3>& dims) {
+  const double cells = static_cast<double>(brick_grid_dims[0]) * brick_grid_dims[1] *
+                       static_cast<double>(brick_grid_dims[2]);
+  if (cells > static_cast<double>(std::numeric_limits<std::int32_t>::max()))
+    throw Error("canvas index box of " + std::to_string(dims[0]) + " x " + std::to_string(dims[1]) +
+                " x " + std::to_string(dims[2]) + " voxels is too large: its brick table would " +
+                "hold " + std::to_string(cells) + " cells, past 2^31");
+}
+
+}  // namespace
 
 void Canvas::allocate(int dim, double h, const Vec3& world_origin,
                       const std::array<int, 3>& index_dims, const std::vector<VoxelIndex>& origins,
@@ -233,6 +258,7 @@ void Canvas::allocate(int dim, double h, const Vec3& world_origin,
     const int edge = a == 2 ? brick_edge_z() : kBrickEdge;
     brick_grid_dims[a] = bricks_along(dims[a], edge);
   }
+  require_brick_table_fits(brick_grid_dims, dims);
   brick_table.assign(
       static_cast<std::size_t>(brick_grid_dims[0]) * brick_grid_dims[1] * brick_grid_dims[2], -1);
   brick_origins = origins;
@@ -261,6 +287,14 @@ void Canvas::allocate(int dim, double h, const Vec3& world_origin,
 }
 
 void Canvas::set_active(std::size_t slot, const Mat3& G) {
+  require_slot(slot, "set_active");
+  // As the builder checks its fields: a non-symmetric tensor kept its upper triangle, and one of
+  // eigenvalue 1e-35 was solved.
+  const std::string problem = metric_problem(G, dimension);
+  if (!problem.empty())
+    throw Error("set_active: slot " + std::to_string(slot) + ": metric " + problem);
+  require_storable_metric(stored_metric(G, dimension), G, dimension,
+                          "set_active: slot " + std::to_string(slot));
   set_active(slot, stored_tensor(G, dimension));
 }
 
@@ -272,6 +306,7 @@ std::array<float, 6> Canvas::stored_tensor(const Mat3& G, int dimension) {
 }
 
 void Canvas::set_active(std::size_t slot, const std::array<float, 6>& stored) {
+  require_slot(slot, "set_active");
   // Only when set: the builder calls this from many threads after allocate() reset it.
   if (content_hash_) content_hash_.reset();
   if (uniform_metric_ && stored != *uniform_metric_) store_metric_per_slot();

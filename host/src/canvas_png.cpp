@@ -101,6 +101,7 @@ void write_canvas_png(const std::string& path, const Canvas& canvas, const Voron
   if (canvas.dimension != 2)
     throw Error("a PNG picture needs a 2D canvas (--png is for rect domains)");
   require_field_for(canvas, field, "cannot write " + path);
+  if (dual) require_consistent_dual(*dual, "cannot write " + path);
   const int longest = std::max(canvas.dims[0], canvas.dims[1]);
   const int scale = pixels_per_voxel > 0 ? pixels_per_voxel : std::max(1, 1024 / longest);
   const int width = canvas.dims[0] * scale, height = canvas.dims[1] * scale;

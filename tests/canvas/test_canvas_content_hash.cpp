@@ -113,5 +113,36 @@ TEST(CanvasConsistency, AllocateRefusesAnEmptyIndexBox) {
   EXPECT_THROW(canvas.allocate(3, 0.1, Vec3::Zero(), {-8, 8, 8}, {}), Error);
 }
 
+// An index box whose brick table would pass 2^31 cells is refused: its size wrapped to 0 at 2^30
+// voxels a side, and the first brick was written past the table.
+TEST(CanvasConsistency, AllocateRefusesABrickTableThatWouldWrap) {
+  Canvas canvas;
+  try {
+    canvas.allocate(3, 0.1, Vec3::Zero(), {1 << 30, 1 << 30, 1 << 30}, {VoxelIndex{0, 0, 0}});
+    ADD_FAILURE() << "a brick table of 2^81 cells was taken";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("is too large: its brick table would hold"),
+              std::string::npos)
+        << error.what();
+  }
+}
+
+// set_active and mutable_metric check their slot (set_active past the canvas wrote anywhere), and
+// set_active refuses the tensors the builder refuses (a non-symmetric one kept its upper
+// triangle; one of eigenvalue 1e-35 was solved).
+TEST(CanvasConsistency, SetActiveChecksItsSlotAndItsTensor) {
+  Canvas canvas;
+  canvas.allocate(2, 0.5, Vec3::Zero(), {8, 8, 1}, {VoxelIndex{0, 0, 0}});
+  const std::size_t past = canvas.slot_count() + 1000000;
+  EXPECT_THROW(canvas.set_active(past, Mat3::Identity()), Error);
+  EXPECT_THROW(canvas.mutable_metric(past), Error);
+  Mat3 skew = Mat3::Identity();
+  skew(0, 1) = 0.9;
+  skew(1, 0) = -0.9;
+  EXPECT_THROW(canvas.set_active(0, skew), Error);
+  EXPECT_THROW(canvas.set_active(0, Vec3(1e-35, 1, 1).asDiagonal()), Error);
+  EXPECT_NO_THROW(canvas.set_active(0, Vec3(2, 1, 1).asDiagonal()));
+}
+
 }  // namespace
 }  // namespace rvor

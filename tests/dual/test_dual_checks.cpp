@@ -490,5 +490,34 @@ TEST(DualFiles, MeshAndVtuReadBackWithCountsInMeshioAndVtk) {
   EXPECT_EQ(report["quality"]["histogram"].size(), 10u);
 }
 
+// A dual built or edited by hand is checked by its writers: vertex 5 of a one-vertex dual was
+// read past the vertices (a crash in the VTU and Medit writers).
+TEST(DualFiles, WritersRefuseADualWhoseSimplicesLeaveItsVertices) {
+  test::TempDir dir;
+  StraightDual dual;
+  dual.dimension = 3;
+  dual.vertices = {Vec3(0, 0, 0)};
+  dual.tetrahedra = {{0, 5, 9, 100}};
+  dual.quality.resize(1);
+  dual.flags.resize(1);
+  for (const std::function<void()>& write :
+       {std::function<void()>([&] { write_dual_vtu(dir.file("d.vtu"), dual); }),
+        std::function<void()>([&] { write_dual_medit(dir.file("d.mesh"), dual); })}) {
+    try {
+      write();
+      ADD_FAILURE() << "a tetrahedron past the vertices was written";
+    } catch (const Error& error) {
+      EXPECT_NE(
+          std::string(error.what()).find("tetrahedron 0 uses vertex 5, not one of the dual's 1"),
+          std::string::npos)
+          << error.what();
+    }
+  }
+  dual.tetrahedra = {{0, 0, 0, 0}};
+  dual.flags.clear();
+  EXPECT_THROW(write_dual_vtu(dir.file("d.vtu"), dual), Error);
+  EXPECT_THROW(dual.top_simplex(1), Error);
+}
+
 }  // namespace
 }  // namespace rvor

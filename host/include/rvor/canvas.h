@@ -57,7 +57,8 @@ class Canvas {
   // on the index box's faces, to a millionth of a voxel, belongs to the boundary voxel.
   VoxelIndex voxel_containing(const Vec3& world) const;
   // A slot's tensor: six floats in .sol order, or as a matrix. Inactive slots read zeros in the
-  // uniform form, and what was last written in the per-slot form (zeros unless written).
+  // uniform form, and what was last written in the per-slot form (zeros unless written). The slot
+  // must be below slot_count(): these run in the engines' inner loops and do not check.
   const float* metric_of(std::size_t slot) const {
     if (!uniform_metric_) return &metric_[6 * slot];
     return active[slot] ? uniform_metric_->data() : kNoTensor.data();
@@ -84,12 +85,14 @@ class Canvas {
   void allocate(int dimension, double voxel_size, const Vec3& origin,
                 const std::array<int, 3>& dims, const std::vector<VoxelIndex>& brick_origins,
                 const std::optional<Mat3>& uniform_metric = std::nullopt);
-  // Marks a voxel active with the given metric (the slot must exist), stored as stored_metric
+  // Marks a voxel active with the given metric, stored as stored_metric
   // (rvor/metric.h) makes it: in 2D only the xy block is kept, with 1 along z. (A 2D tensor stored
   // with another zz entry made the engines weigh the source factorization differently: the
   // reference judged the fit with it and the kernels without, and their fields differed by 10%.)
   // Calls for distinct slots may run in parallel, except where a canvas in the uniform form gets
   // another tensor: it turns into the per-slot form first (as mutable_metric() does).
+  // Throws rvor::Error for a slot past slot_count(), and for a tensor the builder would refuse
+  // (metric_problem, require_storable_metric).
   void set_active(std::size_t slot, const Mat3& G);
   // set_active with the tensor already as the six floats it is stored as (stored_tensor(G)), for
   // callers that mark many voxels with one tensor and would convert it at each. Other floats skip
@@ -115,6 +118,8 @@ class Canvas {
  private:
   static constexpr std::array<float, 6> kNoTensor{};
   void store_metric_per_slot();
+  // Throws rvor::Error naming `caller` unless slot < slot_count().
+  void require_slot(std::size_t slot, const char* caller) const;
 
   std::vector<float> metric_;  // the per-slot form: 6 floats per slot
   std::optional<std::array<float, 6>> uniform_metric_;

@@ -96,9 +96,16 @@ struct StraightDual {
   double seconds = 0.0;
 
   std::size_t top_count() const { return dimension == 3 ? tetrahedra.size() : triangles.size(); }
-  // Vertices of top simplex t (3 entries in 2D, the 4th is -1).
+  // Vertices of top simplex t (3 entries in 2D, the 4th is -1). Throws rvor::Error for t past
+  // top_count().
   std::array<int32_t, 4> top_simplex(std::size_t t) const;
 };
+
+// Throws rvor::Error naming `where` unless `dual` holds together as build_straight_dual makes it:
+// dimension 2 or 3, a quality and flags entry per top simplex, every simplex's and edge's vertex
+// among the vertices. The writers check a dual they are given (one built or edited by hand read
+// past its vertices).
+void require_consistent_dual(const StraightDual& dual, const std::string& where);
 
 // Builds and checks the straight dual of the nerve. `seeds` are the propagation's seeds (label
 // i = seeds[i]; on a 2D canvas their z is read as 0, as the propagators read it); each must lie

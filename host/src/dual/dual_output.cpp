@@ -79,6 +79,7 @@ int reference_of(uint8_t flags) {
 }  // namespace
 
 void write_dual_vtu(const std::string& path, const StraightDual& dual, bool only_flagged) {
+  require_consistent_dual(dual, "cannot write " + path);
   const DualCells c = collect_cells(dual, only_flagged);
   vtu::AppendedWriter appended;
   std::string xml = vtu::grid_geometry(appended, c.points, c.connectivity, c.offsets, c.types);
@@ -99,6 +100,7 @@ void write_dual_vtu(const std::string& path, const StraightDual& dual, bool only
 }
 
 void write_dual_medit(const std::string& path, const StraightDual& dual) {
+  require_consistent_dual(dual, "cannot write " + path);
   MeditMesh mesh;
   mesh.dimension = dual.dimension;
   mesh.vertices = dual.vertices;

@@ -140,11 +140,6 @@ bool is_ball_triangulation(const StraightDual& dual) {
 
 }  // namespace
 
-std::array<int32_t, 4> StraightDual::top_simplex(std::size_t t) const {
-  if (dimension == 3) return tetrahedra[t];
-  return {triangles[t][0], triangles[t][1], triangles[t][2], -1};
-}
-
 StraightDual build_straight_dual(const Canvas& canvas, const Nerve& nerve,
                                  const std::vector<Vec3>& given_seeds,
                                  const StraightDualOptions& options) {
