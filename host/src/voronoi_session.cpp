@@ -18,6 +18,7 @@ PropagationStats VoronoiSession::solve(const Canvas& canvas, std::vector<Vec3> s
     const PropagationStats stats = propagator_->solve(canvas, seeds, field_);
     seeds_ = std::move(seeds);
     solved_ = returned_last_ = true;
+    solved_canvas_ = canvas.content_hash();
     return stats;
   } catch (...) {
     // What field_ holds now is neither the last solve's nor this one's: nothing is shown.
@@ -30,6 +31,13 @@ PropagationStats VoronoiSession::solve(const Canvas& canvas, std::vector<Vec3> s
 PropagationStats VoronoiSession::insert(const Canvas& canvas, const std::vector<Vec3>& new_seeds) {
   if (!solved_) throw Error("VoronoiSession::insert(): no solved field yet (call solve() first)");
   if (&new_seeds == &seeds_) return insert(canvas, std::vector<Vec3>(new_seeds));  // seeds() again
+  if (!solved_canvas_ || canvas.content_hash() != solved_canvas_) {
+    // Continued on a changed canvas, the field kept values no solve there gives (256 of 4096
+    // labels differed, the canvas's metric changed in place between the calls).
+    std::vector<Vec3> all = seeds_;
+    all.insert(all.end(), new_seeds.begin(), new_seeds.end());
+    return solve(canvas, std::move(all));
+  }
   const std::size_t first_new = seeds_.size();
   // Appended in place (no copy of 100 000 seeds per insertion), taken back if the call fails.
   seeds_.insert(seeds_.end(), new_seeds.begin(), new_seeds.end());

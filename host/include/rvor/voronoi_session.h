@@ -4,7 +4,9 @@
 // insertion has to make sure it continues the field the propagator returned last.
 // (Propagator::insert reads every slot of a caller's field to make sure: 16.8M slots at 256^3,
 // 3-5 ms on the 16 host cores of an NVIDIA H200 machine, as long as the insertion's rounds there.)
+#include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,10 +23,12 @@ class VoronoiSession {
   // failed solve, seeds() and field() are empty and insert() refuses until a solve succeeds.
   PropagationStats solve(const Canvas& canvas, std::vector<Vec3> seeds);
   // Appends `new_seeds` to seeds() and propagates them into field() (Propagator::insert: the
-  // result equals a solve with all seeds). `canvas` is the one of the last solve(), or one equal to
-  // it (a canvas changed since is uploaded again, and the field continued on it). Throws
-  // rvor::Error before any solve(); after a failed call the next insertion checks the field as
-  // Propagator::insert does, or refuses it when the failure left it unfinished.
+  // result equals a solve with all seeds). On a canvas whose content differs from the last
+  // solve()'s (Canvas::content_hash; changed in place, or another one), the field is no start for
+  // an insertion, so all seeds are solved again (a failure then leaves the session as a failed
+  // solve() does). Throws rvor::Error before any solve(); after a failed insertion the next one
+  // checks the field as Propagator::insert does, or refuses it when the failure left it
+  // unfinished.
   PropagationStats insert(const Canvas& canvas, const std::vector<Vec3>& new_seeds);
 
   const VoronoiField& field() const { return field_; }
@@ -36,6 +40,7 @@ class VoronoiSession {
   std::vector<Vec3> seeds_;
   VoronoiField field_;
   bool solved_ = false;
+  std::optional<std::uint64_t> solved_canvas_;  // the content hash of the last solve's canvas
   // field_ is, bit for bit, what the propagator returned last (false after a failed call).
   bool returned_last_ = false;
 };
