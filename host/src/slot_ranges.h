@@ -8,6 +8,8 @@
 #include <thread>
 #include <vector>
 
+#include "joining_threads.h"
+
 namespace rvor {
 
 // Threads for per-slot host work: the machine's, at most 16. (An insertion's check of the
@@ -23,16 +25,18 @@ template <typename Work>
 void for_slot_ranges(std::size_t slots, unsigned threads, Work&& work) {
   if (threads <= 1) return work(0u, std::size_t{0}, slots);  // no thread to start
   std::vector<std::exception_ptr> errors(threads);
-  std::vector<std::thread> workers;
-  for (unsigned t = 0; t < threads; ++t)
-    workers.emplace_back([&, t] {
-      try {
-        work(t, slots * t / threads, slots * (t + 1) / threads);
-      } catch (...) {
-        errors[t] = std::current_exception();
-      }
-    });
-  for (std::thread& w : workers) w.join();
+  const auto range = [&](unsigned t) {
+    try {
+      work(t, slots * t / threads, slots * (t + 1) / threads);
+    } catch (...) {
+      errors[t] = std::current_exception();
+    }
+  };
+  {
+    JoiningThreads workers;
+    for (unsigned t = 0; t < threads; ++t)
+      if (!workers.start(range, t)) range(t);  // no thread: its range here
+  }
   for (const std::exception_ptr& e : errors)
     if (e) std::rethrow_exception(e);
 }

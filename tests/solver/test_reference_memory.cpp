@@ -3,6 +3,11 @@
 // the sizes instead of being killed by the system halfway.
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
@@ -13,6 +18,7 @@
 #include "rvor/memory_budget.h"
 #include "rvor/propagation.h"
 #include "rvor/seeds.h"
+#include "slot_ranges.h"
 #include "support/box_canvas.h"
 
 namespace rvor {
@@ -98,6 +104,33 @@ TEST(ReferenceMemory, ASolveOverTheBudgetIsRefusedBeforeItAllocates) {
   reference->set_memory_budget(0);  // the memory available
   EXPECT_NO_THROW(reference->solve(canvas, {Vec3(0, 0, 0)}, field));
   EXPECT_GT(available_memory(), 0u);
+}
+
+// Threads that cannot start (here: no address space left for their stacks) leave their ranges to
+// the calling thread; a std::vector of std::thread called std::terminate, and the process died.
+TEST(SlotRanges, ThreadsThatCannotStartLeaveTheirWorkToTheCaller) {
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    std::vector<int> visited(100000, 0);
+    long pages = 0;
+    if (FILE* statm = std::fopen("/proc/self/statm", "r")) {
+      if (std::fscanf(statm, "%ld", &pages) != 1) pages = 0;
+      std::fclose(statm);
+    }
+    // 2 MiB above what the process maps now: no 8 MiB thread stack fits.
+    const rlim_t limit = static_cast<rlim_t>(pages) * sysconf(_SC_PAGESIZE) + (rlim_t{2} << 20);
+    const rlimit address_space{limit, limit};
+    if (pages == 0 || setrlimit(RLIMIT_AS, &address_space) != 0) _exit(2);
+    for_slot_ranges(visited.size(), 8, [&](unsigned, std::size_t begin, std::size_t end) {
+      for (std::size_t slot = begin; slot < end; ++slot) ++visited[slot];
+    });
+    _exit(std::all_of(visited.begin(), visited.end(), [](int v) { return v == 1; }) ? 0 : 1);
+  }
+  int status = 0;
+  ASSERT_EQ(waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status)) << "the child died of signal " << WTERMSIG(status);
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "1: a range left undone or done twice; 2: no limit set";
 }
 
 // Sizes in the budget's binary units, three digits, and whole from 1000 of a unit on ("1000M" was

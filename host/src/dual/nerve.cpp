@@ -10,6 +10,7 @@
 
 #include "dual/simplex_map.h"
 #include "dual/witness_cache.h"
+#include "joining_threads.h"
 #include "rvor/error.h"
 
 namespace rvor {
@@ -362,10 +363,12 @@ Nerve extract_nerve(const Canvas& canvas, const VoronoiField& field, std::size_t
       errors[t] = std::current_exception();
     }
   };
-  std::vector<std::thread> pool;
-  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work, t);
-  work(0);
-  for (auto& thread : pool) thread.join();
+  {
+    JoiningThreads pool;  // a thread that cannot start leaves its share to the others
+    for (unsigned t = 1; t < threads && pool.start(work, t); ++t) {
+    }
+    work(0);
+  }
   for (const auto& e : errors)
     if (e) std::rethrow_exception(e);
   for (unsigned t = 1; t < threads; ++t) maps[0].merge(maps[t]);

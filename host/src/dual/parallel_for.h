@@ -12,6 +12,8 @@
 #include <thread>
 #include <vector>
 
+#include "joining_threads.h"
+
 namespace rvor::detail {
 
 template <typename F>
@@ -32,10 +34,12 @@ void parallel_for(std::size_t count, std::size_t per_thread, F&& f,
   const std::size_t threads = std::max<std::size_t>(
       1, std::min({std::size_t{std::max(1u, std::thread::hardware_concurrency())},
                    count / std::max<std::size_t>(1, per_thread), max_threads}));
-  std::vector<std::thread> pool;
-  for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(work);
-  work();
-  for (std::thread& t : pool) t.join();
+  {
+    JoiningThreads pool;  // a thread that cannot start leaves its share to the others
+    for (std::size_t t = 1; t < threads && pool.start(work); ++t) {
+    }
+    work();
+  }
   if (error) std::rethrow_exception(error);
 }
 
