@@ -392,8 +392,8 @@ void add_bench_command(CLI::App& app) {
                 "Skip OpenVDB FastSweeping (it runs on 3D canvases only)");
   cmd->add_option("--memory-budget", options->memory_budget,
                   "Refuse canvases needing more memory than this, and a CPU reference solve whose "
-                  "arrays would not fit (bytes, or with K/M/G/T, powers of 1024); default 75% of "
-                  "physical memory (for the CPU reference's arrays, the memory available)")
+                  "arrays would not fit (bytes, or with K/M/G/T, powers of 1024); " +
+                      std::string(kDefaultMemoryBudgetHelp))
       ->check(byte_size);
   cmd->add_flag("--json", options->json, "Print one JSON object with a `cases` array");
   cmd->add_flag("--quiet", options->quiet, "No progress lines on stderr");

@@ -46,6 +46,10 @@ std::uint64_t parse_byte_size(const std::string& text);
 // --memory-budget's check at parse time (parse_byte_size), so that a bad size is reported before
 // anything else (it came after "out/voronoi.vdb already exists").
 extern const CLI::Validator byte_size;
+// What --memory-budget defaults to, in every command's help.
+inline constexpr const char* kDefaultMemoryBudgetHelp =
+    "default 75% of physical memory, or of the process's memory limit where lower (a container's, "
+    "ulimit -v); for the CPU reference's arrays, the memory available";
 std::string join(const std::vector<std::string>& items, const std::string& separator = ", ");
 // An error's text as one line, the CLI's rule: its lines (an OpenCL build log's) joined by " | ",
 // blank ones dropped, at most 4000 characters.

@@ -460,9 +460,8 @@ void add_voronoi_command(CLI::App& app) {
                   "Refuse canvases (and --metric-vdb grids) needing more memory than this, "
                   "a canvas counting the grids it is built from, a CPU reference solve "
                   "(--device cpu) whose arrays would not fit, and a curved dual whose local "
-                  "fields do not fit beside its canvas (bytes, or with K/M/G/T, powers of 1024); "
-                  "default 75% of "
-                  "physical memory (for the CPU reference's arrays, the memory available)")
+                  "fields do not fit beside its canvas (bytes, or with K/M/G/T, powers of 1024); " +
+                      std::string(kDefaultMemoryBudgetHelp))
       ->check(byte_size);
   cmd->add_flag("--quiet", options->quiet, "Print nothing but errors");
   cmd->callback([options, device] {

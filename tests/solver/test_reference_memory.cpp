@@ -133,6 +133,25 @@ TEST(SlotRanges, ThreadsThatCannotStartLeaveTheirWorkToTheCaller) {
   EXPECT_EQ(WEXITSTATUS(status), 0) << "1: a range left undone or done twice; 2: no limit set";
 }
 
+// The default budget follows a limit on the process below its RAM (here RLIMIT_AS; a container's
+// control group likewise): with 75% of RAM it passed canvases the limit then failed (bad_alloc).
+TEST(MemoryBudget, TheDefaultFollowsTheProcesssLimit) {
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    const rlim_t limit = rlim_t{4} << 30;
+    const rlimit address_space{limit, limit};
+    if (setrlimit(RLIMIT_AS, &address_space) != 0) _exit(2);
+    const bool follows = default_memory_budget() <= (std::uint64_t{3} << 30) &&
+                         available_memory() <= (std::uint64_t{4} << 30);
+    _exit(follows ? 0 : 1);
+  }
+  int status = 0;
+  ASSERT_EQ(waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0);
+}
+
 // Sizes in the budget's binary units, three digits, and whole from 1000 of a unit on ("1000M" was
 // shown as "1e+03 MiB").
 TEST(MemoryBudget, SizesAreShownInBinaryUnits) {

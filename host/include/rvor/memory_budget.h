@@ -15,9 +15,12 @@ std::uint64_t estimated_bytes_per_active_voxel(bool uniform_metric);
 // unless stored once, 8 B of field): what the curved dual's local fields share the budget with
 // once the propagation's buffers are freed, as `rvor voronoi` frees them.
 std::uint64_t canvas_and_field_bytes_per_active_voxel(bool uniform_metric);
-std::uint64_t default_memory_budget();  // 75% of physical memory
-// Memory the system can give now without swapping (MemAvailable of /proc/meminfo; where that
-// cannot be read, default_memory_budget()).
+// 75% of physical memory, or of the process's limit where that is lower: its control group's
+// (a container's memory.max or memory.limit_in_bytes), its address space's (RLIMIT_AS). Past those
+// the system kills the process, or an allocation fails, whatever the RAM.
+std::uint64_t default_memory_budget();
+// Memory the system can give now without swapping (MemAvailable of /proc/meminfo, at most the
+// process's limit above; where that cannot be read, default_memory_budget()).
 std::uint64_t available_memory();
 // Throws rvor::Error "<what> needs ~X, over the memory budget of Y (--memory-budget)<advice>"
 // when `needed` passes `budget`; for budget 0, "<what> needs ~X, more than the Y of memory
