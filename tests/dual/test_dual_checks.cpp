@@ -233,6 +233,42 @@ TEST(DualChecks, EntryPointsReadSeedsAsThePropagatorsDoAndCheckTheNerve) {
   EXPECT_THROW(extract_nerve(canvas, unlabelled, seeds.size()), Error);
 }
 
+// LocalFieldOptions are checked: a negative or huge margin sized a vector past max_size
+// (std::length_error), NaN was taken.
+TEST(DualChecks, LocalFieldOptionsOutOfRangeAreNamed) {
+  const Canvas canvas = test::make_uniform_box_canvas(2, Vec3(-1, -1, 0), Vec3(1, 1, 0), 32,
+                                                      Mat3(Vec3(4, 1, 1).asDiagonal()));
+  const std::vector<Vec3> seeds = random_seeds(canvas, 6, 3);
+  const Nerve nerve = extract_nerve(canvas, test::solve_reference(canvas, seeds), seeds.size());
+  const auto message_of = [&](const std::function<void(LocalFieldOptions&)>& edit) {
+    LocalFieldOptions options;
+    edit(options);
+    try {
+      compute_local_fields(canvas, nerve, seeds, options);
+    } catch (const Error& error) {
+      return std::string(error.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message_of([](LocalFieldOptions& o) {
+              o.margin = -100;
+            }).find("LocalFieldOptions::margin is -100, not a voxel count"),
+            std::string::npos);
+  EXPECT_NE(message_of([](LocalFieldOptions& o) {
+              o.relative_margin = 1e30;
+            }).find("LocalFieldOptions::relative_margin is 1e+30"),
+            std::string::npos);
+  EXPECT_NE(message_of([](LocalFieldOptions& o) {
+              o.edge_relative_margin = std::nan("");
+            }).find("LocalFieldOptions::edge_relative_margin is nan"),
+            std::string::npos);
+  EXPECT_NE(message_of([](LocalFieldOptions& o) {
+              o.apex_only_distortion = std::nan("");
+            }).find("LocalFieldOptions::apex_only_distortion is nan"),
+            std::string::npos);
+  EXPECT_EQ(message_of([](LocalFieldOptions&) {}), "no error");
+}
+
 TEST(DualChecks, CosphericalSeedsGiveOneTriangulation) {
   struct Case {
     int dimension;

@@ -17,6 +17,7 @@
 #include "reference_solver.h"
 #include "rvor/error.h"
 #include "rvor/memory_budget.h"
+#include "rvor/spec_text.h"
 #include "star_mask.h"
 
 namespace rvor {
@@ -359,9 +360,32 @@ std::size_t solves_within_budget(const Canvas& canvas, const std::vector<IndexBo
 
 }  // namespace
 
+namespace {
+
+// Margins and the distortion bound as LocalFieldOptions documents them: a negative margin or a
+// huge one sized a vector past max_size (std::length_error), NaN was taken.
+void require_valid_options(const LocalFieldOptions& options) {
+  const auto require = [](bool valid, const char* name, double value, const char* rule) {
+    if (!valid)
+      throw Error(std::string("local fields: LocalFieldOptions::") + name + " is " +
+                  exact_text(value) + ", not " + rule);
+  };
+  require(options.margin >= 0 && options.margin <= 1000, "margin", options.margin,
+          "a voxel count from 0 to 1000");
+  for (const auto& [name, value] :
+       {std::pair<const char*, double>{"relative_margin", options.relative_margin},
+        {"edge_relative_margin", options.edge_relative_margin}})
+    require(value >= 0 && value <= 10, name, value, "a fraction of an edge from 0 to 10");
+  require(options.apex_only_distortion >= 0 && std::isfinite(options.apex_only_distortion),
+          "apex_only_distortion", options.apex_only_distortion, "a finite distortion >= 0");
+}
+
+}  // namespace
+
 LocalFields compute_local_fields(const Canvas& canvas, const Nerve& nerve,
                                  const std::vector<Vec3>& given_seeds,
                                  const LocalFieldOptions& options) {
+  require_valid_options(options);
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<Vec3> seeds =
       dual::checked_dual_seeds(canvas, nerve, given_seeds, "local fields");
