@@ -206,9 +206,19 @@ VoronoiField read_voronoi_vdb(const std::string& path, const Canvas& canvas) {
   field.label.assign(canvas.slot_count(), -1);
   const auto distances = distance->getConstAccessor();
   const auto labels = label->getConstAccessor();
+  // The file must hold the canvas's active voxels, no more and no fewer: another canvas's field
+  // of the same voxel size and origin filled the gaps with +inf and dropped the rest, silently.
+  const auto file_voxels = static_cast<std::size_t>(distance->activeVoxelCount());
+  if (file_voxels != canvas.active_voxel_count)
+    throw Error("VDB file " + path + " holds a field of " + std::to_string(file_voxels) +
+                " voxels, the canvas has " + std::to_string(canvas.active_voxel_count) +
+                " active ones: it was written for another canvas");
   for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
     if (!canvas.active[slot]) continue;
     const openvdb::Coord c = to_coord(canvas.voxel_of(slot));
+    if (!distances.isValueOn(c) || !labels.isValueOn(c))
+      throw Error("VDB file " + path + " has no value at the canvas's active voxel " +
+                  voxel_text(c) + ": it was written for another canvas");
     field.distance[slot] = distances.getValue(c);
     field.label[slot] = labels.getValue(c);
   }

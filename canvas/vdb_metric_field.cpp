@@ -55,11 +55,6 @@ void extend_by_one_voxel(FloatGrid& grid) {  // tiles voxelized before (VdbMetri
   for (const auto& [c, value] : extension) output.setValue(c, value);
 }
 
-std::string voxel_text(const openvdb::Coord& c) {
-  return "(" + std::to_string(c.x()) + ", " + std::to_string(c.y()) + ", " + std::to_string(c.z()) +
-         ")";
-}
-
 // Every stored tensor, not only those the canvas happens to sample: a bad voxel between the
 // samples would still bend the interpolated field. Identical neighbours are checked once.
 void validate_stored_tensors(const std::string& path, const std::array<FloatGrid::Ptr, 6>& grids,

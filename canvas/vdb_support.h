@@ -24,6 +24,12 @@ inline openvdb::Coord to_coord(const VoxelIndex& v) {
   return openvdb::Coord(v.i, v.j, v.k);
 }
 
+// "(x, y, z)", for messages.
+inline std::string voxel_text(const openvdb::Coord& c) {
+  return "(" + std::to_string(c.x()) + ", " + std::to_string(c.y()) + ", " + std::to_string(c.z()) +
+         ")";
+}
+
 inline const char* const kMetricGridNames[6] = {"m11", "m12", "m22", "m13", "m23", "m33"};
 
 // All grids of a VDB file, every value read (no delayed loading: callers with a memory budget

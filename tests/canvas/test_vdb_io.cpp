@@ -78,6 +78,27 @@ TEST(VdbIo, VoronoiFileHasTheCanvasPlacement) {
             std::string::npos);
 }
 
+// A field of another canvas with the same voxel size and origin is refused: its gaps were filled
+// with +inf and its extra voxels dropped, silently.
+TEST(VdbIo, AFieldOfAnotherCanvasOfTheSamePlacementIsRefused) {
+  test::TempDir dir;
+  const Canvas cube =
+      test::make_uniform_box_canvas(3, Vec3(0, 0, 0), Vec3(1, 1, 1), 8, Mat3::Identity());
+  const Canvas tall =
+      test::make_uniform_box_canvas(3, Vec3(0, 0, 0), Vec3(1, 1, 2), 16, Mat3::Identity());
+  ASSERT_EQ(tall.voxel_size, cube.voxel_size);
+  write_voronoi_vdb(dir.file("cube.vdb"), cube, sample_field(cube));
+  write_voronoi_vdb(dir.file("tall.vdb"), tall, sample_field(tall));
+  EXPECT_NE(error_of([&] {
+              read_voronoi_vdb(dir.file("cube.vdb"), tall);
+            }).find("holds a field of 512 voxels, the canvas has 1024 active ones"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] {
+              read_voronoi_vdb(dir.file("tall.vdb"), cube);
+            }).find("holds a field of 1024 voxels, the canvas has 512 active ones"),
+            std::string::npos);
+}
+
 Mat3 linear_in_x(const Vec3& p) {
   Mat3 G;
   G << 2 + p.x(), 0.25, 0.1, 0.25, 3 - 0.5 * p.x(), 0.2, 0.1, 0.2, 4;
