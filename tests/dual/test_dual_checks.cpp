@@ -231,6 +231,11 @@ TEST(DualChecks, EntryPointsReadSeedsAsThePropagatorsDoAndCheckTheNerve) {
   VoronoiField unlabelled = field;  // -1 is "unreached"; no other negative label is a seed's
   for (std::size_t slot = 0; slot < unlabelled.label.size(); slot += 2) unlabelled.label[slot] = -7;
   EXPECT_THROW(extract_nerve(canvas, unlabelled, seeds.size()), Error);
+  // Distances as a solve leaves them (a NaN one gave a nerve and a dual).
+  VoronoiField nan_distance = field;
+  for (std::size_t slot = 0; slot < nan_distance.distance.size(); slot += 3)
+    if (canvas.active[slot]) nan_distance.distance[slot] = std::nanf("");
+  EXPECT_THROW(extract_nerve(canvas, nan_distance, seeds.size()), Error);
 }
 
 // LocalFieldOptions are checked: a negative or huge margin sized a vector past max_size

@@ -71,7 +71,7 @@ struct LocalField {
 };
 
 // compute_local_fields throws rvor::Error for a margin outside [0, 1000] voxels, a relative margin
-// outside [0, 10] or a distortion that is negative or not finite.
+// outside [0, 10] or a distortion that is negative or NaN.
 struct LocalFieldOptions {
   // Around each simplex of the star: voxels, plus this fraction of its longest edge. Near the
   // star's boundary the stencils lose neighbours and the values degrade; the tracer reads them

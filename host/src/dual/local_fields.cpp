@@ -376,8 +376,9 @@ void require_valid_options(const LocalFieldOptions& options) {
        {std::pair<const char*, double>{"relative_margin", options.relative_margin},
         {"edge_relative_margin", options.edge_relative_margin}})
     require(value >= 0 && value <= 10, name, value, "a fraction of an edge from 0 to 10");
-  require(options.apex_only_distortion >= 0 && std::isfinite(options.apex_only_distortion),
-          "apex_only_distortion", options.apex_only_distortion, "a finite distortion >= 0");
+  // +inf is meaningful: every top simplex to its apexes' stars only.
+  require(options.apex_only_distortion >= 0, "apex_only_distortion", options.apex_only_distortion,
+          "a distortion >= 0");
 }
 
 }  // namespace
