@@ -48,8 +48,14 @@ void publish_temporary(const std::string& temporary, const std::string& path) {
   std::error_code error;
   fs::rename(temporary, path, error);
   if (error) {
-    fs::remove(temporary, error);
-    throw Error("cannot write " + path + ": rename from temporary file failed");
+    // Why, where it is plain: an empty path, or a directory in the file's place.
+    const std::string reason = path.empty() ? "an empty path"
+                               : fs::is_directory(path)
+                                   ? "it is a directory"
+                                   : "rename from temporary file failed (" + error.message() + ")";
+    std::error_code ignored;
+    fs::remove(temporary, ignored);
+    throw Error("cannot write " + (path.empty() ? std::string("''") : path) + ": " + reason);
   }
 }
 

@@ -619,7 +619,9 @@ class ReferencePropagator final : public Propagator {
   PropagationStats insert(const Canvas& canvas, const std::vector<Vec3>& seeds,
                           std::size_t first_new, VoronoiField& field) override {
     validate_seeds(canvas, seeds);
-    if (first_new > seeds.size()) throw Error("insert(): first_new is past the last seed");
+    if (first_new > seeds.size())
+      throw Error("insert(): first_new " + std::to_string(first_new) + " is past the last of the " +
+                  std::to_string(seeds.size()) + " seeds");
     require_insertable_field(canvas, field, first_new, "insert()");
     ReferenceSolver& solver = solver_for(canvas);
     if (!is_last_output(field)) import_field(field);

@@ -42,6 +42,28 @@ TEST(AtomicFile, LinkNewLeavesAFileThatAppearedMeanwhile) {
 
 // A killed run's temporaries are told from a live run's by the process id in their names: the
 // cleanup of `rvor voronoi --out` parses what temporary_path_for built.
+// A write that cannot be published says why where that is plain ("rename from temporary file
+// failed" was all it said), and leaves no temporary behind.
+TEST(AtomicFile, APathThatCannotTakeTheFileSaysWhy) {
+  test::TempDir dir;
+  const auto message_of = [](const std::string& path) {
+    try {
+      write_file_atomically(path, [](std::ostream& out) { out << "x"; });
+    } catch (const Error& error) {
+      return std::string(error.what());
+    }
+    return std::string("no error");
+  };
+  std::filesystem::create_directory(dir.file("taken"));
+  EXPECT_EQ(message_of(dir.file("taken")),
+            "cannot write " + dir.file("taken") + ": it is a directory");
+  EXPECT_NE(message_of("").find("cannot write '': "), std::string::npos);
+  std::size_t entries = 0;
+  for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(dir.path()))
+    ++entries;
+  EXPECT_EQ(entries, 1u);  // the directory alone
+}
+
 TEST(AtomicFile, TemporaryNamesGiveBackTheirProcess) {
   const std::string name =
       std::filesystem::path(temporary_path_for("/some/dir/outputs-host")).filename().string();

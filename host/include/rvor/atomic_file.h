@@ -1,6 +1,9 @@
 #pragma once
 // Output files are never half-written: they are written under a temporary name in the same
-// directory and renamed over the target only once complete.
+// directory and renamed over the target only once complete. Every library writer (write_xyz,
+// write_voronoi_vdb, the VTU, Medit and PNG writers) goes through here, so it replaces a file
+// already at its path without asking (the CLI asks first: --overwrite), takes a symlink's place
+// (its target is left alone) and gives the file the process's default mode.
 #include <functional>
 #include <optional>
 #include <ostream>
