@@ -236,6 +236,16 @@ TEST(DualChecks, EntryPointsReadSeedsAsThePropagatorsDoAndCheckTheNerve) {
   for (std::size_t slot = 0; slot < nan_distance.distance.size(); slot += 3)
     if (canvas.active[slot]) nan_distance.distance[slot] = std::nanf("");
   EXPECT_THROW(extract_nerve(canvas, nan_distance, seeds.size()), Error);
+  // The curved dual checks its field and seeds as well (they gave unreached edges, no error), and
+  // local fields computed on another canvas.
+  EXPECT_THROW(build_curved_dual(canvas, nan_distance, nerve, seeds), Error);
+  std::vector<Vec3> outside = seeds;
+  outside[1] = Vec3(1e9, 0, 0);
+  EXPECT_THROW(build_curved_dual(canvas, field, nerve, outside), Error);
+  const Canvas other = test::make_uniform_box_canvas(2, Vec3(-1, -1, 0), Vec3(1, 1, 0), 64,
+                                                     Mat3(Vec3(9, 1, 1).asDiagonal()));
+  const LocalFields elsewhere = compute_local_fields(other, nerve, seeds);
+  EXPECT_THROW(build_curved_dual(canvas, field, nerve, seeds, &elsewhere), Error);
 }
 
 // LocalFieldOptions are checked: a negative or huge margin sized a vector past max_size

@@ -31,6 +31,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "rvor/canvas.h"
@@ -110,6 +111,9 @@ struct LocalFields {
   std::size_t voxels = 0;          // voxels of the kept bricks summed over seeds
   std::size_t solved_voxels = 0;   // of which solved: in the star and within the distance limit
   double seconds = 0.0;
+  // Canvas::content_hash of the canvas they were computed on (build_curved_dual refuses them on
+  // another).
+  std::optional<std::uint64_t> canvas_hash;
 };
 
 // Solves u_i for every seed i over its star (`nerve` gives the simplices). Throws rvor::Error

@@ -397,6 +397,7 @@ LocalFields compute_local_fields(const Canvas& canvas, const Nerve& nerve,
       star_simplices(canvas, nerve, seeds, seed_metrics, options);
 
   LocalFields out;
+  out.canvas_hash = canvas.content_hash();
   out.fields.resize(seeds.size());
   // One seed per task: solves are independent and each is large enough to amortise a thread.
   const std::size_t to_solve = static_cast<std::size_t>(
