@@ -178,6 +178,11 @@ void write_xyz(const std::string& path, const std::vector<Vec3>& points, int dim
   if (dimension != 2 && dimension != 3)
     throw Error("cannot write " + path + ": dimension must be 2 or 3, not " +
                 std::to_string(dimension));
+  // read_xyz refuses them: a file it cannot read back is not written.
+  for (std::size_t n = 0; n < points.size(); ++n)
+    if (!points[n].head(dimension).allFinite())
+      throw Error("cannot write " + path + ": point " + std::to_string(n) + " at " +
+                  format_point(points[n]) + " is not finite");
   write_file_atomically(path, [&](std::ostream& out) {
     for (const Vec3& p : points) {
       out << exact_text(p.x()) << " " << exact_text(p.y());

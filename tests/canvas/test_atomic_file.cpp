@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <optional>
@@ -10,6 +11,7 @@
 
 #include "rvor/atomic_file.h"
 #include "rvor/error.h"
+#include "rvor/seeds.h"
 #include "support/temp_dir.h"
 
 namespace rvor {
@@ -62,6 +64,16 @@ TEST(AtomicFile, APathThatCannotTakeTheFileSaysWhy) {
   for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(dir.path()))
     ++entries;
   EXPECT_EQ(entries, 1u);  // the directory alone
+}
+
+// write_xyz writes only what read_xyz reads back (a NaN point was written, then refused).
+TEST(AtomicFile, PointFilesHoldOnlyFinitePoints) {
+  test::TempDir dir;
+  EXPECT_THROW(write_xyz(dir.file("p.xyz"), {Vec3(0, 0, 0), Vec3(std::nan(""), 1, 2)}, 3), Error);
+  EXPECT_FALSE(std::filesystem::exists(dir.file("p.xyz")));
+  // z is not written in 2D, so it need not be finite there.
+  write_xyz(dir.file("q.xyz"), {Vec3(0.5, 1, std::nan(""))}, 2);
+  EXPECT_EQ(read_xyz(dir.file("q.xyz"), 2).front(), Vec3(0.5, 1, 0));
 }
 
 TEST(AtomicFile, TemporaryNamesGiveBackTheirProcess) {

@@ -24,13 +24,16 @@ struct XyzPoints {
 };
 XyzPoints read_xyz_with_lines(const std::string& path, int dimension);
 // Writes points atomically, 2 or 3 coordinates per line (by dimension), full precision.
+// Refuses a point that is not finite, which read_xyz would refuse.
 void write_xyz(const std::string& path, const std::vector<Vec3>& points, int dimension);
 
 // Throws rvor::Error "seed N at (x, y, z) is outside the domain" when a seed's containing voxel
 // is not an active canvas voxel, or its coordinates are not finite; on an empty seed list, and on
 // more seeds than active voxels.
 // A 2D canvas ignores z (read_xyz with a dimension checks files). Seeds before `first_unchecked`
-// are taken as checked already (an insertion's solved seeds); the count is always checked.
+// are taken as checked already (an insertion's solved seeds); the count is always checked. Seeds
+// that share a voxel are accepted (the engines give the voxel to the smaller label, so the other
+// seed's cell may be empty: FieldSummary::empty_cells, which `rvor voronoi` reports).
 void validate_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds,
                     std::size_t first_unchecked = 0);
 // The same, naming seed n by name(n) instead of "seed N" (say, "seeds.xyz:4: seed 2").
