@@ -299,6 +299,8 @@ void Canvas::set_active(std::size_t slot, const Mat3& G) {
 }
 
 std::array<float, 6> Canvas::stored_tensor(const Mat3& G, int dimension) {
+  if (dimension != 2 && dimension != 3)
+    throw Error("stored_tensor: dimension " + std::to_string(dimension) + " is not 2 or 3");
   const SolTensor c = tensor_to_sol(stored_metric(G, dimension));
   std::array<float, 6> out;
   for (int n = 0; n < 6; ++n) out[n] = static_cast<float>(c[n]);
@@ -319,6 +321,11 @@ void Canvas::finalize() {
   require_consistent_geometry(*this);
   active_voxel_count = 0;
   for (uint8_t a : active) active_voxel_count += a;
+  // 1 marks a voxel active; a 2 was counted twice and taken as active by the engines.
+  if (const auto odd = std::find_if(active.begin(), active.end(), [](uint8_t a) { return a > 1; });
+      odd != active.end())
+    throw Error("canvas: slot " + std::to_string(odd - active.begin()) + " has activity flag " +
+                std::to_string(*odd) + ", not 0 or 1");
   if (active.size() != slot_count() || metric_slot_count() != slot_count())
     throw Error("canvas: " + std::to_string(active.size()) + " activity flags and tensors for " +
                 std::to_string(metric_slot_count()) + " slots in a canvas of " +

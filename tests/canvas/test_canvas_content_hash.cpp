@@ -142,6 +142,12 @@ TEST(CanvasConsistency, SetActiveChecksItsSlotAndItsTensor) {
   EXPECT_THROW(canvas.set_active(0, skew), Error);
   EXPECT_THROW(canvas.set_active(0, Vec3(1e-35, 1, 1).asDiagonal()), Error);
   EXPECT_NO_THROW(canvas.set_active(0, Vec3(2, 1, 1).asDiagonal()));
+  EXPECT_THROW(Canvas::stored_tensor(Mat3::Identity(), 7), Error);
+  // An activity flag of 2 was taken as active and counted twice.
+  canvas.active[1] = 2;
+  EXPECT_THROW(canvas.finalize(), Error);
+  canvas.active[1] = 0;
+  EXPECT_NO_THROW(canvas.finalize());
 }
 
 }  // namespace

@@ -242,6 +242,13 @@ TEST(DualChecks, EntryPointsReadSeedsAsThePropagatorsDoAndCheckTheNerve) {
   std::vector<Vec3> outside = seeds;
   outside[1] = Vec3(1e9, 0, 0);
   EXPECT_THROW(build_curved_dual(canvas, field, nerve, outside), Error);
+  try {
+    compute_local_fields(canvas, nerve, outside);
+    ADD_FAILURE() << "local fields of a seed outside the canvas";
+  } catch (const Error& error) {
+    EXPECT_EQ(std::string(error.what()).rfind("local fields: seed 1 at (1e+09, 0, 0)", 0), 0u)
+        << error.what();
+  }
   const Canvas other = test::make_uniform_box_canvas(2, Vec3(-1, -1, 0), Vec3(1, 1, 0), 64,
                                                      Mat3(Vec3(9, 1, 1).asDiagonal()));
   const LocalFields elsewhere = compute_local_fields(other, nerve, seeds);

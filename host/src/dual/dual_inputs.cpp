@@ -3,6 +3,7 @@
 
 #include "dual/dual_internal.h"
 #include "rvor/error.h"
+#include "rvor/seeds.h"
 
 namespace rvor::dual {
 
@@ -42,6 +43,11 @@ std::vector<Vec3> checked_dual_seeds(const Canvas& canvas, const Nerve& nerve,
       throw Error(who + ": seed " + std::to_string(n) + " has a coordinate that is not finite");
     if (canvas.dimension == 2) planar[n].z() = 0.0;  // as the propagators read a 2D seed
   }
+  // As the propagators check them, with the position ("dual: seed 1 is not in an active voxel",
+  // under another entry point's name, was all the local fields said).
+  if (!planar.empty())
+    validate_seeds(canvas, planar, 0,
+                   [&](std::size_t n) { return who + ": seed " + std::to_string(n); });
   return planar;
 }
 
