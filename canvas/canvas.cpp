@@ -287,15 +287,16 @@ void Canvas::allocate(int dim, double h, const Vec3& world_origin,
 }
 
 void Canvas::set_active(std::size_t slot, const Mat3& G) {
-  require_slot(slot, "set_active");
-  // As the builder checks its fields: a non-symmetric tensor kept its upper triangle, and one of
-  // eigenvalue 1e-35 was solved.
-  const std::string problem = metric_problem(G, dimension);
-  if (!problem.empty())
-    throw Error("set_active: slot " + std::to_string(slot) + ": metric " + problem);
-  require_storable_metric(stored_metric(G, dimension), G, dimension,
-                          "set_active: slot " + std::to_string(slot));
-  set_active(slot, stored_tensor(G, dimension));
+  // As the builder checks its fields (a tensor of eigenvalue 1e-35 was solved), and G itself (a
+  // non-symmetric one kept its upper triangle); the messages are built only on failure.
+  const Mat3 stored = stored_metric(G, dimension);
+  if (!is_storable_metric(stored, dimension) || !metric_problem(G, dimension).empty()) {
+    const std::string where = "set_active: slot " + std::to_string(slot);
+    if (const std::string problem = metric_problem(G, dimension); !problem.empty())
+      throw Error(where + ": metric " + problem);
+    require_storable_metric(stored, G, dimension, where);
+  }
+  set_active(slot, stored_tensor(stored, dimension));
 }
 
 std::array<float, 6> Canvas::stored_tensor(const Mat3& G, int dimension) {
