@@ -216,11 +216,10 @@ VoronoiField read_voronoi_vdb(const std::string& path, const Canvas& canvas) {
   for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
     if (!canvas.active[slot]) continue;
     const openvdb::Coord c = to_coord(canvas.voxel_of(slot));
-    if (!distances.isValueOn(c) || !labels.isValueOn(c))
+    // One look-up per grid gives the value and whether it is stored.
+    if (!distances.probeValue(c, field.distance[slot]) || !labels.probeValue(c, field.label[slot]))
       throw Error("VDB file " + path + " has no value at the canvas's active voxel " +
                   voxel_text(c) + ": it was written for another canvas");
-    field.distance[slot] = distances.getValue(c);
-    field.label[slot] = labels.getValue(c);
   }
   return field;
 }
