@@ -13,7 +13,6 @@
 #include "geodesic_tracer.h"
 #include "parallel_for.h"
 #include "rvor/error.h"
-#include "rvor/seeds.h"
 #include "vtu_appended_writer.h"
 
 namespace rvor {
@@ -66,11 +65,9 @@ void check_inputs(const Canvas& canvas, const VoronoiField& field, const std::ve
     throw Error("curved dual: the field has " + std::to_string(field.distance.size()) +
                 " distances and " + std::to_string(field.label.size()) + " labels, the canvas " +
                 std::to_string(canvas.slot_count()) + " slots");
-  // As the straight dual and the local fields check them: bad labels, NaN distances and seeds
-  // outside the canvas gave edges and faces with no error, unreached.
+  // As the nerve checks it (the seeds were, by checked_dual_seeds): bad labels and NaN distances
+  // gave edges and faces with no error, unreached.
   require_insertable_field(canvas, field, seeds.size(), "curved dual");
-  validate_seeds(canvas, seeds, 0,
-                 [](std::size_t n) { return "curved dual: seed " + std::to_string(n); });
   if (locals && locals->fields.size() != seeds.size())
     throw Error("curved dual: " + std::to_string(locals->fields.size()) + " local fields for " +
                 std::to_string(seeds.size()) + " seeds");
