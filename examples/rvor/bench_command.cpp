@@ -25,8 +25,7 @@ namespace rvor::cli {
 
 namespace {
 
-const CLI::Validator phase_iteration_count =
-    whole_number_in(1, kMostVisitsPerRelaxation, std::to_string(kMostVisitsPerRelaxation));
+const CLI::Validator phase_iteration_count = whole_number_in(1, kMostVisitsPerRelaxation);
 
 struct BenchOptions {
   std::optional<std::string> domain, metric;
@@ -41,7 +40,7 @@ struct BenchOptions {
   std::size_t inserted_seeds = 0;
   std::size_t insert_batch = 1;
   bool checked_insert = false;
-  std::optional<std::string> memory_budget;
+  std::uint64_t memory_budget = 0;  // bytes (byte_size); 0: the default
   bool no_exact_start = false;
   bool no_reference = false;
   bool no_fastsweeping = false;
@@ -142,7 +141,6 @@ std::vector<BenchCase> chosen_cases(const BenchOptions& o) {
   check_variant_options(o);
   if ((o.domain && o.domain->empty()) || (o.metric && o.metric->empty()))
     throw Error(std::string(o.domain && o.domain->empty() ? "--domain" : "--metric") + " is empty");
-  const std::uint64_t memory_budget = o.memory_budget ? parse_byte_size(*o.memory_budget) : 0;
   std::vector<BenchCase> cases;
   if (!o.domain && !o.metric) {
     cases = standard_bench_cases();
@@ -168,7 +166,7 @@ std::vector<BenchCase> chosen_cases(const BenchOptions& o) {
     c.exact_start = !o.no_exact_start;
     c.reference = !o.no_reference;
     c.fastsweeping = !o.no_fastsweeping;
-    c.memory_budget = memory_budget;
+    c.memory_budget = o.memory_budget;
   }
   return cases;
 }
@@ -359,7 +357,7 @@ void add_bench_command(CLI::App& app) {
                   "uploads the canvas, and compiles the kernels where PoCL's cache lacks them: "
                   "seconds at small sizes; with --insert and 2 or more, an untimed insertion "
                   "follows it, so that the timed ones find their kernels built)")
-      ->transform(whole_number_in(1, 100, "100"))
+      ->transform(whole_number_in(1, 100))
       ->capture_default_str();
   CLI::Option* insert =
       cmd->add_option(
@@ -394,7 +392,7 @@ void add_bench_command(CLI::App& app) {
                   "Refuse canvases needing more memory than this, and a CPU reference solve whose "
                   "arrays would not fit (bytes, or with K/M/G/T, powers of 1024); " +
                       std::string(kDefaultMemoryBudgetHelp))
-      ->check(byte_size);
+      ->transform(byte_size);
   cmd->add_flag("--json", options->json, "Print one JSON object with a `cases` array");
   cmd->add_flag("--quiet", options->quiet, "No progress lines on stderr");
   cmd->callback([options, device] {

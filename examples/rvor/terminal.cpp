@@ -93,21 +93,21 @@ std::string parse_error_text(const CLI::App& app, const CLI::ParseError& error, 
              join(names) + "; see `rvor --help`)";
     return "unknown sub-command '" + std::string(argv[1]) + "' (one of " + join(names) + ")";
   }
-  std::string text = error.what();
-  std::replace(text.begin(), text.end(), '\n', ' ');
+  std::string text = one_line(error.what());
   if (text.size() > 200) text = text.substr(0, 200) + "...";
   const std::string help =
       chosen.empty() ? "rvor --help" : "rvor " + chosen[0]->get_name() + " --help";
   return text + " (see `" + help + "`)";
 }
 
-CLI::Validator whole_number_in(double least, double most, const std::string& most_text) {
+CLI::Validator whole_number_in(double least, double most) {
   return CLI::Validator(
       [=](std::string& text) -> std::string {
         const std::optional<double> value = parse_decimal(text);
         if (!value || !(*value >= least) || *value > most || std::floor(*value) != *value)
           return "'" + text.substr(0, 40) + "' is not a whole number from " +
-                 std::to_string(static_cast<long long>(least)) + " to " + most_text;
+                 std::to_string(static_cast<long long>(least)) + " to " +
+                 std::to_string(static_cast<long long>(most));
         // Handed on in plain decimal: CLI11 converts with base 0, so "010" would be octal 8.
         text = std::to_string(static_cast<long long>(*value));
         return "";
@@ -115,8 +115,8 @@ CLI::Validator whole_number_in(double least, double most, const std::string& mos
       "COUNT");
 }
 
-const CLI::Validator resolution_value = whole_number_in(
-    kLeastCanvasResolution, kMostCanvasResolution, std::to_string(kMostCanvasResolution));
+const CLI::Validator resolution_value =
+    whole_number_in(kLeastCanvasResolution, kMostCanvasResolution);
 
 const CLI::Validator rng_seed_value(
     [](std::string& text) -> std::string {
@@ -131,9 +131,9 @@ const CLI::Validator rng_seed_value(
     "SEED");
 
 const CLI::Validator byte_size(
-    [](const std::string& text) -> std::string {
+    [](std::string& text) -> std::string {
       try {
-        parse_byte_size(text);
+        text = std::to_string(parse_byte_size(text));  // plain bytes for the option's integer
         return "";
       } catch (const Error& error) {
         return error.what();

@@ -43,8 +43,8 @@ class Progress {
 
 // "512M", "2G", "1.5T" or plain bytes. Throws rvor::Error on anything else.
 std::uint64_t parse_byte_size(const std::string& text);
-// --memory-budget's check at parse time (parse_byte_size), so that a bad size is reported before
-// anything else (it came after "out/voronoi.vdb already exists").
+// --memory-budget's transform (parse_byte_size, handing on plain bytes): a bad size is reported
+// at parse time, before anything else (it came after "out/voronoi.vdb already exists").
 extern const CLI::Validator byte_size;
 // What --memory-budget defaults to, in every command's help.
 inline constexpr const char* kDefaultMemoryBudgetHelp =
@@ -60,14 +60,13 @@ std::string parse_error_text(const CLI::App& app, const CLI::ParseError& error, 
                              char** argv);
 // Option validators: a whole number in [least, most] (CLI11 takes "-1" for the largest unsigned),
 // a finite number (its ranges let NaN through).
-CLI::Validator whole_number_in(double least, double most, const std::string& most_text);
+CLI::Validator whole_number_in(double least, double most);
 // Whole-number validators rewrite their text and go in transform(), not check(): CLI11 converts
 // with base 0 ("010" is 8). A canvas resolution:
 extern const CLI::Validator resolution_value;
 // Seed counts up to the OpenCL engine's most.
 inline CLI::Validator seed_count(double least) {
-  return whole_number_in(least, static_cast<double>(kMostOpenCLSeeds),
-                         std::to_string(kMostOpenCLSeeds));
+  return whole_number_in(least, static_cast<double>(kMostOpenCLSeeds));
 }
 // --rng-seed: a whole number that fits in 64 bits, checked on its digits (2^64 - 1 is no double:
 // a comparison in double let 2^64 and above through, saturated to 2^64 - 1).

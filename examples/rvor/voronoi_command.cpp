@@ -50,8 +50,8 @@ struct VoronoiOptions {
   std::string out_dir = "rvor-out";
   bool vtu = false;
   bool overwrite = false;
-  std::optional<std::string> memory_budget;
-  std::string dual;  // "", "straight", "curved" or "both"
+  std::uint64_t memory_budget = 0;  // bytes (byte_size); 0: the default
+  std::string dual;                 // "", "straight", "curved" or "both"
   bool png = false;
   bool quiet = false;
 };
@@ -233,7 +233,7 @@ void write_voronoi(const VoronoiOptions& o, const std::vector<std::string>& crea
     const XyzPoints given_seeds = seeds_from_file(o, domain.dimension());
     CanvasOptions canvas_options;
     canvas_options.resolution = o.resolution;
-    if (o.memory_budget) canvas_options.memory_budget = parse_byte_size(*o.memory_budget);
+    canvas_options.memory_budget = o.memory_budget;
     const std::unique_ptr<MetricField> metric =
         load_metric(o, domain.dimension(), canvas_options.memory_budget);
     const Canvas canvas = build_canvas(domain, *metric, canvas_options);
@@ -462,7 +462,7 @@ void add_voronoi_command(CLI::App& app) {
                   "(--device cpu) whose arrays would not fit, and a curved dual whose local "
                   "fields do not fit beside its canvas (bytes, or with K/M/G/T, powers of 1024); " +
                       std::string(kDefaultMemoryBudgetHelp))
-      ->check(byte_size);
+      ->transform(byte_size);
   cmd->add_flag("--quiet", options->quiet, "Print nothing but errors");
   cmd->callback([options, device] {
     require_chosen_device(device, options->device);
