@@ -8,6 +8,7 @@
 
 #include "rvor/error.h"
 #include "rvor/metric_field.h"
+#include "support/error_of.h"
 
 namespace rvor::test {
 
@@ -46,15 +47,5 @@ bool in_bottle(const Vec3& p, double neck);
 void write_box_obj(const std::string& path, const Vec3& lo, const Vec3& hi);  // v/vt/vn, negative
 void write_box_stl_ascii(const std::string& path, const Vec3& lo, const Vec3& hi);
 void write_box_stl_binary(const std::string& path, const Vec3& lo, const Vec3& hi);
-
-// The message of the rvor::Error `action` throws, or "" when it throws none.
-inline std::string error_of(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const Error& error) {
-    return error.what();
-  }
-  return "";
-}
 
 }  // namespace rvor::test

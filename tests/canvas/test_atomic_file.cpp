@@ -12,6 +12,7 @@
 #include "rvor/atomic_file.h"
 #include "rvor/error.h"
 #include "rvor/seeds.h"
+#include "support/error_of.h"
 #include "support/temp_dir.h"
 
 namespace rvor {
@@ -49,12 +50,8 @@ TEST(AtomicFile, LinkNewLeavesAFileThatAppearedMeanwhile) {
 TEST(AtomicFile, APathThatCannotTakeTheFileSaysWhy) {
   test::TempDir dir;
   const auto message_of = [](const std::string& path) {
-    try {
-      write_file_atomically(path, [](std::ostream& out) { out << "x"; });
-    } catch (const Error& error) {
-      return std::string(error.what());
-    }
-    return std::string("no error");
+    return test::error_of(
+        [&] { write_file_atomically(path, [](std::ostream& out) { out << "x"; }); });
   };
   std::filesystem::create_directory(dir.file("taken"));
   EXPECT_EQ(message_of(dir.file("taken")),
