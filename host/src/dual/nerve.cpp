@@ -342,8 +342,9 @@ Nerve extract_nerve(const Canvas& canvas, const VoronoiField& field, std::size_t
 Nerve extract_nerve(const Canvas& canvas, const VoronoiField& field, std::size_t seed_count,
                     const std::vector<std::uint8_t>& bricks_to_scan) {
   const auto start = std::chrono::steady_clock::now();
-  // Every slot as a solve leaves it (NaN distances, or 0 without a label, gave a nerve); the same
-  // vectorised check as an insertion's, a few ms at 256^3 beside the scan.
+  // Every slot as a solve leaves it (NaN distances, or 0 without a label, gave a nerve): the
+  // vectorised check an insertion runs on a caller's field, one pass over the slots beside the
+  // scan's.
   require_insertable_field(canvas, field, seed_count, "nerve");
   if (bricks_to_scan.size() != canvas.brick_count())
     throw Error("nerve: " + std::to_string(bricks_to_scan.size()) + " brick flags for " +
