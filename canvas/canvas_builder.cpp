@@ -377,8 +377,9 @@ std::string describe(const DomainSpec& domain, const MetricField& metric, int re
 
 }  // namespace
 
-Canvas build_canvas(const DomainSpec& domain, const MetricField& metric,
-                    const CanvasOptions& options) {
+// build_canvas itself; the public entry point names a failed allocation.
+static Canvas build_canvas_itself(const DomainSpec& domain, const MetricField& metric,
+                                  const CanvasOptions& options) {
   if (options.resolution < kLeastCanvasResolution || options.resolution > kMostCanvasResolution)
     throw Error("canvas resolution " + std::to_string(options.resolution) + " is not in [" +
                 std::to_string(kLeastCanvasResolution) + ", " +
@@ -413,6 +414,12 @@ Canvas build_canvas(const DomainSpec& domain, const MetricField& metric,
                                          : true;  // a box or a rectangle
   canvas.description = describe(domain, metric, options.resolution, canvas);
   return canvas;
+}
+
+Canvas build_canvas(const DomainSpec& domain, const MetricField& metric,
+                    const CanvasOptions& options) {
+  return naming_out_of_memory("building the canvas",
+                              [&] { return build_canvas_itself(domain, metric, options); });
 }
 
 }  // namespace rvor

@@ -194,7 +194,8 @@ void write_voronoi_vdb(const std::string& path, const Canvas& canvas, const Voro
   write_grids_atomically(path, {distance, label});
 }
 
-VoronoiField read_voronoi_vdb(const std::string& path, const Canvas& canvas) {
+// read_voronoi_vdb itself; the public entry point names a failed allocation.
+static VoronoiField read_voronoi_vdb_itself(const std::string& path, const Canvas& canvas) {
   require_placed(canvas, "cannot read VDB file " + path + " onto the canvas");
   const auto grids = read_grids(path);
   const auto distance = find_grid<openvdb::FloatGrid>(grids, path, "distance", "float");
@@ -222,6 +223,11 @@ VoronoiField read_voronoi_vdb(const std::string& path, const Canvas& canvas) {
                   voxel_text(c) + ": it was written for another canvas");
   }
   return field;
+}
+
+VoronoiField read_voronoi_vdb(const std::string& path, const Canvas& canvas) {
+  return naming_out_of_memory("reading a Voronoi field from a VDB file",
+                              [&] { return read_voronoi_vdb_itself(path, canvas); });
 }
 
 void write_metric_vdb(const std::string& path, const Canvas& canvas) {

@@ -609,25 +609,29 @@ class ReferencePropagator final : public Propagator {
 
   PropagationStats solve(const Canvas& canvas, const std::vector<Vec3>& seeds,
                          VoronoiField& field) override {
-    validate_seeds(canvas, seeds);
-    ReferenceSolver& solver = solver_for(canvas);
-    const PropagationStats stats = solver.solve(canvas, seeds, last_);
-    export_field(field);
-    return stats;
+    return naming_out_of_memory("solving on the CPU reference", [&] {
+      validate_seeds(canvas, seeds);
+      ReferenceSolver& solver = solver_for(canvas);
+      const PropagationStats stats = solver.solve(canvas, seeds, last_);
+      export_field(field);
+      return stats;
+    });
   }
 
   PropagationStats insert(const Canvas& canvas, const std::vector<Vec3>& seeds,
                           std::size_t first_new, VoronoiField& field) override {
-    validate_seeds(canvas, seeds);
-    if (first_new > seeds.size())
-      throw Error("insert(): first_new " + std::to_string(first_new) + " is past the last of the " +
-                  std::to_string(seeds.size()) + " seeds");
-    require_insertable_field(canvas, field, first_new, "insert()");
-    ReferenceSolver& solver = solver_for(canvas);
-    if (!is_last_output(field)) import_field(field);
-    const PropagationStats stats = solver.insert(canvas, seeds, first_new, last_);
-    export_field(field);
-    return stats;
+    return naming_out_of_memory("inserting seeds on the CPU reference", [&] {
+      validate_seeds(canvas, seeds);
+      if (first_new > seeds.size())
+        throw Error("insert(): first_new " + std::to_string(first_new) +
+                    " is past the last of the " + std::to_string(seeds.size()) + " seeds");
+      require_insertable_field(canvas, field, first_new, "insert()");
+      ReferenceSolver& solver = solver_for(canvas);
+      if (!is_last_output(field)) import_field(field);
+      const PropagationStats stats = solver.insert(canvas, seeds, first_new, last_);
+      export_field(field);
+      return stats;
+    });
   }
 
  private:

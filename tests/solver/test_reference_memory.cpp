@@ -105,7 +105,7 @@ TEST(ReferenceMemory, ASolveOverTheBudgetIsRefusedBeforeItAllocates) {
 
 // The exit code of `child` run in a forked process under an address-space limit of `limit` bytes
 // above what the process maps now (none: 0), or 128 + the signal that killed it; 255 where no
-// limit could be set.
+// limit could be set; 2 where `child` threw.
 int exit_code_in_a_child(rlim_t limit_above_now, const std::function<bool()>& child) {
   const pid_t pid = fork();
   if (pid < 0) return -1;
@@ -118,7 +118,11 @@ int exit_code_in_a_child(rlim_t limit_above_now, const std::function<bool()>& ch
     const rlim_t limit = static_cast<rlim_t>(pages) * sysconf(_SC_PAGESIZE) + limit_above_now;
     const rlimit address_space{limit, limit};
     if (pages == 0 || setrlimit(RLIMIT_AS, &address_space) != 0) _exit(255);
-    _exit(child() ? 0 : 1);
+    try {
+      _exit(child() ? 0 : 1);
+    } catch (...) {  // unwinding past here would run the rest of the suite in the child
+      _exit(2);
+    }
   }
   int status = 0;
   if (waitpid(pid, &status, 0) != pid) return -1;
@@ -141,6 +145,31 @@ TEST(SlotRanges, ThreadsThatCannotStartLeaveTheirWorkToTheCaller) {
                 }),
             0)
       << "1: a range left undone or done twice; 134: aborted";
+}
+
+// What the budget cannot foresee (here: a budget set far above what the process may map) fails as
+// rvor::Error naming what ran out, not as a bare std::bad_alloc past the library boundary.
+TEST(ReferenceMemory, AnAllocationTheBudgetPassedFailsAsANamedError) {
+  const Canvas canvas = varying_canvas(96);  // ~270 MB of stencils and queue
+  const std::vector<Vec3> seeds = random_seeds(canvas, 100, 1);
+  EXPECT_EQ(exit_code_in_a_child(rlim_t{16} << 20,
+                                 [&] {
+                                   const std::unique_ptr<Propagator> reference =
+                                       make_reference_propagator();
+                                   reference->set_memory_budget(std::uint64_t{1} << 40);
+                                   VoronoiField field;
+                                   try {
+                                     reference->solve(canvas, seeds, field);
+                                   } catch (const Error& error) {
+                                     return std::string(error.what())
+                                                .find(
+                                                    "out of memory solving on the CPU reference "
+                                                    "(std::bad_alloc)") == 0;
+                                   }
+                                   return false;
+                                 }),
+            0)
+      << "1: solved, or another message; 2: a std::bad_alloc (or another exception) left solve()";
 }
 
 // The default budget follows a limit on the process below its RAM (here RLIMIT_AS; a container's

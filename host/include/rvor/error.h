@@ -1,8 +1,10 @@
 #pragma once
 // Errors raised at the library boundary. Every message says what is wrong and where
 // (file:line, seed index, world position, OpenCL call), so the CLI can print it as one line.
+#include <new>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace rvor {
 
@@ -10,5 +12,19 @@ class Error : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+// Runs `body`; a std::bad_alloc from it leaves as rvor::Error saying what ran out of memory, so
+// that callers of the library's entry points catch one type with a message. (The budgets check the
+// large arrays beforehand, rvor/memory_budget.h; this is what they could not foresee.)
+template <typename Body>
+auto naming_out_of_memory(std::string_view doing, Body&& body) -> decltype(body()) {
+  try {
+    return body();
+  } catch (const std::bad_alloc&) {
+    throw Error("out of memory " + std::string(doing) +
+                " (std::bad_alloc): the process may not allocate more; lower the resolution or "
+                "the seed count, or free memory");
+  }
+}
 
 }  // namespace rvor

@@ -119,9 +119,11 @@ void build_faces(const Canvas& canvas, const GeodesicTracer& tracer, const Nerve
 
 }  // namespace
 
-CurvedDual build_curved_dual(const Canvas& canvas, const VoronoiField& field, const Nerve& nerve,
-                             const std::vector<Vec3>& given_seeds, const LocalFields* locals,
-                             const CurvedDualOptions& options) {
+// build_curved_dual itself; the public entry point names a failed allocation.
+static CurvedDual build_curved_dual_itself(const Canvas& canvas, const VoronoiField& field,
+                                           const Nerve& nerve, const std::vector<Vec3>& given_seeds,
+                                           const LocalFields* locals,
+                                           const CurvedDualOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<Vec3> seeds =
       dual::checked_dual_seeds(canvas, nerve, given_seeds, "curved dual");
@@ -143,6 +145,14 @@ CurvedDual build_curved_dual(const Canvas& canvas, const VoronoiField& field, co
   if (locals) build_faces(canvas, tracer, nerve, seeds, dual);
   dual.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return dual;
+}
+
+CurvedDual build_curved_dual(const Canvas& canvas, const VoronoiField& field, const Nerve& nerve,
+                             const std::vector<Vec3>& given_seeds, const LocalFields* locals,
+                             const CurvedDualOptions& options) {
+  return naming_out_of_memory("building the curved dual", [&] {
+    return build_curved_dual_itself(canvas, field, nerve, given_seeds, locals, options);
+  });
 }
 
 void write_curved_dual_vtu(const std::string& path, const CurvedDual& dual) {

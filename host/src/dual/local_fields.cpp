@@ -383,9 +383,10 @@ void require_valid_options(const LocalFieldOptions& options) {
 
 }  // namespace
 
-LocalFields compute_local_fields(const Canvas& canvas, const Nerve& nerve,
-                                 const std::vector<Vec3>& given_seeds,
-                                 const LocalFieldOptions& options) {
+// compute_local_fields itself; the public entry point names a failed allocation.
+static LocalFields compute_local_fields_itself(const Canvas& canvas, const Nerve& nerve,
+                                               const std::vector<Vec3>& given_seeds,
+                                               const LocalFieldOptions& options) {
   require_valid_options(options);
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<Vec3> seeds =
@@ -422,6 +423,14 @@ LocalFields compute_local_fields(const Canvas& canvas, const Nerve& nerve,
   }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
+}
+
+LocalFields compute_local_fields(const Canvas& canvas, const Nerve& nerve,
+                                 const std::vector<Vec3>& given_seeds,
+                                 const LocalFieldOptions& options) {
+  return naming_out_of_memory("computing the local fields", [&] {
+    return compute_local_fields_itself(canvas, nerve, given_seeds, options);
+  });
 }
 
 }  // namespace rvor

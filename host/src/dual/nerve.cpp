@@ -339,8 +339,10 @@ Nerve extract_nerve(const Canvas& canvas, const VoronoiField& field, std::size_t
                        std::vector<std::uint8_t>(canvas.brick_count(), std::uint8_t{1}));
 }
 
-Nerve extract_nerve(const Canvas& canvas, const VoronoiField& field, std::size_t seed_count,
-                    const std::vector<std::uint8_t>& bricks_to_scan) {
+// extract_nerve itself; the public entry point names a failed allocation.
+static Nerve extract_nerve_itself(const Canvas& canvas, const VoronoiField& field,
+                                  std::size_t seed_count,
+                                  const std::vector<std::uint8_t>& bricks_to_scan) {
   const auto start = std::chrono::steady_clock::now();
   // Every slot as a solve leaves it (NaN distances, or 0 without a label, gave a nerve): the
   // vectorised check an insertion runs on a caller's field, one pass over the slots beside the
@@ -386,6 +388,13 @@ Nerve extract_nerve(const Canvas& canvas, const VoronoiField& field, std::size_t
   nerve.degenerate_witnesses = maps[0].take_degenerate(Nerve::kMaxDegenerateListed);
   nerve.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return nerve;
+}
+
+Nerve extract_nerve(const Canvas& canvas, const VoronoiField& field, std::size_t seed_count,
+                    const std::vector<std::uint8_t>& bricks_to_scan) {
+  return naming_out_of_memory("extracting the nerve", [&] {
+    return extract_nerve_itself(canvas, field, seed_count, bricks_to_scan);
+  });
 }
 
 }  // namespace rvor

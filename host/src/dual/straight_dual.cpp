@@ -140,9 +140,10 @@ bool is_ball_triangulation(const StraightDual& dual) {
 
 }  // namespace
 
-StraightDual build_straight_dual(const Canvas& canvas, const Nerve& nerve,
-                                 const std::vector<Vec3>& given_seeds,
-                                 const StraightDualOptions& options) {
+// build_straight_dual itself; the public entry point names a failed allocation.
+static StraightDual build_straight_dual_itself(const Canvas& canvas, const Nerve& nerve,
+                                               const std::vector<Vec3>& given_seeds,
+                                               const StraightDualOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const std::vector<Vec3> seeds =
       dual::checked_dual_seeds(canvas, nerve, given_seeds, "straight dual");
@@ -165,6 +166,14 @@ StraightDual build_straight_dual(const Canvas& canvas, const Nerve& nerve,
   dual::measure_quality(dual);
   dual.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return dual;
+}
+
+StraightDual build_straight_dual(const Canvas& canvas, const Nerve& nerve,
+                                 const std::vector<Vec3>& given_seeds,
+                                 const StraightDualOptions& options) {
+  return naming_out_of_memory("building the straight dual", [&] {
+    return build_straight_dual_itself(canvas, nerve, given_seeds, options);
+  });
 }
 
 namespace dual {

@@ -144,7 +144,7 @@ class OpenCLPropagator final : public Propagator {
   template <typename F>
   auto guarded(const std::string& doing, F&& body) -> decltype(body()) {
     try {
-      return body();
+      return naming_out_of_memory(doing, body);
     } catch (const cl::Error& e) {
       opencl::throw_opencl_error(e, doing + " on " + device_.info.name);
     }
