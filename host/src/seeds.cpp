@@ -201,6 +201,7 @@ void validate_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds,
 void validate_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds,
                     std::size_t first_unchecked,
                     const std::function<std::string(std::size_t)>& name) {
+  if (canvas.active_voxel_count == 0) throw Error(kEmptyCanvasMessage);
   if (seeds.empty()) throw Error("no seeds given");
   // More seeds than voxels leave some without a cell, and the seed blocks' claims cost the square
   // of the seeds around a voxel (20 000 seeds on a 32^2 canvas ran for minutes).

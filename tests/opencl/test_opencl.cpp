@@ -19,6 +19,7 @@
 #include "support/bad_fields.h"
 #include "support/box_canvas.h"
 #include "support/close_seeds.h"
+#include "support/error_of.h"
 
 namespace rvor {
 namespace {
@@ -734,6 +735,29 @@ TEST(OpenCLSeeds, SeedOutsideTheDomainIsAnError) {
   const Canvas canvas = test::make_uniform_box_canvas(2, kLo, kHi, 16, Mat3::Identity());
   VoronoiField field;
   EXPECT_THROW(engine->solve(canvas, {Vec3(5, 0, 0)}, field), Error);
+}
+
+// A hand-built canvas without active voxels, with no bricks or with bricks all inactive: both
+// engines say so alike, whatever the seeds (the reference spoke of seeds sharing voxels, the
+// OpenCL engine of the canvas, and only where it had no bricks).
+TEST(OpenCLSeeds, BothEnginesSayACanvasIsEmptyAlike) {
+  REQUIRE_ENGINE(RelaxationVariant::automatic);
+  const std::unique_ptr<Propagator> reference = make_reference_propagator();
+  for (const bool with_bricks : {false, true}) {
+    Canvas canvas;
+    canvas.allocate(3, 0.1, Vec3::Zero(), {8, 8, 8},
+                    with_bricks ? std::vector<VoxelIndex>{{0, 0, 0}} : std::vector<VoxelIndex>{},
+                    Mat3::Identity());
+    canvas.finalize();
+    for (Propagator* propagator : {engine.get(), reference.get()})
+      for (const std::vector<Vec3>& seeds : {std::vector<Vec3>{}, {Vec3(0.3, 0.3, 0.3)}}) {
+        VoronoiField field;
+        EXPECT_EQ(test::error_of([&] { propagator->solve(canvas, seeds, field); }),
+                  kEmptyCanvasMessage)
+            << propagator->device_description() << (with_bricks ? ", one inactive brick" : "")
+            << ", " << seeds.size() << " seeds";
+      }
+  }
 }
 
 TEST(OpenCLStencils, OffsetsPastInt8AreRefusedWithTheVoxel) {

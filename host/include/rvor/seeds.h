@@ -27,9 +27,14 @@ XyzPoints read_xyz_with_lines(const std::string& path, int dimension);
 // Refuses a point that is not finite, which read_xyz would refuse.
 void write_xyz(const std::string& path, const std::vector<Vec3>& points, int dimension);
 
+// What the engines say of a canvas without active voxels (a hand-built one: build_canvas refuses
+// an empty domain), whatever the seeds.
+inline constexpr const char* kEmptyCanvasMessage =
+    "the canvas has no active voxel: nothing to propagate on";
+
 // Throws rvor::Error "seed N at (x, y, z) is outside the domain" when a seed's containing voxel
-// is not an active canvas voxel, or its coordinates are not finite; on an empty seed list, and on
-// more seeds than active voxels.
+// is not an active canvas voxel, or its coordinates are not finite; on an empty canvas
+// (kEmptyCanvasMessage), an empty seed list, and more seeds than active voxels.
 // A 2D canvas ignores z (read_xyz with a dimension checks files). Seeds before `first_unchecked`
 // are taken as checked already (an insertion's solved seeds); the count is always checked. Seeds
 // that share a voxel are accepted (the engines give the voxel to the smaller label, so the other

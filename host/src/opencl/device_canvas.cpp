@@ -16,6 +16,7 @@
 #include "reader_reach.h"
 #include "rvor/error.h"
 #include "rvor/nearest_seeds.h"
+#include "rvor/seeds.h"
 #include "rvor/selling.h"
 
 namespace rvor::opencl {
@@ -280,7 +281,7 @@ DeviceCanvas upload_canvas(const cl::Context& context, const Canvas& canvas, int
   DeviceCanvas d;
   d.slots = canvas.slot_count();
   d.bricks = canvas.brick_count();
-  if (d.bricks == 0) throw Error("the canvas has no active voxels");
+  if (d.bricks == 0) throw Error(kEmptyCanvasMessage);
   d.length_unit = device_length_unit(canvas);
   PackedStencils stencils = pack_stencils(canvas, d.length_unit);
   BufferMaker make(context, d.bytes);
