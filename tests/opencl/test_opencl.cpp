@@ -718,6 +718,18 @@ TEST(OpenCLDevices, DefaultDeviceNameComesFromTheEnvironment) {
   EXPECT_EQ(default_device_name(), "auto");
 }
 
+// A library caller's user set the name in the environment: the error says so (it said "unknown
+// device 'gpu0'" alone).
+TEST(OpenCLDevices, TheDefaultPropagatorNamesTheVariableItsDeviceCameFrom) {
+  setenv("RVOR_DEVICE", "gpu0", 1);
+  const std::string message = test::error_of([] { make_default_propagator(); });
+  unsetenv("RVOR_DEVICE");
+  EXPECT_EQ(message.rfind("RVOR_DEVICE=gpu0: ", 0), 0u) << message;
+  setenv("RVOR_DEVICE", "cpu", 1);
+  EXPECT_EQ(make_default_propagator()->device_description(), "cpu reference");
+  unsetenv("RVOR_DEVICE");
+}
+
 TEST(OpenCLPrograms, SyntaxErrorGivesTheBuildLog) {
   if (list_opencl_devices().empty()) GTEST_SKIP() << "no OpenCL device";
   try {

@@ -139,5 +139,9 @@ std::unique_ptr<Propagator> make_reference_propagator(bool exact_start = true);
 // "cpu" -> the reference; "auto", "opencl", "opencl:N", "pocl" -> the OpenCL engine (added by
 // the OpenCL runtime). Throws rvor::Error for unknown names or missing devices.
 std::unique_ptr<Propagator> make_propagator(const std::string& device);
+// make_propagator(default_device_name()): $RVOR_DEVICE, else "auto" (rvor/devices.h). An error
+// for a name taken from RVOR_DEVICE begins "RVOR_DEVICE=<name>: ", so that the caller's user
+// knows where the name came from.
+std::unique_ptr<Propagator> make_default_propagator();
 
 }  // namespace rvor
