@@ -143,10 +143,11 @@ class OpenCLPropagator final : public Propagator {
  private:
   template <typename F>
   auto guarded(const std::string& doing, F&& body) -> decltype(body()) {
+    const std::string where = doing + " on " + device_.info.name;
     try {
-      return naming_out_of_memory(doing, body);
+      return naming_out_of_memory(where, body);
     } catch (const cl::Error& e) {
-      opencl::throw_opencl_error(e, doing + " on " + device_.info.name);
+      opencl::throw_opencl_error(e, where);
     }
   }
 
