@@ -14,6 +14,7 @@
 #include <rvor/propagation.h>
 #include <rvor/voronoi_session.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -55,6 +56,13 @@ Arguments parse_arguments(int argc, char** argv) {
         argv[3], "RESOLUTION", rvor::kLeastCanvasResolution, rvor::kMostCanvasResolution));
   if (argc > 4) a.seeds = static_cast<std::size_t>(whole_number(argv[4], "SEEDS", 2, 100000));
   return a;
+}
+
+// The centre of the first active voxel (slot 0 lies outside a domain that does not fill its box).
+rvor::Vec3 first_active_voxel(const rvor::Canvas& canvas) {
+  std::size_t slot = 0;
+  while (!canvas.active[slot]) ++slot;  // build_canvas refuses a canvas without active voxels
+  return canvas.world_of(slot);
 }
 
 // The centre of the reached voxel farthest from its seed (ties: the first slot).
@@ -103,7 +111,7 @@ int main(int argc, char** argv) try {
   const rvor::Canvas canvas = rvor::build_canvas(domain, *metric, options);
 
   rvor::VoronoiSession session(rvor::make_default_propagator());
-  session.solve(canvas, {canvas.world_of(std::size_t{0})});
+  session.solve(canvas, {first_active_voxel(canvas)});
   const auto start = std::chrono::steady_clock::now();
   while (session.seeds().size() < a.seeds)
     session.insert(canvas, {farthest_voxel(canvas, session.field())});
