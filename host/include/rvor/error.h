@@ -13,17 +13,22 @@ class Error : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Runs `body`; a std::bad_alloc from it leaves as rvor::Error saying what ran out of memory, so
-// that callers of the library's entry points catch one type with a message. (The budgets check the
-// large arrays beforehand, rvor/memory_budget.h; this is what they could not foresee.)
+// The rvor::Error a std::bad_alloc becomes at the library's entry points, so that their callers
+// catch one type with a message: "out of memory <doing> (std::bad_alloc): ...". (The budgets check
+// the large arrays beforehand, rvor/memory_budget.h; this is what they could not foresee.)
+inline Error out_of_memory_error(std::string_view doing) {
+  return Error("out of memory " + std::string(doing) +
+               " (std::bad_alloc): the process may not allocate more; lower the resolution or the "
+               "seed count, or free memory");
+}
+
+// Runs `body`; a std::bad_alloc from it leaves as out_of_memory_error(doing).
 template <typename Body>
 auto naming_out_of_memory(std::string_view doing, Body&& body) -> decltype(body()) {
   try {
     return body();
   } catch (const std::bad_alloc&) {
-    throw Error("out of memory " + std::string(doing) +
-                " (std::bad_alloc): the process may not allocate more; lower the resolution or "
-                "the seed count, or free memory");
+    throw out_of_memory_error(doing);
   }
 }
 

@@ -10,6 +10,7 @@
 #include <future>
 #include <limits>
 #include <memory>
+#include <new>
 #include <optional>
 #include <utility>
 
@@ -143,11 +144,12 @@ class OpenCLPropagator final : public Propagator {
  private:
   template <typename F>
   auto guarded(const std::string& doing, F&& body) -> decltype(body()) {
-    const std::string where = doing + " on " + device_.info.name;
     try {
-      return naming_out_of_memory(where, body);
+      return body();
     } catch (const cl::Error& e) {
-      opencl::throw_opencl_error(e, where);
+      opencl::throw_opencl_error(e, doing + " on " + device_.info.name);
+    } catch (const std::bad_alloc&) {
+      throw out_of_memory_error(doing + " on " + device_.info.name);
     }
   }
 
