@@ -41,4 +41,10 @@ void require_insertable_field(const Canvas& canvas, const VoronoiField& field,
   }
 }
 
+void require_first_new(std::size_t first_new, std::size_t seed_count) {
+  if (first_new > seed_count)
+    throw Error("insert(): first_new " + std::to_string(first_new) + " is past the last of the " +
+                std::to_string(seed_count) + " seeds");
+}
+
 }  // namespace rvor

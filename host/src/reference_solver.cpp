@@ -622,9 +622,7 @@ class ReferencePropagator final : public Propagator {
                           std::size_t first_new, VoronoiField& field) override {
     return naming_out_of_memory("inserting seeds on the CPU reference", [&] {
       validate_seeds(canvas, seeds);
-      if (first_new > seeds.size())
-        throw Error("insert(): first_new " + std::to_string(first_new) +
-                    " is past the last of the " + std::to_string(seeds.size()) + " seeds");
+      require_first_new(first_new, seeds.size());
       require_insertable_field(canvas, field, first_new, "insert()");
       ReferenceSolver& solver = solver_for(canvas);
       if (!is_last_output(field)) import_field(field);

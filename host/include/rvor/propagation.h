@@ -53,6 +53,10 @@ inline bool insertable_slot(float distance, std::int32_t label, std::size_t solv
 void require_insertable_field(const Canvas& canvas, const VoronoiField& field,
                               std::size_t solved_seeds, const std::string& what);
 
+// Throws rvor::Error "insert(): first_new F is past the last of the N seeds" unless the new seeds
+// start within `seed_count` (every engine's insert() checks it).
+void require_first_new(std::size_t first_new, std::size_t seed_count);
+
 struct PropagationStats {
   // Outer iterations (reference: queue pops; OpenCL: active-list rounds).
   std::uint64_t iterations = 0;

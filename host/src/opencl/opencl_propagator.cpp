@@ -183,9 +183,7 @@ class OpenCLPropagator final : public Propagator {
     return guarded("inserting seeds", [&] {
       const auto start = std::chrono::steady_clock::now();
       require_field_for(canvas, field, "insert()");
-      if (first_new > seeds.size())
-        throw Error("insert(): first_new " + std::to_string(first_new) +
-                    " is past the last of the " + std::to_string(seeds.size()) + " seeds");
+      require_first_new(first_new, seeds.size());
       // The check of the caller's field reads every slot: it starts first, beside all the rest.
       std::future<opencl::FieldDigest> digest;
       if (!returned)
