@@ -192,13 +192,8 @@ CLI::Option* add_device_option(CLI::App* command, std::string& device,
 }
 
 void require_chosen_device(const CLI::Option* option, const std::string& device) {
-  try {
-    require_device(device);
-  } catch (const Error& error) {
-    const char* environment = std::getenv("RVOR_DEVICE");
-    if (option->count() > 0 || !environment || !*environment) throw;
-    throw Error("RVOR_DEVICE=" + device + ": " + error.what());
-  }
+  if (option->count() > 0) return require_device(device);
+  with_default_device([](const std::string& name) { require_device(name); });
 }
 
 void print_voronoi_summary(std::ostream& out, const std::string& out_dir,

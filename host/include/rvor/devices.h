@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "rvor/error.h"
+
 namespace rvor {
 
 struct OpenCLDeviceInfo {
@@ -30,6 +32,22 @@ std::vector<OpenCLDeviceInfo> list_opencl_devices();
 
 // The device name for library users: $RVOR_DEVICE when set and non-empty, else "auto".
 std::string default_device_name();
+// Whether default_device_name() is $RVOR_DEVICE's value.
+bool device_name_from_environment();
+
+// use(default_device_name()); an rvor::Error from it about a name taken from $RVOR_DEVICE leaves
+// with "RVOR_DEVICE=<name>: " before its message, so that the user knows where the name came from
+// (make_default_propagator, and `rvor` without --device).
+template <typename Use>
+auto with_default_device(Use&& use) -> decltype(use(std::string())) {
+  const std::string name = default_device_name();
+  if (!device_name_from_environment()) return use(name);
+  try {
+    return use(name);
+  } catch (const Error& error) {
+    throw Error("RVOR_DEVICE=" + name + ": " + error.what());
+  }
+}
 
 // Throws rvor::Error unless `name` has one of the forms above.
 void check_device_name(const std::string& name);

@@ -13,19 +13,16 @@ std::unique_ptr<Propagator> make_propagator(const std::string& device) {
 }
 
 std::unique_ptr<Propagator> make_default_propagator() {
-  const std::string device = default_device_name();
-  const char* environment = std::getenv("RVOR_DEVICE");
-  if (!environment || !*environment) return make_propagator(device);
-  try {
-    return make_propagator(device);
-  } catch (const Error& error) {
-    throw Error("RVOR_DEVICE=" + device + ": " + error.what());
-  }
+  return with_default_device([](const std::string& name) { return make_propagator(name); });
+}
+
+bool device_name_from_environment() {
+  const char* value = std::getenv("RVOR_DEVICE");
+  return value && *value;
 }
 
 std::string default_device_name() {
-  const char* value = std::getenv("RVOR_DEVICE");
-  return value && *value ? value : "auto";
+  return device_name_from_environment() ? std::getenv("RVOR_DEVICE") : "auto";
 }
 
 }  // namespace rvor
