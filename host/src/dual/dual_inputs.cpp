@@ -37,17 +37,14 @@ std::vector<Vec3> checked_dual_seeds(const Canvas& canvas, const Nerve& nerve,
   require_simplices(nerve.edges, 2, seeds.size(), who);
   require_simplices(nerve.triangles, 3, seeds.size(), who);
   require_simplices(nerve.tetrahedra, 4, seeds.size(), who);
-  std::vector<Vec3> planar = seeds;
-  for (std::size_t n = 0; n < planar.size(); ++n) {
-    if (!planar[n].allFinite())
-      throw Error(who + ": seed " + std::to_string(n) + " has a coordinate that is not finite");
-    if (canvas.dimension == 2) planar[n].z() = 0.0;  // as the propagators read a 2D seed
-  }
   // As the propagators check them, with the position ("dual: seed 1 is not in an active voxel",
   // under another entry point's name, was all the local fields said).
-  if (!planar.empty())
-    validate_seeds(canvas, planar, 0,
+  if (!seeds.empty())
+    validate_seeds(canvas, seeds, 0,
                    [&](std::size_t n) { return who + ": seed " + std::to_string(n); });
+  std::vector<Vec3> planar = seeds;
+  if (canvas.dimension == 2)
+    for (Vec3& seed : planar) seed.z() = 0.0;  // as the propagators read a 2D seed
   return planar;
 }
 
