@@ -44,25 +44,21 @@ std::optional<std::vector<std::string>> number_fields(const std::string& line) {
     return fields;
   }
   if (commas && semicolons) return std::nullopt;
-  const char separator = commas ? ',' : ';';
   std::optional<bool> blank_after;  // whether a blank follows each separator, alike on the line
-  for (std::size_t start = 0;;) {
-    const std::size_t end = std::min(line.find(separator, start), line.size());
-    const std::string field = line.substr(start, end - start);
+  for (const std::string& field : split_at(line, commas ? ',' : ';')) {
     const std::size_t first = field.find_first_not_of(kBlanks);
     if (first == std::string::npos) return std::nullopt;
     const std::size_t last = field.find_last_not_of(kBlanks);
     const std::string number = field.substr(first, last - first + 1);
     if (number.find_first_of(kBlanks) != std::string::npos) return std::nullopt;
-    if (start != 0) {
+    if (!fields.empty()) {
       const bool blank = first != 0;
       if (blank_after && *blank_after != blank) return std::nullopt;
       blank_after = blank;
     }
     fields.push_back(number);
-    if (end == line.size()) return fields;
-    start = end + 1;
   }
+  return fields;
 }
 
 // Parses 2 or 3 numbers (number_fields); nothing else may follow. Returns how many, 0 on a
