@@ -12,6 +12,7 @@
 #include "dual/witness_cache.h"
 #include "joining_threads.h"
 #include "rvor/error.h"
+#include "slot_ranges.h"
 
 namespace rvor {
 
@@ -354,7 +355,7 @@ static Nerve extract_nerve_itself(const Canvas& canvas, const VoronoiField& fiel
   std::vector<std::uint32_t> bricks;
   for (std::size_t b = 0; b < bricks_to_scan.size(); ++b)
     if (bricks_to_scan[b]) bricks.push_back(static_cast<std::uint32_t>(b));
-  const unsigned threads = std::max(1u, std::min(16u, std::thread::hardware_concurrency()));
+  const unsigned threads = slot_threads();
   std::vector<dual::SimplexMap> maps(threads);
   std::atomic<std::size_t> next{0};
   std::vector<std::exception_ptr> errors(threads);
