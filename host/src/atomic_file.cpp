@@ -89,18 +89,17 @@ void write_file_atomically(const std::string& path,
   publish_temporary(temporary, path);
 }
 
-bool prepare_output_directory(const std::string& dir) {
+void prepare_output_directory(const std::string& dir) {
   std::error_code error;
   if (fs::exists(dir, error) && !fs::is_directory(dir, error))
     throw Error("cannot write to output directory " + dir + ": it exists and is not a directory");
-  const bool created = fs::create_directories(dir, error);
+  fs::create_directories(dir, error);
   if (error) throw Error("cannot write to output directory " + dir + ": " + error.message());
   const std::string probe = temporary_path_for((fs::path(dir) / "probe").string());
   std::ofstream out(probe);
   if (!out) throw Error("cannot write to output directory " + dir + ": " + std::strerror(errno));
   out.close();
   fs::remove(probe, error);
-  return created;
 }
 
 }  // namespace rvor

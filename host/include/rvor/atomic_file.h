@@ -30,8 +30,7 @@ void publish_temporary(const std::string& temporary, const std::string& path);
 void link_new(const std::string& source, const std::string& target);
 
 // Throws rvor::Error "cannot write to output directory DIR: reason" unless DIR exists (it is
-// created with its parents if missing) and a file can be created in it. Returns whether it
-// created DIR.
-bool prepare_output_directory(const std::string& dir);
+// created with its parents if missing) and a file can be created in it.
+void prepare_output_directory(const std::string& dir);
 
 }  // namespace rvor
