@@ -25,7 +25,8 @@ namespace rvor::cli {
 
 namespace {
 
-const CLI::Validator phase_iteration_count = whole_number_in(1, kMostVisitsPerRelaxation);
+// Sweeps or phase iterations per relaxation (kMostVisitsPerRelaxation bounds both).
+const CLI::Validator visit_count = whole_number_in(1, kMostVisitsPerRelaxation);
 
 struct BenchOptions {
   std::optional<std::string> domain, metric;
@@ -35,7 +36,7 @@ struct BenchOptions {
   std::string device = default_device_name();  // $RVOR_DEVICE, else auto
   RelaxationVariant variant = RelaxationVariant::automatic;
   std::optional<double> front_step;
-  std::optional<int> phase_iterations, insertion_phase_iterations;
+  std::optional<int> phase_iterations, insertion_phase_iterations, max_sweeps;
   int repetitions = 2;  // the first solve may include compiling the kernels
   std::size_t inserted_seeds = 0;
   std::size_t insert_batch = 1;
@@ -112,13 +113,15 @@ const CLI::Validator variant_from_name(
     },
     "");
 
-// Front stepping is a brick_lanes schedule, phase iterations voxel_phases': an explicit other
-// variant would ignore them, and the reference (--device cpu) ignores all four.
+// Front stepping is a brick_lanes schedule, sweeps the brick variants', phase iterations
+// voxel_phases': an explicit other variant would ignore them, and the reference (--device cpu)
+// ignores all five.
 void check_variant_options(const BenchOptions& o) {
   if (o.device == "cpu")
     for (const auto& [option, given] :
          {std::pair{"--variant", o.variant != RelaxationVariant::automatic},
           std::pair{"--front-step", o.front_step.has_value()},
+          std::pair{"--max-sweeps", o.max_sweeps.has_value()},
           std::pair{"--phase-iterations", o.phase_iterations.has_value()},
           std::pair{"--insertion-phase-iterations", o.insertion_phase_iterations.has_value()}})
       if (given)
@@ -132,6 +135,7 @@ void check_variant_options(const BenchOptions& o) {
   };
   if (o.front_step && *o.front_step > 0 && (sweeps || phases))
     refuse("--front-step", "brick_lanes solves");
+  if (o.max_sweeps && phases) refuse("--max-sweeps", "brick_sweep and brick_lanes");
   const bool other = sweeps || o.variant == RelaxationVariant::brick_lanes;
   if (o.phase_iterations && other) refuse("--phase-iterations", "voxel_phases");
   if (o.insertion_phase_iterations && other) refuse("--insertion-phase-iterations", "voxel_phases");
@@ -157,6 +161,7 @@ std::vector<BenchCase> chosen_cases(const BenchOptions& o) {
     c.device = o.device;
     c.variant = o.variant;
     if (o.front_step) c.front_step = *o.front_step;
+    if (o.max_sweeps) c.max_sweeps = *o.max_sweeps;
     if (o.phase_iterations) c.phase_iterations = *o.phase_iterations;
     if (o.insertion_phase_iterations) c.insertion_phase_iterations = *o.insertion_phase_iterations;
     c.repetitions = o.repetitions;
@@ -267,6 +272,8 @@ nlohmann::json case_json(const BenchResult& r) {
           {"front_step", r.bench_case.front_step < 0 ? nlohmann::json(nullptr)  // automatic
                                                      : nlohmann::json(r.bench_case.front_step)},
           {"repeat", r.bench_case.repetitions},
+          {"max_sweeps", r.bench_case.max_sweeps == 0 ? nlohmann::json(nullptr)  // automatic
+                                                      : nlohmann::json(r.bench_case.max_sweeps)},
           {"phase_iterations", r.bench_case.phase_iterations},
           {"insertion_phase_iterations", r.bench_case.insertion_phase_iterations},
           {"insert_mean_seconds", or_null(r.insert_mean_seconds)},
@@ -342,15 +349,20 @@ void add_bench_command(CLI::App& app) {
                   "tentative value), at least 0.25; 0: off; default automatic: 3 for non-axis "
                   "stencils and Voronoi cells at least 50 voxels across, else off")
       ->check(front_step_range);
+  cmd->add_option("--max-sweeps", options->max_sweeps,
+                  "brick_lanes and brick_sweep: most sweeps per brick relaxation (default "
+                  "automatic: 4 for a uniform metric with axis offsets, 2 for any other stencil; "
+                  "visits_per_relaxation in --json gives what ran)")
+      ->transform(visit_count);
   cmd->add_option("--phase-iterations", options->phase_iterations,
                   "voxel_phases (an explicit --variant, or auto on a GPU): most iterations per "
                   "round of a solve (default " +
                       std::to_string(OpenCLOptions{}.phase_iterations) + ")")
-      ->transform(phase_iteration_count);
+      ->transform(visit_count);
   cmd->add_option("--insertion-phase-iterations", options->insertion_phase_iterations,
                   "voxel_phases: most iterations per round of an insertion (default " +
                       std::to_string(OpenCLOptions{}.insertion_phase_iterations) + ")")
-      ->transform(phase_iteration_count);
+      ->transform(visit_count);
   cmd->add_option("--repeat", options->repetitions,
                   "Solves per case with the same engine, and runs of FastSweeping; the fastest "
                   "of each counts (the engine's first solve also "

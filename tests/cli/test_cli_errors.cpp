@@ -418,10 +418,13 @@ TEST_F(CliErrors, ParseErrorsAreOneLineWithExitCodeOne) {
         // An option of the other variants' schedules, which this one would ignore.
         std::string("bench --variant brick_lanes --insertion-phase-iterations 2"),
         std::string("bench --variant voxel_phases --front-step 3"),
+        std::string("bench --max-sweeps 0"), std::string("bench --max-sweeps 65"),
+        std::string("bench --variant voxel_phases --max-sweeps 3"),
         // Options nothing in the run would read (each small enough to run quickly if taken).
         std::string("bench --resolution 8 --seeds 2 --no-fastsweeping --device cpu --variant "
                     "voxel_phases"),
         std::string("bench --resolution 8 --seeds 2 --no-fastsweeping --device cpu --front-step 3"),
+        std::string("bench --resolution 8 --seeds 2 --no-fastsweeping --device cpu --max-sweeps 3"),
         std::string("bench --resolution 8 --seeds 2 --no-fastsweeping --insert-batch 2"),
         std::string("bench --resolution 8 --seeds 2 --no-fastsweeping --checked-insert"),
         std::string("voronoi --quiet --out " + out() +

@@ -232,6 +232,28 @@ TEST(BenchCommand, JsonHasTheRequiredKeysPerCase) {
   EXPECT_GE(report["cases"][1].at("max_anisotropy").get<double>(), 10.0);
 }
 
+// --max-sweeps sets the brick variants' sweeps per relaxation, which the JSON reports as asked
+// (max_sweeps) and as run (visits_per_relaxation); automatic is null.
+TEST(BenchCommand, MaxSweepsIsTheSweepsPerRelaxation) {
+  REQUIRE_OPENCL_DEVICE();
+  const std::string command = test::rvor_binary() +
+                              " bench --metric euclidean --resolution 16 --seeds 5 --no-reference "
+                              "--no-fastsweeping --repeat 1 --json --quiet --variant brick_lanes";
+  for (const int sweeps : {0, 3}) {
+    const test::CommandResult result = test::run_command(
+        command + (sweeps ? " --max-sweeps " + std::to_string(sweeps) : std::string()));
+    ASSERT_EQ(result.exit_code, 0) << result.err;
+    const nlohmann::json c = nlohmann::json::parse(result.out).at("cases").at(0);
+    if (sweeps == 0) {
+      EXPECT_TRUE(c.at("max_sweeps").is_null());
+      EXPECT_EQ(c.at("visits_per_relaxation"), 4);  // automatic: axis offsets
+    } else {
+      EXPECT_EQ(c.at("max_sweeps"), sweeps);
+      EXPECT_EQ(c.at("visits_per_relaxation"), sweeps);
+    }
+  }
+}
+
 TEST(BenchCommand, UnknownVariantIsAOneLineError) {
   const test::CommandResult result =
       test::run_command(test::rvor_binary() + " bench --variant fastest --resolution 8");

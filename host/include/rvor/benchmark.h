@@ -23,6 +23,8 @@ struct BenchCase {
   RelaxationVariant variant = RelaxationVariant::automatic;  // OpenCL devices only
   // OpenCL brick_lanes solves: OpenCLOptions::front_step (automatic by default).
   double front_step = OpenCLOptions{}.front_step;
+  // OpenCL brick_lanes and brick_sweep: OpenCLOptions::max_sweeps (0: automatic).
+  int max_sweeps = OpenCLOptions{}.max_sweeps;
   // OpenCL voxel_phases: OpenCLOptions::phase_iterations and insertion_phase_iterations.
   int phase_iterations = OpenCLOptions{}.phase_iterations;
   int insertion_phase_iterations = OpenCLOptions{}.insertion_phase_iterations;

@@ -52,6 +52,7 @@ std::unique_ptr<Propagator> make_engine(const BenchCase& c) {
   OpenCLOptions options;
   options.variant = c.variant;
   options.front_step = c.front_step;
+  options.max_sweeps = c.max_sweeps;
   options.phase_iterations = c.phase_iterations;
   options.insertion_phase_iterations = c.insertion_phase_iterations;
   options.exact_start = c.exact_start;
