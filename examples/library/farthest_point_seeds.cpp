@@ -12,16 +12,16 @@
 #include <rvor/error.h>
 #include <rvor/metric_field.h>
 #include <rvor/propagation.h>
+#include <rvor/spec_text.h>
 #include <rvor/voronoi_session.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <exception>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -36,13 +36,11 @@ struct Arguments {
 
 // A positional argument that must be a decimal whole number in [least, most].
 long long whole_number(const char* text, const char* name, long long least, long long most) {
-  char* end = nullptr;
-  errno = 0;
-  const long long value = std::strtoll(text, &end, 10);
-  if (end == text || *end != '\0' || errno != 0 || value < least || value > most)
+  const std::optional<long long> value = rvor::parse_integer(text);
+  if (!value || *value < least || *value > most)
     throw rvor::Error(std::string(name) + " '" + text + "' is not a whole number in [" +
                       std::to_string(least) + ", " + std::to_string(most) + "]");
-  return value;
+  return *value;
 }
 
 Arguments parse_arguments(int argc, char** argv) {
