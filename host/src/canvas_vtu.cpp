@@ -1,6 +1,8 @@
 // The labeled canvas as a VTK XML unstructured grid with raw appended binary data: voxel cells
 // (VTK_VOXEL in 3D, VTK_PIXEL in 2D) sharing their corner points.
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -23,9 +25,11 @@ constexpr uint8_t kVtkVoxel = 11;
 // by a layer, allocated when a corner first falls in them: a hash map of every corner took about
 // half of a 192^3 canvas's write (4.0 of 4.2 s against 2.1 with the blocks; a node, one
 // allocation, per corner).
+// Coordinates are Real: float, or double where float would merge corners (write_canvas_vtu).
+template <typename Real>
 class CornerPoints {
  public:
-  CornerPoints(const Canvas& canvas, std::vector<float>& points)
+  CornerPoints(const Canvas& canvas, std::vector<Real>& points)
       : canvas_(canvas),
         points_(points),
         edge_z_(canvas.dimension == 3 ? Canvas::kBrickEdge : 1),
@@ -48,14 +52,14 @@ class CornerPoints {
       const double half = 0.5 * canvas_.voxel_size;
       const Vec3 p = canvas_.world_of(VoxelIndex{i, j, k}) -
                      Vec3(half, half, canvas_.dimension == 3 ? half : 0.0);
-      for (int a = 0; a < 3; ++a) points_.push_back(static_cast<float>(p[a]));
+      for (int a = 0; a < 3; ++a) points_.push_back(static_cast<Real>(p[a]));
     }
     return id;
   }
 
  private:
   const Canvas& canvas_;
-  std::vector<float>& points_;
+  std::vector<Real>& points_;
   int edge_z_;
   std::array<int, 3> grid_;
   std::vector<int64_t> block_of_;  // per grid cell: where its block starts in ids_, or -1
@@ -83,10 +87,10 @@ void for_each_corner(const Canvas& canvas, std::size_t slot, Corner&& corner) {
 // the points are held; the cells and their data are written from the canvas and the field as the
 // file is written (at 192^3 the connectivity alone was 450 MB, and all arrays 65 bytes per voxel
 // at its peak, more than a propagation on PoCL).
-template <typename Index>
+template <typename Index, typename Real>
 void write_cells(const std::string& path, const Canvas& canvas, const VoronoiField& field) {
-  std::vector<float> points;
-  CornerPoints corners(canvas, points);
+  std::vector<Real> points;
+  CornerPoints<Real> corners(canvas, points);
   // Counted here, as the arrays below will be written: not active_voxel_count, which a canvas
   // changed without finalize() would not match (the declared sizes would then lie).
   std::size_t cells = 0;
@@ -127,6 +131,26 @@ void write_cells(const std::string& path, const Canvas& canvas, const VoronoiFie
   vtu::publish(path, std::move(xml), appended);
 }
 
+// The largest magnitude of a corner coordinate: the canvas's index box, grown by half a voxel.
+double largest_corner_coordinate(const Canvas& canvas) {
+  const double half = 0.5 * canvas.voxel_size;
+  const Vec3 low = canvas.world_of(VoxelIndex{0, 0, 0}) - Vec3(half, half, half);
+  double largest = 0.0;
+  for (int a = 0; a < canvas.dimension; ++a)
+    largest = std::max(
+        {largest, std::abs(low[a]), std::abs(low[a] + canvas.dims[a] * canvas.voxel_size)});
+  return largest;
+}
+
+template <typename Index>
+void write_cells_at_precision(const std::string& path, const Canvas& canvas,
+                              const VoronoiField& field) {
+  if (vtu::float_points_suffice(largest_corner_coordinate(canvas), canvas.voxel_size))
+    write_cells<Index, float>(path, canvas, field);
+  else
+    write_cells<Index, double>(path, canvas, field);
+}
+
 }  // namespace
 
 void write_canvas_vtu(const std::string& path, const Canvas& canvas, const VoronoiField& field,
@@ -136,9 +160,9 @@ void write_canvas_vtu(const std::string& path, const Canvas& canvas, const Voron
   const std::uint64_t entries = canvas.active_voxel_count * (canvas.dimension == 3 ? 8u : 4u);
   if (indices == VtuIndices::narrowest &&
       entries <= static_cast<std::uint64_t>(std::numeric_limits<int32_t>::max()))
-    write_cells<int32_t>(path, canvas, field);
+    write_cells_at_precision<int32_t>(path, canvas, field);
   else
-    write_cells<int64_t>(path, canvas, field);
+    write_cells_at_precision<int64_t>(path, canvas, field);
 }
 
 }  // namespace rvor

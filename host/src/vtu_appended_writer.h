@@ -106,17 +106,38 @@ inline const char* index_type_name<int64_t>() {
   return "Int64";
 }
 
-// The XML from the file header through </Cells>: points (3 floats each) and `cells` cells whose
-// connectivity (`connectivity_entries` indices), offsets and types the functions write when the
-// file is written (AppendedWriter::declare_streamed). Cell and point data sections follow.
-template <typename Index>
-std::string grid_geometry_streamed(AppendedWriter& appended, const std::vector<float>& points,
+// The VTK name of the coordinate types that points may take.
+template <typename Real>
+const char* point_type_name();
+template <>
+inline const char* point_type_name<float>() {
+  return "Float32";
+}
+template <>
+inline const char* point_type_name<double>() {
+  return "Float64";
+}
+
+// Whether float coordinates place points within a thousandth of `spacing` (the voxel size) when
+// no coordinate exceeds `largest` in magnitude: float's rounding is at most 2^-24 relative, so up
+// to 2^14 spacings from the origin. Farther out (a canvas at 1e5 with voxels of 0.01) neighbouring
+// corners would round to one float, and points need doubles.
+inline bool float_points_suffice(double largest, double spacing) {
+  return largest <= 16384.0 * spacing;
+}
+
+// The XML from the file header through </Cells>: points (3 coordinates each, float or double) and
+// `cells` cells whose connectivity (`connectivity_entries` indices), offsets and types the
+// functions write when the file is written (AppendedWriter::declare_streamed). Cell and point data
+// sections follow.
+template <typename Index, typename Real>
+std::string grid_geometry_streamed(AppendedWriter& appended, const std::vector<Real>& points,
                                    std::size_t cells, std::size_t connectivity_entries,
                                    std::function<void(std::ostream&)> connectivity,
                                    std::function<void(std::ostream&)> offsets,
                                    std::function<void(std::ostream&)> types) {
   std::string xml = grid_header(points.size() / 3, cells);
-  xml += appended.declare("Float32", "", 3, points);
+  xml += appended.declare(point_type_name<Real>(), "", 3, points);
   xml += "</Points>\n<Cells>\n";
   xml += appended.declare_streamed(index_type_name<Index>(), "connectivity", 1,
                                    connectivity_entries * sizeof(Index), std::move(connectivity));
@@ -127,8 +148,8 @@ std::string grid_geometry_streamed(AppendedWriter& appended, const std::vector<f
 }
 
 // grid_geometry_streamed of arrays held whole.
-template <typename Index>
-std::string grid_geometry(AppendedWriter& appended, const std::vector<float>& points,
+template <typename Index, typename Real>
+std::string grid_geometry(AppendedWriter& appended, const std::vector<Real>& points,
                           const std::vector<Index>& connectivity, const std::vector<Index>& offsets,
                           const std::vector<uint8_t>& types) {
   return grid_geometry_streamed<Index>(appended, points, types.size(), connectivity.size(),

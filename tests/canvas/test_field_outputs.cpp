@@ -137,5 +137,37 @@ TEST(FieldOutputs, VtuIndexWidthsReadBackAlike) {
   }
 }
 
+// A canvas far from the origin (at 1e5, voxels of 0.01875) would have its corners rounded to floats
+// 0.0078 apart: its points are written as doubles, and VTK reads every corner column apart at the
+// voxel size. Near the origin they stay floats (half the bytes).
+TEST(FieldOutputs, VtuPointsFarFromTheOriginStayApart) {
+  const std::string script =
+      "import sys, vtk\n"
+      "from vtk.util.numpy_support import vtk_to_numpy as n\n"
+      "r = vtk.vtkXMLUnstructuredGridReader(); r.SetFileName(sys.argv[1]); r.Update()\n"
+      "p = n(r.GetOutput().GetPoints().GetData()).astype('float64')\n"
+      "xs = sorted(set(p[:, 0].tolist()))\n"
+      "steps = [b - a for a, b in zip(xs, xs[1:])]\n"
+      "print(len(xs), '%.6f %.6f' % (min(steps), max(steps)))\n";
+  test::TempDir dir;
+  test::write_text(dir.file("columns.py"), script);
+  for (const double at : {0.0, 1e5}) {
+    SCOPED_TRACE("canvas at " + std::to_string(at));
+    const Canvas canvas = test::make_uniform_box_canvas(
+        2, Vec3(at, at, 0), Vec3(at + 0.3, at + 0.3, 0), 16, Mat3::Identity());
+    VoronoiField field;
+    field.distance.assign(canvas.slot_count(), 1.0f);
+    field.label.assign(canvas.slot_count(), 0);
+    write_canvas_vtu(dir.file("far.vtu"), canvas, field);
+    const std::string type = at > 0 ? "Float64" : "Float32";
+    EXPECT_NE(test::read_text(dir.file("far.vtu")).find("<Points>\n<DataArray type=\"" + type),
+              std::string::npos);
+    const test::CommandResult result = test::run_command(
+        test::debian_python() + " " + dir.file("columns.py") + " " + dir.file("far.vtu"));
+    ASSERT_EQ(result.exit_code, 0) << result.err;
+    EXPECT_EQ(result.out, "17 0.018750 0.018750\n");
+  }
+}
+
 }  // namespace
 }  // namespace rvor

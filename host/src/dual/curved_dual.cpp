@@ -156,7 +156,7 @@ CurvedDual build_curved_dual(const Canvas& canvas, const VoronoiField& field, co
 }
 
 void write_curved_dual_vtu(const std::string& path, const CurvedDual& dual) {
-  std::vector<float> points;
+  std::vector<double> points;  // doubles: a dual far from the origin keeps its shape
   std::vector<int64_t> connectivity, offsets;
   std::vector<uint8_t> types, reached, staircase;
   std::vector<double> length;
@@ -164,7 +164,7 @@ void write_curved_dual_vtu(const std::string& path, const CurvedDual& dual) {
   for (const CurvedEdge& e : dual.edges) {
     for (const Vec3& p : e.points) {
       connectivity.push_back(static_cast<int64_t>(points.size() / 3));
-      for (int a = 0; a < 3; ++a) points.push_back(static_cast<float>(p[a]));
+      for (int a = 0; a < 3; ++a) points.push_back(p[a]);
     }
     offsets.push_back(static_cast<int64_t>(connectivity.size()));
     types.push_back(kVtkPolyLine);

@@ -130,7 +130,7 @@ CurvedFace build_curved_face(const Canvas& canvas, const GeodesicTracer& tracer,
 }  // namespace detail
 
 void write_curved_faces_vtu(const std::string& path, const CurvedDual& dual) {
-  std::vector<float> points;
+  std::vector<double> points;  // doubles: faces far from the origin keep their shape
   std::vector<int64_t> connectivity, offsets;
   std::vector<uint8_t> types, reached;
   std::vector<int32_t> face_index, seed_a, seed_b, seed_c;
@@ -138,7 +138,7 @@ void write_curved_faces_vtu(const std::string& path, const CurvedDual& dual) {
     const CurvedFace& face = dual.faces[f];
     const auto base = static_cast<int64_t>(points.size() / 3);
     for (const Vec3& p : face.points)
-      for (int a = 0; a < 3; ++a) points.push_back(static_cast<float>(p[a]));
+      for (int a = 0; a < 3; ++a) points.push_back(p[a]);
     for (const std::array<uint32_t, 3>& t : face.triangles) {
       for (uint32_t v : t) connectivity.push_back(base + v);
       offsets.push_back(static_cast<int64_t>(connectivity.size()));

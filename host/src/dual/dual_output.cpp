@@ -16,7 +16,7 @@ constexpr uint8_t kVtkTriangle = 5;
 constexpr uint8_t kVtkTetra = 10;
 
 struct DualCells {
-  std::vector<float> points;
+  std::vector<double> points;  // doubles: a dual far from the origin keeps its shape
   std::vector<int32_t> labels;
   std::vector<int64_t> connectivity, offsets;
   std::vector<uint8_t> types, inverted, intersecting, non_manifold, flags;
@@ -26,7 +26,7 @@ struct DualCells {
 DualCells collect_cells(const StraightDual& dual, bool only_flagged) {
   DualCells c;
   for (std::size_t v = 0; v < dual.vertices.size(); ++v) {
-    for (int a = 0; a < 3; ++a) c.points.push_back(static_cast<float>(dual.vertices[v][a]));
+    for (int a = 0; a < 3; ++a) c.points.push_back(dual.vertices[v][a]);
     c.labels.push_back(static_cast<int32_t>(v));
   }
   for (std::size_t t = 0; t < dual.top_count(); ++t) {
