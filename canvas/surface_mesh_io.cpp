@@ -37,7 +37,6 @@ class LineReader {
   bool next(std::string& line) {
     if (!read_input_line(in_, line, path_, number_ + 1)) return false;
     ++number_;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
     return true;
   }
   [[noreturn]] void fail(const std::string& why) const {

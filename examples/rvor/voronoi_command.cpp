@@ -418,7 +418,7 @@ void add_voronoi_command(CLI::App& app) {
   vdb_option->excludes(sol_option)->excludes(mesh_option);
   cmd->add_option("--seeds", options->seeds_file,
                   "Seeds, one point per line (2 or 3 coordinates, separated by blanks, commas or "
-                  "semicolons)")
+                  "semicolons; lines starting with # are skipped)")
       ->check(non_empty_path);
   CLI::Option* random_option =
       cmd->add_option("--random-seeds", options->random_seed_count,

@@ -21,9 +21,10 @@ namespace {
 
 // The file buffer throws where the system's read fails (EIO, or /proc/self/mem), with a message
 // that names no file.
-int next_byte(std::streambuf& buffer, const std::string& path, long number) {
+// `peek`: the byte is left to be read next.
+int next_byte(std::streambuf& buffer, const std::string& path, long number, bool peek = false) {
   try {
-    return buffer.sbumpc();
+    return peek ? buffer.sgetc() : buffer.sbumpc();
   } catch (const std::ios_base::failure& failure) {
     throw Error("cannot read " + path + " at line " + std::to_string(number) + ": " +
                 (errno != 0 ? std::strerror(errno) : failure.what()));
@@ -43,6 +44,10 @@ bool read_input_line(std::istream& in, std::string& line, const std::string& pat
       return !line.empty();
     }
     if (c == '\n') return true;
+    if (c == '\r') {  // CRLF, or CR alone: the line ends of classic Mac OS files
+      if (next_byte(*buffer, path, number, true) == '\n') buffer->sbumpc();
+      return true;
+    }
     if (line.size() == kMaxInputLineBytes)
       throw Error(path + ":" + std::to_string(number) + ": a line longer than " +
                   std::to_string(kMaxInputLineBytes >> 20) +

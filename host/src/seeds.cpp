@@ -88,9 +88,8 @@ PointFile read_point_file(const std::string& path) {
   std::string line;
   for (int number = 1; read_input_line(in, line, path, number); ++number) {
     if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 BOM
-    const auto first = line.find_first_not_of(" \t\r");
+    const auto first = line.find_first_not_of(" \t");
     if (first == std::string::npos || line[first] == '#') continue;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
     const std::string where = path + ":" + std::to_string(number) + ": ";
     Vec3 point;
     const int columns = parse_point(line, point);

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "rvor/devices.h"
+#include "rvor/spec_text.h"
 #include "support/run_command.h"
 #include "support/temp_dir.h"
 
@@ -82,15 +83,29 @@ TEST_F(CliErrors, SeedFilesWithEmptyFieldsOrControlBytes) {
     expect_error("--domain rect:-1,-1,1,1 --resolution 16 --seeds " + dir.file("fields.xyz"),
                  "fields.xyz:2: expected 2 or 3 finite numbers");
   }
-  write_text(dir.file("mac.xyz"), "0.1 0.2\r0.3 0.4\r");
-  expect_error("--domain rect:-1,-1,1,1 --resolution 16 --seeds " + dir.file("mac.xyz"),
-               "got '0.1 0.2\\x0D0.3 0.4'");
+  write_text(dir.file("control.xyz"), "0.1 0.2\x01\n");
+  expect_error("--domain rect:-1,-1,1,1 --resolution 16 --seeds " + dir.file("control.xyz"),
+               "got '0.1 0.2\\x01'");
   write_text(dir.file("bom.xyz"),
              "\xEF\xBB\xBF"
              "0.1 0.2\n-0.5 0.3\n");
   const CommandResult result = run_command(
       voronoi("--domain rect:-1,-1,1,1 --resolution 16 --seeds " + dir.file("bom.xyz")));
   EXPECT_EQ(result.exit_code, 0) << result.err;
+}
+
+// Lines end in LF, CRLF or CR alone (classic Mac OS files, once refused as one malformed line), or
+// a mix of them: the same two seeds each time.
+TEST_F(CliErrors, SeedFilesReadWithAnyLineEnds) {
+  for (const char* text : {"0.1 0.2\n0.3 0.4\n", "0.1 0.2\r\n0.3 0.4\r\n", "0.1 0.2\r0.3 0.4\r",
+                           "0.1 0.2\r\r\n0.3 0.4", "# two seeds\r0.1 0.2\n\r0.3 0.4\r\n"}) {
+    SCOPED_TRACE(quoted_text(text));
+    write_text(dir.file("ends.xyz"), text);
+    const CommandResult result = run_command(voronoi(
+        "--overwrite --domain rect:-1,-1,1,1 --resolution 16 --seeds " + dir.file("ends.xyz")));
+    ASSERT_EQ(result.exit_code, 0) << result.err;
+    EXPECT_EQ(read_text(out() + "/seeds.xyz"), "0.1 0.2\n0.3 0.4\n");
+  }
 }
 
 // A line separates its numbers by blanks, by commas or by semicolons, one kind spaced alike: a

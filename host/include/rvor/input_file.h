@@ -16,9 +16,9 @@ std::ifstream open_input_file(const std::string& path, const std::string& what);
 // file with no line ends (a binary file, /dev/zero) would be read whole into memory first.
 inline constexpr std::size_t kMaxInputLineBytes = std::size_t{1} << 20;
 
-// std::getline for the text readers: the next line of `in` without its '\n' (false at the end of
-// the input). Throws rvor::Error "PATH:NUMBER: ..." for a line longer than kMaxInputLineBytes,
-// `number` being that line's number.
+// std::getline for the text readers: the next line of `in` without its line end, which is "\n",
+// "\r\n" or a lone "\r" (false at the end of the input). Throws rvor::Error "PATH:NUMBER: ..." for
+// a line longer than kMaxInputLineBytes, `number` being that line's number.
 bool read_input_line(std::istream& in, std::string& line, const std::string& path, long number);
 
 }  // namespace rvor
