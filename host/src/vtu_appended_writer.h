@@ -6,6 +6,7 @@
 #include <functional>
 #include <ostream>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -94,27 +95,16 @@ inline std::string grid_header(std::size_t points, std::size_t cells) {
          std::to_string(points) + "\" NumberOfCells=\"" + std::to_string(cells) + "\">\n<Points>\n";
 }
 
-// The VTK name of the index types that connectivity and offsets may take.
-template <typename Index>
-const char* index_type_name();
-template <>
-inline const char* index_type_name<int32_t>() {
-  return "Int32";
-}
-template <>
-inline const char* index_type_name<int64_t>() {
-  return "Int64";
-}
-
-// The VTK name of the coordinate types that points may take.
-template <typename Real>
-const char* point_type_name();
-template <>
-inline const char* point_type_name<float>() {
-  return "Float32";
-}
-template <>
-inline const char* point_type_name<double>() {
+// The VTK name of a value type: the index types that connectivity and offsets may take, and the
+// coordinate types of points.
+template <typename T>
+constexpr const char* vtk_type_name() {
+  static_assert(std::is_same_v<T, int32_t> || std::is_same_v<T, int64_t> ||
+                    std::is_same_v<T, float> || std::is_same_v<T, double>,
+                "no VTK type name for this type");
+  if constexpr (std::is_same_v<T, int32_t>) return "Int32";
+  if constexpr (std::is_same_v<T, int64_t>) return "Int64";
+  if constexpr (std::is_same_v<T, float>) return "Float32";
   return "Float64";
 }
 
@@ -137,11 +127,11 @@ std::string grid_geometry_streamed(AppendedWriter& appended, const std::vector<R
                                    std::function<void(std::ostream&)> offsets,
                                    std::function<void(std::ostream&)> types) {
   std::string xml = grid_header(points.size() / 3, cells);
-  xml += appended.declare(point_type_name<Real>(), "", 3, points);
+  xml += appended.declare(vtk_type_name<Real>(), "", 3, points);
   xml += "</Points>\n<Cells>\n";
-  xml += appended.declare_streamed(index_type_name<Index>(), "connectivity", 1,
+  xml += appended.declare_streamed(vtk_type_name<Index>(), "connectivity", 1,
                                    connectivity_entries * sizeof(Index), std::move(connectivity));
-  xml += appended.declare_streamed(index_type_name<Index>(), "offsets", 1, cells * sizeof(Index),
+  xml += appended.declare_streamed(vtk_type_name<Index>(), "offsets", 1, cells * sizeof(Index),
                                    std::move(offsets));
   xml += appended.declare_streamed("UInt8", "types", 1, cells, std::move(types));
   return xml + "</Cells>\n";
