@@ -34,7 +34,7 @@ std::string format_point(const Vec3& p) {
 // (0.5, 0, 5), (1, 2, 5) and (0.5, 0, 5)), so such lines are refused (nullopt), as are empty
 // fields ("1,,2", ",1,2").
 std::optional<std::vector<std::string>> number_fields(const std::string& line) {
-  constexpr const char* kBlanks = " \t\r";
+  constexpr const char* kBlanks = " \t";
   std::vector<std::string> fields;
   const bool commas = line.find(',') != std::string::npos;
   const bool semicolons = line.find(';') != std::string::npos;

@@ -94,11 +94,11 @@ TEST_F(CliErrors, SeedFilesWithEmptyFieldsOrControlBytes) {
   EXPECT_EQ(result.exit_code, 0) << result.err;
 }
 
-// Lines end in LF, CRLF or CR alone (classic Mac OS files, once refused as one malformed line), or
-// a mix of them: the same two seeds each time.
+// A seed file with classic Mac OS line ends (CR alone), once refused as one malformed line, or a
+// mix of line ends and a comment, gives the same two seeds (the line ends themselves:
+// InputLines.EndAtLfCrlfOrALoneCr).
 TEST_F(CliErrors, SeedFilesReadWithAnyLineEnds) {
-  for (const char* text : {"0.1 0.2\n0.3 0.4\n", "0.1 0.2\r\n0.3 0.4\r\n", "0.1 0.2\r0.3 0.4\r",
-                           "0.1 0.2\r\r\n0.3 0.4", "# two seeds\r0.1 0.2\n\r0.3 0.4\r\n"}) {
+  for (const char* text : {"0.1 0.2\r0.3 0.4\r", "# two seeds\r0.1 0.2\n\r0.3 0.4\r\n"}) {
     SCOPED_TRACE(quoted_text(text));
     write_text(dir.file("ends.xyz"), text);
     const CommandResult result = run_command(voronoi(
