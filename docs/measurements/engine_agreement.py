@@ -13,6 +13,7 @@ import json
 import math
 import os
 import random
+import re
 import shutil
 import struct
 import subprocess
@@ -37,11 +38,10 @@ def parse_vtu(path, h, origin=None):
     head_end = data.index(b"<AppendedData")
     head = data[:head_end].decode()
     start = data.index(b"_", head_end) + 1
-    import re
     arrays = {}
     for m in re.finditer(r'<DataArray type="(\w+)"(?: Name="(\w+)")? NumberOfComponents="(\d+)" '
                          r'format="appended" offset="(\d+)"', head):
-        typ, name, comp, off = m.group(1), m.group(2) or "points", int(m.group(3)), int(m.group(4))
+        typ, name, off = m.group(1), m.group(2) or "points", int(m.group(4))
         p = start + off
         nbytes = struct.unpack_from("<Q", data, p)[0]
         code = {"Float32": "f", "Int32": "i", "UInt8": "B", "Int64": "q", "Float64": "d"}[typ]
@@ -66,6 +66,37 @@ def parse_vtu(path, h, origin=None):
         key = (round((cx - origin[0]) / h), round((cy - origin[1]) / h), round((cz - origin[2]) / h))
         cells[key] = (dist[c], lab[c])
     return cells, origin
+
+
+def read_seeds(path):
+    """The points of a seeds.xyz that rvor wrote, each with 3 coordinates (z = 0 in 2D)."""
+    points = [[float(v) for v in line.split()] for line in open(path) if line.strip()]
+    return [tuple(p + [0.0] * (3 - len(p))) for p in points]
+
+
+def load_engine_fields(folder):
+    """The fields of `rvor voronoi ... --vtu --device pocl|cpu` written to FOLDER/pocl and
+    FOLDER/cpu: (pocl cells, cpu cells, origin, voxel size, cpu report, seeds), cells keyed by
+    voxel offsets from one origin."""
+    report = json.load(open(os.path.join(folder, "cpu", "report.json")))
+    h = report["voxel_size"]
+    pocl, origin = parse_vtu(os.path.join(folder, "pocl", "canvas.vtu"), h)
+    cpu, _ = parse_vtu(os.path.join(folder, "cpu", "canvas.vtu"), h, origin)
+    return pocl, cpu, origin, h, report, read_seeds(os.path.join(folder, "cpu", "seeds.xyz"))
+
+
+def uniform_tensor(text, dimension):
+    """The 3x3 tensor of uniform:'s numbers (m11,m12,m22 or m11,m12,m22,m13,m23,m33)."""
+    m = [float(v) for v in text.split(",")]
+    if dimension == 2:
+        return [[m[0], m[1], 0.0], [m[1], m[2], 0.0], [0.0, 0.0, 1.0]]
+    return [[m[0], m[1], m[3]], [m[1], m[2], m[4]], [m[3], m[4], m[5]]]
+
+
+def metric_distance(G, p, s):
+    """|p - s| in the uniform metric G."""
+    v = [p[i] - s[i] for i in range(3)]
+    return math.sqrt(max(0.0, sum(v[i] * G[i][j] * v[j] for i in range(3) for j in range(3))))
 
 
 # ---------------------------------------------------------------- random case generation
@@ -291,7 +322,7 @@ def compare(case, dirs):
     if set(a) != set(b):
         problems.append("voxel sets differ: %d only pocl, %d only cpu" % (len(set(a) - set(b)), len(set(b) - set(a))))
     # floor: per label, largest reference distance within Chebyshev 1 of its seed's voxel
-    seeds = [tuple(float(v) for v in l.replace(",", " ").split()) for l in s1.splitlines() if l.strip()]
+    seeds = read_seeds(os.path.join(dirs[1], "seeds.xyz"))
     dim = reps[1]["dimension"]
     floor = {}
     for li, s in enumerate(seeds):
@@ -334,22 +365,15 @@ def compare(case, dirs):
             dist_bad.append(k)
         if rel > maxrel and la == lb:
             maxrel, worst = rel, (k, da, db, la, lb)
-    tieset = set(ties)
 
-    def near_tie(k):
-        for t in ties:
-            if max(abs(t[i] - k[i]) for i in range(3)) <= 3:
-                return True
-        return False
-    if len(ties) > 2000:
-        # cheap approximate: dilate
-        dil = set()
-        for t in ties:
-            for dx in range(-3, 4):
-                for dy in range(-3, 4):
-                    for dz in (range(-3, 4) if dim == 3 else [0]):
-                        dil.add((t[0] + dx, t[1] + dy, t[2] + dz))
-        near_tie = lambda k: k in dil  # noqa
+    # The voxels within 3 (Chebyshev) of a voxel whose labels differ with distances within 1e-4.
+    near_ties = set()
+    for t in ties:
+        for dx in range(-3, 4):
+            for dy in range(-3, 4):
+                for dz in (range(-3, 4) if dim == 3 else [0]):
+                    near_ties.add((t[0] + dx, t[1] + dy, t[2] + dz))
+    near_tie = near_ties.__contains__
     dist_unexpl = [k for k in dist_bad if not near_tie(k)]
     label_unexpl = [k for k in label_bad if not near_tie(k)]
     maxrel_unexpl = 0.0
@@ -406,7 +430,7 @@ def do_case(case_seed, keep=False):
         try:
             problems2, stats = compare(case, outs)
             problems += problems2
-        except Exception as e:  # noqa
+        except Exception:  # noqa: BLE001 (a crash of the comparison is a finding)
             import traceback
             problems.append("compare crashed: %r" % traceback.format_exc()[-600:])
     case["problems"] = problems

@@ -3,20 +3,19 @@
 evaluated again here in double: 2D, a uniform metric (alpha = 1), voxels more than 3 voxels from
 every seed's voxel (outside the frozen blocks, where the offset weight beta is 1).
 
-Usage: python3 docs/measurements/fixed_point_check.py DIR m11,m12,m22 SEEDS
+Usage: python3 docs/measurements/fixed_point_check.py DIR m11,m12,m22
   DIR holds pocl/ and cpu/, the outputs of `rvor voronoi ... --vtu --device pocl|cpu --out DIR/...`
-  on a rect: domain; SEEDS the seed file both ran with.
+  on a rect: domain under that uniform metric.
 Prints, per engine, how many voxels one more update would give another label, and the largest
 relative change of the others' values (float rounding for the OpenCL field): 0 and ~1e-7 mean
 the field is a fixed point.
 """
-import json
 import math
 import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from engine_agreement import parse_vtu  # noqa: E402
+from engine_agreement import load_engine_fields, uniform_tensor  # noqa: E402
 
 
 def selling_2d(D):
@@ -54,16 +53,10 @@ def solve_sorted(ws, h2):
 
 
 def main():
-    folder, metric, seed_file = sys.argv[1], sys.argv[2], sys.argv[3]
-    m = [float(v) for v in metric.split(",")]
-    G = [[m[0], m[1]], [m[1], m[2]]]
-    det = m[0] * m[2] - m[1] * m[1]
-    stencil = selling_2d([[m[2] / det, -m[1] / det], [-m[1] / det, m[0] / det]])
-    seeds = [tuple(float(v) for v in line.replace(",", " ").split()[:2])
-             for line in open(seed_file) if line.strip() and not line.startswith("#")]
-    h = json.load(open(os.path.join(folder, "cpu", "report.json")))["voxel_size"]
-    pocl, origin = parse_vtu(os.path.join(folder, "pocl", "canvas.vtu"), h)
-    cpu, _ = parse_vtu(os.path.join(folder, "cpu", "canvas.vtu"), h, origin)
+    pocl, cpu, origin, h, _, seeds = load_engine_fields(sys.argv[1])
+    G = uniform_tensor(sys.argv[2], 2)
+    det = G[0][0] * G[1][1] - G[0][1] * G[0][1]
+    stencil = selling_2d([[G[1][1] / det, -G[0][1] / det], [-G[0][1] / det, G[0][0] / det]])
     position = lambda k: (origin[0] + k[0] * h, origin[1] + k[1] * h)
 
     def seed_terms(label, p):

@@ -1,4 +1,4 @@
-import sys, math
+import sys
 from voronoi import *
 from run_cases import CASES
 for name in sys.argv[1].split(","):
