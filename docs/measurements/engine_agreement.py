@@ -7,7 +7,7 @@ Usage: python3 docs/measurements/engine_agreement.py MASTER_SEED CASES [SECONDS]
   python3 docs/measurements/engine_agreement.py --case CASE_SEED reruns one case and keeps its runs.
 Environment: RVOR (default build/bin/rvor), CAMPAIGN_DIR (default /tmp/rvor-campaign), which holds
 results.jsonl (one JSON object per case, with its command) and cases/<case seed>/{pocl,cpu}.
-The 2026-12-05 campaign ran master seeds 2, 3 and 4 (3670 cases, 3370 compared).
+The 2026-12-05 campaign ran master seeds 1, 2, 3 and 4 with 3, 393, 2206 and 1068 cases (3370 compared).
 """
 import json
 import math
