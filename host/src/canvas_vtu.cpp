@@ -135,6 +135,14 @@ void write_cells(const std::string& path, const Canvas& canvas, const VoronoiFie
   vtu::publish(path, std::move(xml), appended);
 }
 
+// Whether float coordinates place points within a thousandth of `spacing` (the voxel size) when
+// no coordinate exceeds `largest` in magnitude: float's rounding is at most 2^-24 relative, so up
+// to 2^14 spacings from the origin. Farther out (a canvas at 1e5 with voxels of 0.01) neighbouring
+// corners would round to one float, and points need doubles.
+bool float_points_suffice(double largest, double spacing) {
+  return largest <= 16384.0 * spacing;
+}
+
 // The largest magnitude of a corner coordinate: at a corner of the index box's lattice.
 double largest_corner_coordinate(const Canvas& canvas) {
   const Vec3 low = lattice_point(canvas, 0, 0, 0);
@@ -146,7 +154,7 @@ double largest_corner_coordinate(const Canvas& canvas) {
 template <typename Index>
 void write_cells_at_precision(const std::string& path, const Canvas& canvas,
                               const VoronoiField& field) {
-  if (vtu::float_points_suffice(largest_corner_coordinate(canvas), canvas.voxel_size))
+  if (float_points_suffice(largest_corner_coordinate(canvas), canvas.voxel_size))
     write_cells<Index, float>(path, canvas, field);
   else
     write_cells<Index, double>(path, canvas, field);

@@ -108,14 +108,6 @@ constexpr const char* vtk_type_name() {
   return "Float64";
 }
 
-// Whether float coordinates place points within a thousandth of `spacing` (the voxel size) when
-// no coordinate exceeds `largest` in magnitude: float's rounding is at most 2^-24 relative, so up
-// to 2^14 spacings from the origin. Farther out (a canvas at 1e5 with voxels of 0.01) neighbouring
-// corners would round to one float, and points need doubles.
-inline bool float_points_suffice(double largest, double spacing) {
-  return largest <= 16384.0 * spacing;
-}
-
 // The XML from the file header through </Cells>: points (3 coordinates each, float or double) and
 // `cells` cells whose connectivity (`connectivity_entries` indices), offsets and types the
 // functions write when the file is written (AppendedWriter::declare_streamed). Cell and point data
