@@ -124,7 +124,7 @@ typedef struct {
 // The neighbour y = x + sigma e gives v + alpha (u0(x) - u0(y) + sigma slope) with u0(y) from the
 // tile. factorized_value computes u0(x) - u0(y) without cancellation instead, at a square root
 // and a division per neighbour; the float difference loses about 1e-7 of u0, below the 1e-6
-// change tolerance (docs/scheme.md, "SIMD lanes").
+// news threshold (RELATIVE_TOLERANCE; docs/scheme.md, "SIMD lanes").
 __attribute__((always_inline)) inline lane_float lane_term_value(const LaneNeighbours* nb, int i,
                                                                  lane_uint label, lane_float u0,
                                                                  lane_float slope, lane_float alpha,
@@ -273,14 +273,14 @@ __attribute__((always_inline)) inline lane_float lane_label_seed_distance(
 // The stencil of a uniform metric as every lane sees it.
 typedef struct {
   float weight[STENCIL_TERMS];
-  float tolerance;  // change_tolerance of the stencil
+  float tolerance;  // rounding_tolerance of the stencil
 } LaneStencil;
 
 inline void prepare_lane_stencil(__global const float* stencils, __global const char* shapes,
                                  LaneStencil* st) {
   int3 offset[STENCIL_TERMS];
   load_stencil(stencils, shapes, 0, st->weight, offset);
-  st->tolerance = change_tolerance(st->weight, LANE_TERMS);
+  st->tolerance = rounding_tolerance(st->weight, LANE_TERMS);
 }
 
 // Candidate distance for label L in each lane (NO_LANE_LABEL: none) at frame voxel cf, from its
@@ -805,30 +805,35 @@ inline void lane_tile_seed_distances(LaneTile* tile, const LaneFrame* frame,
 
 // significant_change (eikonal_scheme.clh) per lane.
 inline lane_mask lane_significant_change(lane_float u, lane_uint u_label, lane_float t,
-                                         lane_uint t_label, lane_float tolerance) {
+                                         lane_uint t_label) {
   const lane_mask u_inf = isinf(u), t_inf = isinf(t);
-  const lane_mask moved = fabs(u - t) > tolerance * max(u, t);
+  const lane_mask moved = fabs(u - t) > RELATIVE_TOLERANCE * max(u, t);
   return (u_label != t_label) | select(moved, u_inf ^ t_inf, u_inf | t_inf);
+}
+
+// rounding_rise (eikonal_scheme.clh) per lane.
+inline lane_mask lane_rounding_rise(lane_float u, lane_uint u_label, lane_float t,
+                                    lane_uint t_label, lane_float tolerance) {
+  return (u_label == t_label) & (t > u) & (t - u <= tolerance * t);
 }
 
 // lane_significant_change between the states as readers see them: a tentative state (and an
 // unreached one) reads as +inf without a label.
 inline lane_mask lane_visible_change(lane_float u, lane_uint u_label, lane_float t,
-                                     lane_uint t_label, lane_float tolerance) {
+                                     lane_uint t_label) {
   const lane_mask u_hidden = u_label >= TENTATIVE_LABEL, t_hidden = t_label >= TENTATIVE_LABEL;
-  return lane_significant_change(select(u, (lane_float)INFINITY, u_hidden),
-                                 select(u_label, (lane_uint)LABEL_NONE, u_hidden),
-                                 select(t, (lane_float)INFINITY, t_hidden),
-                                 select(t_label, (lane_uint)LABEL_NONE, t_hidden), tolerance);
+  return lane_significant_change(
+      select(u, (lane_float)INFINITY, u_hidden), select(u_label, (lane_uint)LABEL_NONE, u_hidden),
+      select(t, (lane_float)INFINITY, t_hidden), select(t_label, (lane_uint)LABEL_NONE, t_hidden));
 }
 
-// change_tolerance (eikonal_scheme.clh) of each lane's stencil at the visit just solved.
+// rounding_tolerance (eikonal_scheme.clh) of each lane's stencil at the visit just solved.
 #ifdef AXIS_LANES
-inline lane_float lane_change_tolerance(const LaneStencil* st) {
+inline lane_float lane_rounding_tolerance(const LaneStencil* st) {
   return st->tolerance;  // one stencil: computed once (prepare_lane_stencil)
 }
 #else
-inline lane_float lane_change_tolerance(const LaneStencil* st) {
+inline lane_float lane_rounding_tolerance(const LaneStencil* st) {
   lane_float least = INFINITY, most = 0.0f;
 #pragma unroll
   for (int i = 0; i < STENCIL_TERMS; ++i) {
@@ -837,7 +842,7 @@ inline lane_float lane_change_tolerance(const LaneStencil* st) {
   }
   return select((lane_float)RELATIVE_TOLERANCE,
                 clamp(0.5f * FLT_EPSILON * sqrt(most / least), (lane_float)RELATIVE_TOLERANCE,
-                      (lane_float)MOST_CHANGE_TOLERANCE),
+                      (lane_float)MOST_ROUNDING_TOLERANCE),
                 most > 0.0f);
 }
 #endif
@@ -1213,19 +1218,21 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
             select((lane_uint)0u, (lane_uint)TENTATIVE_LABEL, (best > threshold) & ~isinf(best));
       const lane_float current = tile->distance[p];
       const lane_uint current_label = word & LABEL_NONE;
-      const lane_mask differs =
+      const lane_mask other =
           lanes & ((as_uint8(best) != as_uint8(current)) | (best_label != current_label));
+      if (!lanes_any(other)) continue;
+      const lane_mask differs =
+          other & ~lane_rounding_rise(current, current_label, best, best_label,
+                                      lane_rounding_tolerance(&st));
       if (!lanes_any(differs)) continue;
       tile->distance[p] = select(current, best, differs);
       tile->word[p] = select(word, best_label, differs);
       tile->seed_distance[p] = select(tile->seed_distance[p], best_seed_distance, differs);
       brick_flags |= select((lane_uint)0u, (lane_uint)FLAG_WRITTEN, differs);
-      const lane_float tolerance = lane_change_tolerance(&st);
       const lane_mask significant =
           differs &
-          (FRONT_STEPPING
-               ? lane_visible_change(current, current_label, best, best_label, tolerance)
-               : lane_significant_change(current, current_label, best, best_label, tolerance));
+          (FRONT_STEPPING ? lane_visible_change(current, current_label, best, best_label)
+                          : lane_significant_change(current, current_label, best, best_label));
       tile->stamp[p] = select(tile->stamp[p], (lane_uint)stamp, significant);
       sweep_changed |= significant;
       changed_lo_x = min(changed_lo_x, select((int8)EDGE, (int8)c.x, significant));

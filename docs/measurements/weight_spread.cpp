@@ -1,6 +1,6 @@
 // How far the Selling weights of each design field's stencils spread: the share of voxel centres
-// where sqrt(max rho / min rho) passes 16.8, above which the kernels' change tolerance
-// (change_tolerance, kernels/eikonal_scheme.clh) exceeds 1e-6, and the largest spread. Built and
+// where sqrt(max rho / min rho) passes 16.8, above which the kernels' rounding bound
+// (rounding_tolerance, kernels/eikonal_scheme.clh) exceeds 1e-6, and the largest spread. Built and
 // run by weight_spread.sh; docs/scheme.md, "Convergence", quotes its output.
 #include <Eigen/LU>
 #include <algorithm>
