@@ -814,7 +814,7 @@ inline lane_mask lane_significant_change(lane_float u, lane_uint u_label, lane_f
 // rounding_rise (eikonal_scheme.clh) per lane.
 inline lane_mask lane_rounding_rise(lane_float u, lane_uint u_label, lane_float t,
                                     lane_uint t_label, lane_float tolerance) {
-  return (u_label == t_label) & (t > u) & (t - u <= tolerance * t);
+  return (u_label == t_label) & (t > u) & ~isinf(t) & (t - u <= tolerance * t);
 }
 
 // lane_significant_change between the states as readers see them: a tentative state (and an
