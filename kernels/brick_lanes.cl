@@ -373,35 +373,22 @@ inline void lane_voxel_metric(LaneStencil* st) {
   }
 }
 
-// identity_gap (eikonal_scheme.clh) per lane: row (dx, dy, dz) of d, column (gx, gy, gz) of g.
-inline lane_float lane_identity_gap(lane_float dx, lane_float dy, lane_float dz, lane_float gx,
-                                    lane_float gy, lane_float gz, float identity) {
-#pragma OPENCL FP_CONTRACT OFF
-  lane_float sum = dx * gx, error = fma(dx, gx, -sum);
-  const lane_float second = dy * gy, third = dz * gz;
-  error += fma(dy, gy, -second) + fma(dz, gz, -third);
-  lane_float next = sum + second, part = next - sum;
-  error += (sum - (next - part)) + (second - part);
-  sum = next;
-  next = sum + third;
-  part = next - sum;
-  error += (sum - (next - part)) + (third - part);
-  return (next - identity) + error;
-}
-
-// compensated_m2 (eikonal_scheme.clh) per lane.
-inline lane_float lane_compensated_m2(const lane_float* d, const lane_float* g) {
-  const float last = DIM == 3 ? 1.0f : 0.0f;  // the identity's third entry
-  const lane_float b00 = lane_identity_gap(d[0], d[1], d[3], g[0], g[1], g[3], 1.0f);
-  const lane_float b01 = lane_identity_gap(d[0], d[1], d[3], g[1], g[2], g[4], 0.0f);
-  const lane_float b02 = lane_identity_gap(d[0], d[1], d[3], g[3], g[4], g[5], 0.0f);
-  const lane_float b10 = lane_identity_gap(d[1], d[2], d[4], g[0], g[1], g[3], 0.0f);
-  const lane_float b11 = lane_identity_gap(d[1], d[2], d[4], g[1], g[2], g[4], 1.0f);
-  const lane_float b12 = lane_identity_gap(d[1], d[2], d[4], g[3], g[4], g[5], 0.0f);
-  const lane_float b20 = lane_identity_gap(d[3], d[4], d[5], g[0], g[1], g[3], 0.0f);
-  const lane_float b21 = lane_identity_gap(d[3], d[4], d[5], g[1], g[2], g[4], 0.0f);
-  const lane_float b22 = lane_identity_gap(d[3], d[4], d[5], g[3], g[4], g[5], last);
-  return b00 * b00 + b11 * b11 + b22 * b22 + 2.0f * (b01 * b10 + b02 * b20 + b12 * b21);
+// m2 with compensated_m2 (eikonal_scheme.clh) in the lanes of `lanes`, one lane at a time, and
+// `m2` in the others: few visits take it (in the band, under strong anisotropy). Kept out of line:
+// inlined, its arrays cost the label pass 2.6% (radial_shock_3d 128^3, six alternations).
+__attribute__((noinline)) lane_float lanes_compensated_m2(const lane_float* d, const lane_float* g,
+                                                          lane_mask lanes, lane_float m2) {
+  int chosen[LANES];
+  float values[LANES];
+  vstore8(lanes, 0, chosen);
+  vstore8(m2, 0, values);
+  for (int k = 0; k < LANES; ++k) {
+    if (!chosen[k]) continue;
+    float dk[6], gk[6];
+    for (int i = 0; i < 6; ++i) dk[i] = LANE_FLOAT(d, i, k), gk[i] = LANE_FLOAT(g, i, k);
+    values[k] = compensated_m2(dk, gk);
+  }
+  return vload8(0, values);
 }
 
 // factorization_weight (eikonal_scheme.clh) per lane, g = h^2 G_s.
@@ -420,9 +407,9 @@ inline lane_float lane_factorization_weight(const lane_float* d, const lane_floa
       a00 * a00 + a11 * a11 + a22 * a22 + 2.0f * (a01 * a10 + a02 * a20 + a12 * a21);
   lane_float m2 = trace_square - 2.0f * trace + (float)DIM;
   const lane_float slack = M2_ROUNDING * FLT_EPSILON * (d[0] + d[2] + d[5]) * (g[0] + g[2] + g[5]);
-  const lane_mask in_band =
+  const lane_mask in_band =  // m2_needs_compensation per lane
       (slack > M2_SLACK_FOR_COMPENSATION) & (m2 > 0.04f - slack) & (m2 < 0.09f + slack);
-  if (lanes_any(in_band)) m2 = select(m2, lane_compensated_m2(d, g), in_band);
+  if (lanes_any(in_band)) m2 = lanes_compensated_m2(d, g, in_band, m2);
   return clamp((0.09f - m2) / 0.05f, 0.0f, 1.0f);
 }
 
