@@ -99,7 +99,6 @@ TEST(FieldOutputs, VtuIndexWidthsReadBackAlike) {
       "      int(n(a.GetCellData().GetArray('label')).sum()),\n"
       "      float(n(a.GetCellData().GetArray('distance')).astype('float64').sum()))\n";
   test::TempDir dir;
-  test::write_text(dir.file("compare.py"), script);
   for (const int dimension : {2, 3}) {
     SCOPED_TRACE(std::to_string(dimension) + "D");
     Canvas canvas = test::make_uniform_box_canvas(dimension, Vec3(-1, -1, -1), Vec3(1, 1, 1), 12,
@@ -119,9 +118,8 @@ TEST(FieldOutputs, VtuIndexWidthsReadBackAlike) {
               std::string::npos);
     EXPECT_NE(test::read_text(dir.file("wide.vtu")).find("type=\"Int64\" Name=\"connectivity\""),
               std::string::npos);
-    const test::CommandResult result =
-        test::run_command(test::debian_python() + " " + dir.file("compare.py") + " " +
-                          dir.file("narrow.vtu") + " " + dir.file("wide.vtu"));
+    const test::CommandResult result = test::run_python_script(
+        dir.file("compare.py"), script, dir.file("narrow.vtu") + " " + dir.file("wide.vtu"));
     ASSERT_EQ(result.exit_code, 0) << result.err;
     // The cell data as the field holds it (halves and small integers: the sums are exact).
     long label_sum = 0;
@@ -150,7 +148,6 @@ TEST(FieldOutputs, VtuPointsFarFromTheOriginStayApart) {
       "steps = [b - a for a, b in zip(xs, xs[1:])]\n"
       "print(len(xs), '%.6f %.6f' % (min(steps), max(steps)))\n";
   test::TempDir dir;
-  test::write_text(dir.file("columns.py"), script);
   for (const double at : {0.0, 1e5}) {
     SCOPED_TRACE("canvas at " + std::to_string(at));
     const Canvas canvas = test::make_uniform_box_canvas(
@@ -162,8 +159,8 @@ TEST(FieldOutputs, VtuPointsFarFromTheOriginStayApart) {
     const std::string type = at > 0 ? "Float64" : "Float32";
     EXPECT_NE(test::read_text(dir.file("far.vtu")).find("<Points>\n<DataArray type=\"" + type),
               std::string::npos);
-    const test::CommandResult result = test::run_command(
-        test::debian_python() + " " + dir.file("columns.py") + " " + dir.file("far.vtu"));
+    const test::CommandResult result =
+        test::run_python_script(dir.file("columns.py"), script, dir.file("far.vtu"));
     ASSERT_EQ(result.exit_code, 0) << result.err;
     EXPECT_EQ(result.out, "17 0.018750 0.018750\n");
   }

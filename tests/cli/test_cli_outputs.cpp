@@ -268,9 +268,8 @@ TEST_F(CliOutputs, VtuOpensInVtk) {
       "g = r.GetOutput()\n"
       "print(g.GetNumberOfCells(), g.GetNumberOfPoints(), "
       "g.GetCellData().GetArray('label').GetRange()[1])\n";
-  write_text(dir.file("read.py"), script);
   const CommandResult result =
-      run_command(debian_python() + " " + dir.file("read.py") + " " + out() + "/canvas.vtu");
+      run_python_script(dir.file("read.py"), script, out() + "/canvas.vtu");
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_EQ(result.out, "4096 4225 0.0\n");  // 64x64 pixels share 65x65 corners
 }

@@ -29,4 +29,10 @@ std::string debian_python() {
   return "/usr/bin/python3";
 }
 
+CommandResult run_python_script(const std::string& script_path, const std::string& script,
+                                const std::string& arguments) {
+  write_text(script_path, script);
+  return run_command(debian_python() + " " + script_path + " " + arguments);
+}
+
 }  // namespace rvor::test

@@ -15,5 +15,8 @@ std::string rvor_binary();
 // Debian's interpreter, where python3-vtk9 and python3-meshio are installed (the `python3` on PATH
 // may be another installation without them).
 std::string debian_python();
+// Writes `script` to script_path and runs it with debian_python(), followed by `arguments`.
+CommandResult run_python_script(const std::string& script_path, const std::string& script,
+                                const std::string& arguments);
 
 }  // namespace rvor::test
