@@ -125,7 +125,8 @@ TEST_P(EngineConfigs, NearlyAxisAlignedStrongAnisotropy2D) {
 }
 
 // Anisotropy 141 along x: the voxels beside a seed read each other, and their values flipped by
-// the float solve's rounding (1.5e-6 relative, above the 1e-6 news threshold) for 100 000 rounds;
+// the float solve's rounding (1.5e-6 relative, above the 1e-6 news threshold) for 100 000 rounds
+// (docs/measurements/flip_trace.patch shows it);
 // a rise within that rounding is now held back (rounding_rise, kernels/eikonal_scheme.clh).
 TEST_P(EngineConfigs, AxisAnisotropy141Settles3D) {
   REQUIRE_ENGINE_WITH(options());
