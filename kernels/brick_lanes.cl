@@ -1240,19 +1240,17 @@ __kernel void relax_brick_lanes(BRICK_SWEEP_ARGUMENTS) {
             select((lane_uint)0u, (lane_uint)TENTATIVE_LABEL, (best > threshold) & ~isinf(best));
       const lane_float current = tile->distance[p];
       const lane_uint current_label = word & LABEL_NONE;
-      const lane_mask other =
-          lanes & ((as_uint8(best) != as_uint8(current)) | (best_label != current_label));
-      if (!lanes_any(other)) continue;
       const lane_mask differs =
-          other & ~lane_rounding_rise(current, current_label, best, best_label,
-                                      lane_rounding_tolerance(&st));
+          lanes & ((as_uint8(best) != as_uint8(current)) | (best_label != current_label));
       if (!lanes_any(differs)) continue;
+      const lane_mask silent = lane_rounding_rise(current, current_label, best, best_label,
+                                                  lane_rounding_tolerance(&st));
       tile->distance[p] = select(current, best, differs);
       tile->word[p] = select(word, best_label, differs);
       tile->seed_distance[p] = select(tile->seed_distance[p], best_seed_distance, differs);
       brick_flags |= select((lane_uint)0u, (lane_uint)FLAG_WRITTEN, differs);
       const lane_mask significant =
-          differs &
+          differs & ~silent &
           (FRONT_STEPPING ? lane_visible_change(current, current_label, best, best_label)
                           : lane_significant_change(current, current_label, best, best_label));
       tile->stamp[p] = select(tile->stamp[p], (lane_uint)stamp, significant);

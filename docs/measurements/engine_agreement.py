@@ -11,7 +11,8 @@ Each case's stats count, among others, the voxels beyond the campaign's rule (di
 label_unexplained: no tie within 3 voxels) and beyond the engine tests' rule (beyond_tie_chains:
 no chain of differing voxels from a tie). A case's runs are kept when it has a problem.
 The 2026-12-05 campaign ran master seeds 1, 2, 3 and 4 with 3, 393, 2206 and 1068 cases (3370
-compared on the kernels of 60c27f9, 3402 on those of e6a5340).
+compared on the kernels of 60c27f9, 3402 on those of e6a5340 and again on those of the
+session-41 commit that writes rises within the rounding without news).
 """
 import json
 import math
