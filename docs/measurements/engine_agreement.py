@@ -5,6 +5,11 @@
 Usage: python3 docs/measurements/engine_agreement.py MASTER_SEED CASES [SECONDS]
   case i draws its configuration from random.Random(MASTER_SEED * 100000 + i) and prints one line;
   python3 docs/measurements/engine_agreement.py --case CASE_SEED reruns one case and keeps its runs.
+  python3 docs/measurements/engine_agreement.py --summary RESULTS [OTHER] counts a campaign's cases
+  by outcome (refused alike, agree, distances, labels, other); with OTHER, a run of the same draws
+  on another build, it then lists the cases whose outcome or beyond_tie_chains changed.
+  python3 docs/measurements/engine_agreement.py --compare DIR compares DIR/pocl and DIR/cpu, the
+  outputs of `rvor voronoi ... --vtu --device pocl|cpu --out DIR/...`, and prints the stats.
 Environment: RVOR (default build/bin/rvor), CAMPAIGN_DIR (default /tmp/rvor-campaign), which holds
 results.jsonl (one JSON object per case, with its command) and cases/<case seed>/{pocl,cpu}.
 Each case's stats count, among others, the voxels beyond the campaign's rule (dist_unexplained,
@@ -14,6 +19,7 @@ The 2026-12-05 campaign ran master seeds 1, 2, 3 and 4 with 3, 393, 2206 and 106
 compared on the kernels of 60c27f9, 3402 on those of e6a5340 and again on those of the
 session-41 commit that writes rises within the rounding without news).
 """
+import collections
 import json
 import math
 import os
@@ -305,7 +311,8 @@ def gen_case(case_seed):
 
 # ---------------------------------------------------------------- comparison
 
-def compare(case, dirs):
+def compare(dirs):
+    """The problems and stats of the pocl and cpu outputs in dirs (README, the campaign's rule)."""
     reps = [json.load(open(os.path.join(d, "report.json"))) for d in dirs]
     problems = []
     for key in ("active_voxels", "seeds", "index_box", "voxel_size", "dimension", "max_anisotropy",
@@ -448,7 +455,7 @@ def do_case(case_seed, keep=False):
         problems.append("both abnormal rc %d" % rcs[0][0])
     if rcs[0][0] == 0 and rcs[1][0] == 0:
         try:
-            problems2, stats = compare(case, outs)
+            problems2, stats = compare(outs)
             problems += problems2
         except Exception:  # noqa: BLE001 (a crash of the comparison is a finding)
             import traceback
@@ -464,7 +471,64 @@ def do_case(case_seed, keep=False):
     return case
 
 
+# ---------------------------------------------------------------- campaign summaries
+
+def outcome(case):
+    """refused (both engines refused alike), agree, distances (beyond the rule in distances only),
+    labels (in labels too) or other (another problem: exit codes, reports, voxel sets)."""
+    stats = case.get("stats")
+    if not stats:
+        refused = all(run[0] != 0 for run in case["runs"]) and not case["problems"]
+        return "refused" if refused else "other"
+    if not case["problems"]:
+        return "agree"
+    if stats["label_unexplained"] > 0:
+        return "labels"
+    if stats["dist_unexplained"] > 0 and len(case["problems"]) == 1:
+        return "distances"
+    return "other"
+
+
+def load_results(path):
+    with open(path) as f:
+        return {case["case_seed"]: case for case in map(json.loads, f)}
+
+
+def beyond_tie_chains(case):
+    return (case.get("stats") or {}).get("beyond_tie_chains", 0)
+
+
+def summarize(path):
+    cases = load_results(path)
+    counts = collections.Counter(outcome(case) for case in cases.values())
+    beyond = sum(1 for case in cases.values() if beyond_tie_chains(case) > 0)
+    unexplained = sum((case.get("stats") or {}).get("dist_unexplained", 0) for case in cases.values())
+    print("%s: %d cases, %s; %d beyond the tests' rule; %d voxels beyond 1e-4 with no tie within 3"
+          % (path, len(cases), ", ".join("%s %d" % kv for kv in sorted(counts.items())), beyond,
+             unexplained))
+    return cases
+
+
+def print_changes(before, after):
+    for seed in sorted(set(before) & set(after)):
+        a, b = before[seed], after[seed]
+        if outcome(a) != outcome(b) or beyond_tie_chains(a) != beyond_tie_chains(b):
+            print("%d %s %s: %s (beyond_tie_chains %d) -> %s (%d)" % (
+                seed, a["metric"][:40], a["seedkind"], outcome(a), beyond_tie_chains(a),
+                outcome(b), beyond_tie_chains(b)))
+
+
 if __name__ == "__main__":
+    if sys.argv[1] == "--summary":
+        runs = [summarize(path) for path in sys.argv[2:4]]
+        if len(runs) == 2:
+            print_changes(*runs)
+        sys.exit(0)
+    if sys.argv[1] == "--compare":
+        folders = [os.path.join(sys.argv[2], engine) for engine in ("pocl", "cpu")]
+        problems, stats = compare(folders)
+        print(json.dumps({"problems": problems, "stats": stats}, indent=1))
+        sys.exit(0)
     if sys.argv[1] == "--case":
         c = do_case(int(sys.argv[2]), keep=True)
         print(json.dumps(c, indent=1))
