@@ -528,8 +528,7 @@ __kernel void relax_brick_sweep(BRICK_SWEEP_ARGUMENTS) {
       if (best != current) {
         tile[p] = best;
         brick_flags |= FLAG_WRITTEN;
-        if (significant_change(current, best) &&
-            !rounding_rise(current, best, rounding_tolerance(weight, terms))) {
+        if (is_news(current, best, weight, terms)) {
           tile_stamp[p] = stamp;
           sweep_changed = true;
           changed_lo = min(changed_lo, c);
@@ -636,9 +635,9 @@ inline bool changed_since(int3 c, int3 origin, const int3* offset, int terms, ui
 }
 
 // The new state of brick voxel l (unchanged when frozen or inactive); counts an update in *updates
-// and, when the state changes, gives the rounding tolerance of its stencil in *tolerance. A voxel
-// is evaluated only where a neighbour changed since its last evaluation: in the first iteration by
-// the stamps (changed_since), in any by the masks of the significant changes of the last iteration
+// and tells in *news whether the new state is news (is_news; left false when not evaluated). A
+// voxel is evaluated only where a neighbour changed since its last evaluation: in the first
+// iteration by the stamps (changed_since), in any by the masks of the news of the last iteration
 // and of this one (mask, other_mask). Masks and stamps both record news only, as the brick sweeps'
 // stamps do, so a skipped voxel misses no more than changes below the news threshold.
 inline ulong phase_update(int l, size_t brick_slot, int3 origin, __local const ulong* values,
@@ -647,7 +646,7 @@ inline ulong phase_update(int l, size_t brick_slot, int3 origin, __local const u
                           int4 grid, __global const int* table, __global const float* seeds,
                           bool first, __local const uint* mask, __local const uint* other_mask,
                           __global uint* evaluated, __global const uint* changed, uint stamp,
-                          uint stride, uint* updates, float* tolerance) {
+                          uint stride, uint* updates, bool* news) {
   const ulong current = values[l];
   if (state_frozen(current) || !slot_active(activity, brick_slot + l)) return current;
   float weight[STENCIL_TERMS];
@@ -671,7 +670,7 @@ inline ulong phase_update(int l, size_t brick_slot, int3 origin, __local const u
   const float* eGe = 0;
 #endif
   const ulong best = best_candidate(nb, weight, offset, terms, convert_float3(v), seeds, eGe);
-  if (best != current) *tolerance = rounding_tolerance(weight, terms);  // only a change needs it
+  *news = is_news(current, best, weight, terms);
   return best;
 }
 
@@ -685,9 +684,9 @@ __kernel __attribute__((reqd_work_group_size(PHASE_VOXELS, 1, 1))) void relax_vo
   // only the bricks that read it are activated, as after a brick sweep. (Every brick within reach
   // was: an insertion into a 48^3 canvas then relaxed 584 bricks where brick_sweep relaxed 166.)
   __local int changed_box[6];
-  // changed_voxels[it % 3]: the voxels iteration `it` changed significantly (news, as the stamps:
-  // a rounding rise marked there woke its neighbours, which rose back, and anisotropy 141 along an
-  // axis never settled; bit l of word l / 32);
+  // changed_voxels[it % 3]: the voxels whose change in iteration `it` was news (is_news, as the
+  // stamps: with every rounding rise marked there, the voxels beside a seed kept waking each other
+  // and anisotropy 141 along an axis never settled; bit l of word l / 32);
   // iteration `it` clears iteration it + 1's, which nobody reads or writes before a barrier.
   __local uint changed_voxels[3][PHASE_MASK_WORDS];
   // changed_in[it % 3]: iteration `it` changed a value significantly. Iteration `it` resets the
@@ -730,16 +729,16 @@ __kernel __attribute__((reqd_work_group_size(PHASE_VOXELS, 1, 1))) void relax_vo
     if (w < PHASE_MASK_WORDS) changed_voxels[(it + 1) % 3][w] = 0;
     for (int p = 0; p < PHASES; ++p) {
       const int l = phase_voxel(w, p);
-      float tolerance = RELATIVE_TOLERANCE;
+      bool news = false;
       // Stamps in (it, p) order, below round_base + stride (the host's stride covers them).
       const uint stamp = round_base + 1 + it * PHASES + p;
       const ulong best =
           phase_update(l, brick_slot, origin, values, state, stencils, shapes, activity, dims, grid,
                        table, seeds, it == 0, changed_now, changed_before, evaluated, changed,
-                       stamp, stride, &updates, &tolerance);
+                       stamp, stride, &updates, &news);
       if (best != values[l]) {
         wrote = true;
-        if (significant_change(values[l], best) && !rounding_rise(values[l], best, tolerance)) {
+        if (news) {
           atomic_or(&changed_now[l / 32], 1u << (l % 32));
           const int3 c = local_coordinates(l);
           stamps[l] = stamp;
