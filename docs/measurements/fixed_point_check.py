@@ -14,49 +14,18 @@ import math
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path[:0] = [HERE, os.path.join(HERE, "two_label_prototype")]
 from engine_agreement import load_engine_fields, uniform_tensor  # noqa: E402
-
-
-def selling_2d(D):
-    """Terms (rho, e) of D = sum rho e e^T from an obtuse superbase (Selling's algorithm)."""
-    dot = lambda u, v: u[0] * (D[0][0] * v[0] + D[0][1] * v[1]) + u[1] * (D[0][1] * v[0] + D[1][1] * v[1])
-    b = [(1, 0), (0, 1), (-1, -1)]
-    changed = True
-    while changed:
-        changed = False
-        for i, j in ((0, 1), (0, 2), (1, 2)):
-            if dot(b[i], b[j]) > 0:
-                k = 3 - i - j
-                b[k] = (b[i][0] - b[j][0], b[i][1] - b[j][1])
-                b[i] = (-b[i][0], -b[i][1])
-                changed = True
-                break
-    terms = []
-    for i, j in ((0, 1), (0, 2), (1, 2)):
-        k = 3 - i - j
-        terms.append((-dot(b[i], b[j]), (-b[k][1], b[k][0])))
-    return [(r, e) for r, e in terms if r > 0]
-
-
-def solve_sorted(ws, h2):
-    ws.sort()
-    a = b = c = 0.0
-    for m, (w, r) in enumerate(ws):
-        a += r
-        b += r * w
-        c += r * w * w
-        t = (b + math.sqrt(max(0.0, b * b - a * (c - h2)))) / a
-        if m + 1 == len(ws) or t <= ws[m + 1][0]:
-            return t
-    return math.inf
+from voronoi import selling, solve  # noqa: E402 (the prototype's Selling terms and sorted solve)
 
 
 def main():
     pocl, cpu, origin, h, _, seeds = load_engine_fields(sys.argv[1])
     G = uniform_tensor(sys.argv[2], 2)
     det = G[0][0] * G[1][1] - G[0][1] * G[0][1]
-    stencil = selling_2d([[G[1][1] / det, -G[0][1] / det], [-G[0][1] / det, G[0][0] / det]])
+    terms, _ = selling([[G[1][1] / det, -G[0][1] / det], [-G[0][1] / det, G[0][0] / det]])
+    stencil = [(r, e) for r, e in terms if r > 0]
     position = lambda k: (origin[0] + k[0] * h, origin[1] + k[1] * h)
 
     def seed_terms(label, p):
@@ -87,7 +56,7 @@ def main():
                 if w < math.inf:
                     ws.append((w, r))
             if ws:
-                best = min(best, (max(solve_sorted(ws, h * h), floor), label))
+                best = min(best, (max(solve(ws, h * h), floor), label))
         return best
 
     seed_voxels = [min(cpu, key=lambda k: (position(k)[0] - s[0]) ** 2 + (position(k)[1] - s[1]) ** 2)
