@@ -171,9 +171,8 @@ void expect_two_close_seeds_settle_alike_in_every_order(std::unique_ptr<Propagat
   propagator->solve(canvas, {a, b}, both);
   for (const bool a_first : {true, false}) {
     SCOPED_TRACE(a_first ? "a, then b inserted" : "b, then a inserted");
-    VoronoiField chain;
-    propagator->solve(canvas, {a_first ? a : b}, chain);
-    propagator->insert(canvas, {a_first ? a : b, a_first ? b : a}, 1, chain);
+    const VoronoiField chain =
+        test::insert_one_by_one(*propagator, canvas, {a_first ? a : b, a_first ? b : a});
     std::size_t labels = 0, distances = 0;
     for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
       if (!canvas.active[slot]) continue;
