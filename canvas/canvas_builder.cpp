@@ -138,6 +138,7 @@ Placement place_voxels(const ResolvedDomain& domain, int resolution) {
 
 BoolTree::Ptr box_topology(const Placement& p) {
   auto tree = std::make_shared<BoolTree>(false);
+  const auto unwinding = freeing_on_unwind(*tree);
   tree->denseFill(openvdb::CoordBBox(openvdb::Coord(0),
                                      openvdb::Coord(p.dims[0] - 1, p.dims[1] - 1, p.dims[2] - 1)),
                   true, true);
@@ -222,6 +223,7 @@ BoolTree::Ptr implicit_topology(const ImplicitShape& shape, const Placement& p) 
       leaves[n] = shape_leaf(shape, p, candidates[n]);
   });
   auto tree = std::make_shared<BoolTree>(false);
+  const auto unwinding = freeing_on_unwind(*tree);
   for (auto& leaf : leaves)
     if (!leaf->isEmpty()) tree->addLeaf(leaf.release());
   return tree;
@@ -230,6 +232,7 @@ BoolTree::Ptr implicit_topology(const ImplicitShape& shape, const Placement& p) 
 // The voxels whose centres lie inside the mesh (inside_runs: ray parity).
 BoolTree::Ptr mesh_topology(const SurfaceMesh& mesh, const Placement& p) {
   auto tree = std::make_shared<BoolTree>(false);
+  const auto unwinding = freeing_on_unwind(*tree);
   openvdb::tree::ValueAccessor<BoolTree> accessor(*tree);
   for (const VoxelRun& run : inside_runs(mesh, p.origin, p.h, p.dims))
     for (int i = run.i_begin; i < run.i_end; ++i)
@@ -393,6 +396,7 @@ static Canvas build_canvas_itself(const DomainSpec& domain, const MetricField& m
 
   openvdb::initialize();
   const BoolTree::Ptr tree = topology(resolved, placement);
+  const auto unwinding = freeing_on_unwind(*tree);
   const std::vector<const BoolLeaf*> leaves = leaves_in_box(*tree, placement);
   if (leaves.empty()) fail_empty(domain, options.resolution);
 

@@ -188,7 +188,9 @@ void write_voronoi_vdb(const std::string& path, const Canvas& canvas, const Voro
   require_placed(canvas, "cannot write VDB file " + path);
   require_field_for(canvas, field, "cannot write VDB file " + path);
   auto distance = make_canvas_grid<openvdb::FloatGrid>(canvas, "distance", kDistanceBackground);
+  const auto distance_unwinding = freeing_on_unwind(distance->tree());
   auto label = make_canvas_grid<openvdb::Int32Grid>(canvas, "label", kLabelBackground);
+  const auto label_unwinding = freeing_on_unwind(label->tree());
   fill_active(*distance, canvas, [&](std::size_t slot) { return field.distance[slot]; });
   fill_active(*label, canvas, [&](std::size_t slot) { return field.label[slot]; });
   write_grids_atomically(path, {distance, label});
@@ -232,13 +234,17 @@ VoronoiField read_voronoi_vdb(const std::string& path, const Canvas& canvas) {
 
 void write_metric_vdb(const std::string& path, const Canvas& canvas) {
   require_placed(canvas, "cannot write VDB file " + path);
-  openvdb::GridPtrVec grids;
+  std::vector<openvdb::FloatGrid::Ptr> components;
+  const UnwindGuard unwinding([&components] {
+    for (const auto& grid : components) grid->tree().root().clear();  // as freeing_on_unwind
+  });
   for (int component = 0; component < 6; ++component) {
-    auto grid = make_canvas_grid<openvdb::FloatGrid>(canvas, kMetricGridNames[component], 0.0f);
-    fill_active(*grid, canvas, [&](std::size_t slot) { return canvas.metric_of(slot)[component]; });
-    grids.push_back(grid);
+    components.push_back(
+        make_canvas_grid<openvdb::FloatGrid>(canvas, kMetricGridNames[component], 0.0f));
+    fill_active(*components.back(), canvas,
+                [&](std::size_t slot) { return canvas.metric_of(slot)[component]; });
   }
-  write_grids_atomically(path, grids);
+  write_grids_atomically(path, openvdb::GridPtrVec(components.begin(), components.end()));
 }
 
 }  // namespace rvor

@@ -1,8 +1,10 @@
 #pragma once
 // OpenVDB helpers shared by the canvas library's .cpp files (private; includes OpenVDB, so only
 // the few translation units that need it include this).
+#include <exception>
 #include <functional>
 #include <string>
+#include <utility>
 
 #include <openvdb/openvdb.h>
 
@@ -28,6 +30,34 @@ inline openvdb::Coord to_coord(const VoxelIndex& v) {
 inline std::string voxel_text(const openvdb::Coord& c) {
   return "(" + std::to_string(c.x()) + ", " + std::to_string(c.y()) + ", " + std::to_string(c.z()) +
          ")";
+}
+
+// Runs `on_unwind` when an exception leaves the guard's scope (declare it after what it cleans up,
+// so that it runs first).
+template <typename OnUnwind>
+class UnwindGuard {
+ public:
+  explicit UnwindGuard(OnUnwind on_unwind)
+      : on_unwind_(std::move(on_unwind)), exceptions_before_(std::uncaught_exceptions()) {}
+  UnwindGuard(const UnwindGuard&) = delete;
+  UnwindGuard& operator=(const UnwindGuard&) = delete;
+  ~UnwindGuard() {
+    if (std::uncaught_exceptions() > exceptions_before_) on_unwind_();
+  }
+
+ private:
+  OnUnwind on_unwind_;
+  int exceptions_before_;
+};
+
+// Deletes a tree's nodes without allocating, for a tree that an exception is about to destroy.
+// ~Tree calls Tree::clear, which gathers the nodes into vectors before deleting them: after
+// std::bad_alloc that gathering can throw again, from a destructor, and the process ended in
+// std::terminate (a 2D canvas of 30000² under `ulimit -v 3000000`). RootNode::clear deletes the
+// nodes as it walks them.
+template <typename TreeType>
+auto freeing_on_unwind(TreeType& tree) {
+  return UnwindGuard([&tree] { tree.root().clear(); });
 }
 
 inline const char* const kMetricGridNames[6] = {"m11", "m12", "m22", "m13", "m23", "m33"};

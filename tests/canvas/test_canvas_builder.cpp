@@ -12,6 +12,7 @@
 #include "rvor/canvas_builder.h"
 #include "rvor/error.h"
 #include "support/box_canvas.h"
+#include "support/limited_child.h"
 #include "support/temp_dir.h"
 
 namespace rvor {
@@ -517,6 +518,23 @@ TEST(BuildCanvas, MemoryBudgetOverride) {
   // 45.7 B for radial_shock_3d: rvor bench's bytes_per_voxel): the estimate covers at least that.
   EXPECT_GE(estimated_bytes_per_active_voxel(true), 1 + 8 + 17.7);
   EXPECT_GE(estimated_bytes_per_active_voxel(false), 25 + 8 + 45.7);
+}
+
+// An allocation the budget passed (here: a budget far above what the process may map) fails as
+// rvor::Error naming what ran out. The tree being built must then be freed without allocating:
+// ~Tree allocated, threw from a destructor, and the 2D case aborted (exit 134).
+TEST(BuildCanvas, AnAllocationTheBudgetPassedFailsAsANamedError) {
+  for (const char* spec : {"rect:-1,-1,1,1", "implicit:disk"}) {
+    CanvasOptions options;
+    options.resolution = 30000;  // ~14M leaves: gigabytes of tree
+    options.memory_budget = std::uint64_t{1} << 50;
+    const int code = test::exit_code_in_a_child(rlim_t{512} << 20, [&] {
+      const std::string message =
+          build_error(parse_domain(spec), test::euclidean_metric(2), options);
+      return message.rfind("out of memory building the canvas (std::bad_alloc)", 0) == 0;
+    });
+    EXPECT_EQ(code, 0) << spec << ": 1: built, or another message; 134: aborted";
+  }
 }
 
 // A uniform field's canvas stores its tensor once (Canvas::uniform_metric), so the estimate is

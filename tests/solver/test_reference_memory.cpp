@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <sys/resource.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -22,9 +21,12 @@
 #include "slot_ranges.h"
 #include "support/box_canvas.h"
 #include "support/error_of.h"
+#include "support/limited_child.h"
 
 namespace rvor {
 namespace {
+
+using test::exit_code_in_a_child;
 
 // A field of /proc/self/status in bytes (0 when absent).
 std::uint64_t status_bytes(const std::string& field) {
@@ -101,32 +103,6 @@ TEST(ReferenceMemory, ASolveOverTheBudgetIsRefusedBeforeItAllocates) {
   reference->set_memory_budget(0);  // the memory available
   EXPECT_NO_THROW(reference->solve(canvas, {Vec3(0, 0, 0)}, field));
   EXPECT_GT(available_memory(), 0u);
-}
-
-// The exit code of `child` run in a forked process under an address-space limit of `limit` bytes
-// above what the process maps now (none: 0), or 128 + the signal that killed it; 255 where no
-// limit could be set; 2 where `child` threw.
-int exit_code_in_a_child(rlim_t limit_above_now, const std::function<bool()>& child) {
-  const pid_t pid = fork();
-  if (pid < 0) return -1;
-  if (pid == 0) {
-    long pages = 0;
-    if (FILE* statm = std::fopen("/proc/self/statm", "r")) {
-      if (std::fscanf(statm, "%ld", &pages) != 1) pages = 0;
-      std::fclose(statm);
-    }
-    const rlim_t limit = static_cast<rlim_t>(pages) * sysconf(_SC_PAGESIZE) + limit_above_now;
-    const rlimit address_space{limit, limit};
-    if (pages == 0 || setrlimit(RLIMIT_AS, &address_space) != 0) _exit(255);
-    try {
-      _exit(child() ? 0 : 1);
-    } catch (...) {  // unwinding past here would run the rest of the suite in the child
-      _exit(2);
-    }
-  }
-  int status = 0;
-  if (waitpid(pid, &status, 0) != pid) return -1;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
 // Threads that cannot start (here: no address space left for their stacks) leave their ranges to
