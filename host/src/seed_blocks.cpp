@@ -1,6 +1,7 @@
 #include "rvor/seed_blocks.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
@@ -75,8 +76,10 @@ class SeedGrid {
     }
     for (int a = 0; a < 3; ++a) cells_[a] = (dims_[a] + cell_ - 1) / cell_;
     lists_.resize(static_cast<std::size_t>(cells_[0]) * cells_[1] * cells_[2]);
+    first_cells_.resize(seeds.size());
     for (std::size_t t = 0; t < seeds.size(); ++t) {
       const auto [lo, hi] = cell_box(seeds[t], reach);
+      first_cells_[t] = lo;
       for (int k = lo[2]; k <= hi[2]; ++k)
         for (int j = lo[1]; j <= hi[1]; ++j)
           for (int i = lo[0]; i <= hi[0]; ++i)
@@ -84,8 +87,12 @@ class SeedGrid {
     }
   }
 
-  // The seeds listed in the cells that the voxel box [centre - r, centre + r] touches, sorted,
-  // distinct.
+  // The seeds listed in the cells that the voxel box [centre - r, centre + r] touches, each once:
+  // a seed is taken from the first of those cells that lists it, the one at the larger corner of
+  // its own cell box's and the query box's least corners. (Sorting the cells' lists to drop the
+  // copies took half of the claims' time with dense seeds: euclidean 128^3 with 100 000 seeds
+  // solved in 3.59 / 6.27 s before, 2.15 / 4.93 s after, alternating on a busy machine; with a seed
+  // in every voxel of 32^3, 10.5 s before, 7.5 s after; 2026-12-05.)
   std::vector<std::int32_t> seeds_near(const VoxelIndex& centre, int r) const {
     const int c[3] = {centre.i, centre.j, centre.k};
     std::array<int, 3> lo{}, hi{};
@@ -97,12 +104,13 @@ class SeedGrid {
     std::vector<std::int32_t> seeds;
     for (int k = lo[2]; k <= hi[2]; ++k)
       for (int j = lo[1]; j <= hi[1]; ++j)
-        for (int i = lo[0]; i <= hi[0]; ++i) {
-          const std::vector<std::int32_t>& list = lists_[cell_index(i, j, k)];
-          seeds.insert(seeds.end(), list.begin(), list.end());
-        }
-    std::sort(seeds.begin(), seeds.end());
-    seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
+        for (int i = lo[0]; i <= hi[0]; ++i)
+          for (const std::int32_t t : lists_[cell_index(i, j, k)]) {
+            const std::array<int, 3>& first = first_cells_[static_cast<std::size_t>(t)];
+            if (i == std::max(lo[0], first[0]) && j == std::max(lo[1], first[1]) &&
+                k == std::max(lo[2], first[2]))
+              seeds.push_back(t);
+          }
     return seeds;
   }
 
@@ -157,6 +165,7 @@ class SeedGrid {
   std::array<int, 3> cells_{};
   int cell_ = Canvas::kBrickEdge;
   std::vector<std::vector<std::int32_t>> lists_;
+  std::vector<std::array<int, 3>> first_cells_;  // per seed, the least corner of its cell box
 };
 
 // Rounding allowance of the squared lower bounds below (least_scale itself is lowered by its
