@@ -220,10 +220,18 @@ void print_voronoi_summary(std::ostream& out, const std::string& out_dir,
     out << "  warning: " << far_probes << " probe" << (far_probes > 1 ? "s lie" : " lies")
         << " more than a voxel from the canvas: probe.csv gives the nearest active voxel's "
            "values (and its centre)\n";
-  if (summary.unreached_voxels > 0)
-    out << "  warning: " << summary.unreached_voxels
-        << " voxels were reached by no seed (a domain component without seeds, or, under strong "
-           "anisotropy, voxels no stencil of the canvas reaches)\n";
+  const std::size_t seedless = summary.unreached_voxels - summary.unreached_beside_reached;
+  if (seedless > 0)
+    out << "  warning: " << seedless
+        << " voxels were reached by no seed: they lie in pieces of the canvas without seeds\n";
+  if (summary.unreached_beside_reached > 0)
+    out << "  warning: " << summary.unreached_beside_reached
+        << " voxels were reached by no seed although they adjoin reached ones: none of their "
+           "stencils (up to "
+        << reach.longest_offset
+        << " voxels long) leads to a reached voxel, where the stencils are long against how fast "
+           "the metric turns (raise --resolution) or at corners of the canvas that a rotated "
+           "stencil reaches only from outside\n";
   const double rate = propagation_seconds > 0 ? active_voxels / propagation_seconds : 0.0;
   const bool millions = rate >= 1e6;  // small canvases: thousands, not "0.0 M"
   out << "  propagation " << std::fixed << std::setprecision(2) << propagation_seconds << " s ("

@@ -157,10 +157,15 @@ XyzPoints seeds_from_file(const VoronoiOptions& o, int dimension) {
 }
 
 nlohmann::json summary_json(const FieldSummary& s) {
-  return {{"reached_voxels", s.reached_voxels},      {"unreached_voxels", s.unreached_voxels},
-          {"non_empty_cells", s.non_empty_cells},    {"empty_cells", s.empty_cells},
-          {"smallest_cell_voxels", s.smallest_cell}, {"largest_cell_voxels", s.largest_cell},
-          {"max_distance", s.max_distance},          {"mean_distance", s.mean_distance}};
+  return {{"reached_voxels", s.reached_voxels},
+          {"unreached_voxels", s.unreached_voxels},
+          {"unreached_beside_reached_voxels", s.unreached_beside_reached},
+          {"non_empty_cells", s.non_empty_cells},
+          {"empty_cells", s.empty_cells},
+          {"smallest_cell_voxels", s.smallest_cell},
+          {"largest_cell_voxels", s.largest_cell},
+          {"max_distance", s.max_distance},
+          {"mean_distance", s.mean_distance}};
 }
 
 // The straight dual in the progress line: whether it is a triangulation, and its element count;

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,31 @@ TEST(FieldOutputs, AFieldOfAnotherCanvasIsAnError) {
     EXPECT_EQ(message.find(who), 0u) << message;
     EXPECT_NE(message.find(": the field does not match the canvas"), std::string::npos) << message;
   }
+}
+
+// Unreached voxels next to reached ones (no stencil leads them to a seed) are told apart from
+// those in pieces of the canvas without seeds: the advice differs (resolution, or seeds).
+TEST(FieldSummary, UnreachedVoxelsBesideReachedOnesAreCountedApart) {
+  Canvas canvas =
+      test::make_uniform_box_canvas(2, Vec3(-1, -1, 0), Vec3(1, 1, 0), 16, Mat3::Identity());
+  VoronoiField field;
+  field.distance.assign(canvas.slot_count(), 1.0f);
+  field.label.assign(canvas.slot_count(), 0);
+  const auto set_unreached = [&](int i, int j) {
+    const auto slot = static_cast<std::size_t>(canvas.slot_of(i, j, 0));
+    field.distance[slot] = std::numeric_limits<float>::infinity();
+    field.label[slot] = -1;
+  };
+  for (int j = 0; j < 16; ++j) {  // column 10 cut out: columns 11 to 15 form a piece of their own
+    canvas.active[static_cast<std::size_t>(canvas.slot_of(10, j, 0))] = 0;
+    for (int i = 11; i < 16; ++i) set_unreached(i, j);
+  }
+  set_unreached(0, 0);  // a corner, and a pair beside the cut
+  set_unreached(9, 7);
+  set_unreached(8, 7);
+  const FieldSummary summary = summarize_field(canvas, field, 1);
+  EXPECT_EQ(summary.unreached_voxels, 5u * 16u + 3u);
+  EXPECT_EQ(summary.unreached_beside_reached, 3u);
 }
 
 TEST(FieldOutputs, LabelsBeyondTheSeedsAndNonFiniteProbesAreErrors) {
