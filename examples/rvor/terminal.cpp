@@ -176,7 +176,8 @@ std::string domain_help() {
 
 std::string metric_help() {
   return "NAME[:key=value,...], NAME one of: " + join(analytic_metric_names()) +
-         "; every field takes scale=S; uniform:m11,m12,m22 (2D) or "
+         "; every field takes scale=S (every distance times S, the tensors times S²); "
+         "uniform:m11,m12,m22 (2D) or "
          "uniform:m11,m12,m22,m13,m23,m33 (3D); swirl, starred and unidimensional_shock are 2D "
          "fields, radial_shock_3d is 3D, the others both";
 }
