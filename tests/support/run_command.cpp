@@ -26,7 +26,10 @@ std::string rvor_binary() {
 }
 
 std::string debian_python() {
-  return "/usr/bin/python3";
+  // -s -E: without the user's site-packages and PYTHON* variables, whose packages would shadow
+  // Debian's (a NumPy 2 installed with `pip install --user` broke Debian's meshio, and with it a
+  // test of the dual's files).
+  return "/usr/bin/python3 -s -E";
 }
 
 CommandResult run_python_script(const std::string& script_path, const std::string& script,
