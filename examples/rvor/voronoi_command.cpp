@@ -218,6 +218,40 @@ CurvedDual build_curved(const Canvas& canvas, const VoronoiField& field, const N
 void write_voronoi(const VoronoiOptions& o, const std::vector<std::string>& created) {
   const auto start = std::chrono::steady_clock::now();
   Progress progress(o.quiet);
+  // Every input is read and checked, down to the seeds on the built canvas, before the output
+  // directory is looked at: a bad input came after "... already exists; pass --overwrite", which
+  // steered the user towards replacing their results to learn what was wrong. The canvas is built
+  // once, here; nothing is written before the outputs' checks.
+  progress.begin("building canvas");
+  const DomainSpec domain = parse_domain(o.domain);
+  if (o.png && domain.dimension() != 2)
+    throw Error(
+        "--png draws 2D results only: use a 2D domain (rect: or implicit:disk) "
+        "(3D results: --vtu for ParaView)");
+  const std::vector<Vec3> probes =
+      o.probe_file.empty() ? std::vector<Vec3>{} : read_xyz(o.probe_file, domain.dimension());
+  const XyzPoints given_seeds = seeds_from_file(o, domain.dimension());
+  CanvasOptions canvas_options;
+  canvas_options.resolution = o.resolution;
+  canvas_options.memory_budget = o.memory_budget;
+  const std::unique_ptr<MetricField> metric =
+      load_metric(o, domain.dimension(), canvas_options.memory_budget);
+  const Canvas canvas = build_canvas(domain, *metric, canvas_options);
+  const MetricReach reach = sampled_metric_reach(canvas);
+  const double canvas_seconds =
+      progress.end(std::to_string(canvas.active_voxel_count) + " active voxels");
+
+  const std::vector<Vec3> seeds = o.random_seed_count > 0
+                                      ? random_seeds(canvas, o.random_seed_count, o.rng_seed)
+                                      : given_seeds.points;
+  // A given seed is named by its file and line as well as its label (which counts from 0).
+  validate_seeds(canvas, seeds, 0, [&](std::size_t n) {
+    const std::string label = "seed " + std::to_string(n);
+    return given_seeds.lines.empty()
+               ? label
+               : o.seeds_file + ":" + std::to_string(given_seeds.lines[n]) + ": " + label;
+  });
+
   const std::string out = o.out_dir;
   prepare_output_directory(out);
   const std::vector<std::string> earlier =
@@ -227,35 +261,6 @@ void write_voronoi(const VoronoiOptions& o, const std::vector<std::string>& crea
   OutputSet outputs(out, output_names(o), o.overwrite, created);
   auto path = [&](const std::string& name) { return outputs.path(name); };
   try {
-    progress.begin("building canvas");
-    const DomainSpec domain = parse_domain(o.domain);
-    if (o.png && domain.dimension() != 2)
-      throw Error(
-          "--png draws 2D results only: use a 2D domain (rect: or implicit:disk) "
-          "(3D results: --vtu for ParaView)");
-    const std::vector<Vec3> probes =
-        o.probe_file.empty() ? std::vector<Vec3>{} : read_xyz(o.probe_file, domain.dimension());
-    const XyzPoints given_seeds = seeds_from_file(o, domain.dimension());
-    CanvasOptions canvas_options;
-    canvas_options.resolution = o.resolution;
-    canvas_options.memory_budget = o.memory_budget;
-    const std::unique_ptr<MetricField> metric =
-        load_metric(o, domain.dimension(), canvas_options.memory_budget);
-    const Canvas canvas = build_canvas(domain, *metric, canvas_options);
-    const MetricReach reach = sampled_metric_reach(canvas);
-    const double canvas_seconds =
-        progress.end(std::to_string(canvas.active_voxel_count) + " active voxels");
-
-    const std::vector<Vec3> seeds = o.random_seed_count > 0
-                                        ? random_seeds(canvas, o.random_seed_count, o.rng_seed)
-                                        : given_seeds.points;
-    // A given seed is named by its file and line as well as its label (which counts from 0).
-    validate_seeds(canvas, seeds, 0, [&](std::size_t n) {
-      const std::string label = "seed " + std::to_string(n);
-      return given_seeds.lines.empty()
-                 ? label
-                 : o.seeds_file + ":" + std::to_string(given_seeds.lines[n]) + ": " + label;
-    });
     progress.begin("propagating from " + std::to_string(seeds.size()) + " seeds");
     std::unique_ptr<Propagator> propagator = make_propagator(o.device);
     propagator->set_memory_budget(canvas_options.memory_budget);  // 0: the memory available

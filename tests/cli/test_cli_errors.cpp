@@ -239,17 +239,38 @@ TEST_F(CliErrors, FailedRunRemovesTheFoldersItCreatedAboveTheOutputDirectory) {
   EXPECT_EQ(read_text(dir.file("kept/a/file")), "mine");
 }
 
-// A bad value is reported before the outputs are looked at: it came after "... already exists".
+// A bad value is reported before the outputs are looked at: it came after "... already exists",
+// and only --overwrite, which replaces the earlier results, showed it. So are bad specs, input
+// files, the canvas's memory estimate and the seeds' places on the canvas; the earlier outputs
+// stay.
 TEST_F(CliErrors, BadValuesComeBeforeTheOutputsChecks) {
   const std::string args = "--domain rect:-1,-1,1,1 --resolution 8 --random-seeds 3";
   ASSERT_EQ(run_command(voronoi(args)).exit_code, 0);
-  for (const auto& [more, fragment] :
-       {std::pair<std::string, std::string>{" --memory-budget 12Q",
-                                            "--memory-budget: memory budget '12Q' is not"},
-        {" --seeds " + seeds2d(), "give either --seeds or --random-seeds, not both"}}) {
-    const CommandResult result = run_command(voronoi(args + more));
+  const std::string report = read_text(out() + "/report.json");
+  write_text(dir.file("nan.xyz"), "0.1 0.2\nnan 0.3\n");
+  write_text(dir.file("far.xyz"), "0.1 0.2\n5 5\n");
+  write_text(dir.file("bad-probe.xyz"), "hello world\n");
+  const std::string rect = "--domain rect:-1,-1,1,1 --resolution 16 ";
+  for (const auto& [more, fragment] : std::vector<std::pair<std::string, std::string>>{
+           {args + " --memory-budget 12Q", "--memory-budget: memory budget '12Q' is not"},
+           {args + " --seeds " + seeds2d(), "give either --seeds or --random-seeds, not both"},
+           {"--domain rect:garbage --random-seeds 2", "malformed domain 'rect:garbage'"},
+           {"--domain implicit:cube --random-seeds 2", "cube"},
+           {"--domain box:0,0,0,0,1,1 --random-seeds 2", "box:0,0,0,0,1,1"},
+           {rect + "--random-seeds 2 --metric bogus", "bogus"},
+           {rect + "--random-seeds 2 --metric uniform:1,2,1", "not symmetric positive definite"},
+           {rect + "--seeds /nonexistent", "cannot read point file /nonexistent"},
+           {rect + "--seeds " + dir.file("nan.xyz"), "nan.xyz:2: expected 2 or 3 finite numbers"},
+           {rect + "--seeds " + dir.file("far.xyz"), "far.xyz:2: seed 1 at (5, 5, 0) is outside"},
+           {rect + "--random-seeds 2 --probe " + dir.file("bad-probe.xyz"), "bad-probe.xyz:1"},
+           {"--domain box:-1,-1,-1,1,1,1 --resolution 16 --random-seeds 2 --png", "--png"},
+           {rect + "--random-seeds 2 --memory-budget 1K", "over the memory budget of 1 KiB"},
+           {"--domain rect:-1,-1,1,1 --resolution 4 --random-seeds 200", "16 active voxels"}}) {
+    SCOPED_TRACE(more);
+    const CommandResult result = run_command(voronoi(more));
     EXPECT_EQ(result.exit_code, 1);
     EXPECT_NE(result.err.find(fragment), std::string::npos) << result.err;
+    EXPECT_EQ(read_text(out() + "/report.json"), report);
   }
 }
 
