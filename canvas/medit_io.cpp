@@ -10,7 +10,6 @@
 #include <climits>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <iterator>
 #include <sstream>
 #include <string_view>
@@ -74,7 +73,7 @@ bool is_section_keyword(std::string_view text) {
 }
 
 std::string read_whole_file(const std::string& path) {
-  std::ifstream in = open_input_file(path, "Medit file");
+  InputFile in = open_input_file(path, "Medit file");
   std::string whole;
   // Read by chunks, each checked as it comes: binary Medit files (.meshb, .solb) start with the
   // int 1, and text never holds a NUL byte, so a binary file (or /dev/zero) is refused at its

@@ -2,7 +2,6 @@
 #include <cctype>
 #include <cmath>
 #include <cstdint>
-#include <fstream>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -26,7 +25,7 @@ std::string lowercase_extension(const std::string& path) {
   return extension;
 }
 
-std::ifstream open_input(const std::string& path) {
+InputFile open_input(const std::string& path) {
   return open_input_file(path, "mesh file");
 }
 
@@ -45,7 +44,7 @@ class LineReader {
 
  private:
   std::string path_;
-  std::ifstream in_;
+  InputFile in_;
   int number_ = 0;
 };
 
@@ -198,7 +197,7 @@ class VertexWelder {
 };
 
 bool looks_binary_stl(const std::string& path) {
-  std::ifstream in = open_input(path);
+  InputFile in = open_input(path);
   in.seekg(0, std::ios::end);
   const auto size = static_cast<std::uint64_t>(in.tellg());
   if (size < 84) return false;
@@ -215,7 +214,7 @@ bool looks_binary_stl(const std::string& path) {
 }
 
 SurfaceMesh read_binary_stl(const std::string& path) {
-  std::ifstream in = open_input(path);
+  InputFile in = open_input(path);
   in.seekg(80);
   std::uint32_t count = 0;
   in.read(reinterpret_cast<char*>(&count), 4);

@@ -175,7 +175,7 @@ void read_in_a_child_first(const std::string& path) {
 openvdb::GridPtrVec read_grids(const std::string& path,
                                const std::function<void(const VdbArchiveSummary&)>& before_values) {
   openvdb::initialize();
-  std::ifstream in = open_input_file(path, "VDB file");
+  InputFile in = open_input_file(path, "VDB file");
   const VdbArchiveSummary summary = check_vdb_archive(in, path);
   if (before_values) before_values(summary);
   read_in_a_child_first(path);

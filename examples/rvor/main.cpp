@@ -6,12 +6,14 @@
 #include <new>
 
 #include "commands.h"
+#include "rvor/input_file.h"
 #include "terminal.h"
 
 int main(int argc, char** argv) {
   // Past a file size limit the kernel sends SIGXFSZ, whose default kills the process: ignored, the
   // write fails with EFBIG and the writer reports it, naming the file.
   std::signal(SIGXFSZ, SIG_IGN);
+  rvor::set_fifo_wait_notice(rvor::cli::print_fifo_wait);
   CLI::App app{"rvor: Riemannian Voronoi diagrams and Delaunay duals on sparse canvases"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "rvor " RVOR_VERSION);

@@ -63,6 +63,24 @@ double Progress::end(const std::string& detail) {
   return seconds;
 }
 
+void Progress::note(const std::string& line) {
+  const bool reopen = open_ && !quiet_;
+  if (reopen) {
+    restart_line();
+    std::cerr << "\n";
+  }
+  std::cerr << line << "\n";
+  if (reopen) std::cerr << stage_ << " ..." << std::flush;
+}
+
+std::string fifo_wait_text(const std::string& what, const std::string& path) {
+  return "rvor: waiting for " + what + " " + path + ", a FIFO that nothing has written to yet";
+}
+
+void print_fifo_wait(const std::string& what, const std::string& path) {
+  std::cerr << fifo_wait_text(what, path) << "\n";
+}
+
 std::uint64_t parse_byte_size(const std::string& text) {
   // Binary multiples, in either case: 8G and 8g are 8 GiB.
   static const std::string suffixes = "KMGT";

@@ -28,6 +28,8 @@ class Progress {
   // stage), at most twice a second unless `now`.
   void update(const std::string& status, bool now = false);
   double end(const std::string& detail);  // returns the stage's seconds
+  // Prints `line` on a line of its own, quiet or not, and the open stage's name again after it.
+  void note(const std::string& line);
 
  private:
   // Starts the stage's line again where an update wrote over it.
@@ -40,6 +42,13 @@ class Progress {
   std::string stage_;
   std::chrono::steady_clock::time_point start_, last_update_;
 };
+
+// The line that says rvor waits on a FIFO input that nothing has written to yet (a named pipe
+// without a writer would otherwise hang the run silently): given quiet or not, as it explains a
+// wait. rvor::set_fifo_wait_notice takes it.
+std::string fifo_wait_text(const std::string& what, const std::string& path);
+// fifo_wait_text on a line of stderr: the notice outside a progress stage.
+void print_fifo_wait(const std::string& what, const std::string& path);
 
 // "512M", "2G", "1.5T" or plain bytes. Throws rvor::Error on anything else.
 std::uint64_t parse_byte_size(const std::string& text);

@@ -24,6 +24,7 @@
 #include "rvor/dual.h"
 #include "rvor/error.h"
 #include "rvor/field_summary.h"
+#include "rvor/input_file.h"
 #include "rvor/local_fields.h"
 #include "rvor/metric_field.h"
 #include "rvor/metric_reach.h"
@@ -218,6 +219,15 @@ CurvedDual build_curved(const Canvas& canvas, const VoronoiField& field, const N
 void write_voronoi(const VoronoiOptions& o, const std::vector<std::string>& created) {
   const auto start = std::chrono::steady_clock::now();
   Progress progress(o.quiet);
+  // The note of a FIFO input that nothing has written to yet goes on a line of its own, not after
+  // the open stage's name.
+  set_fifo_wait_notice([&progress](const std::string& what, const std::string& path) {
+    progress.note(fifo_wait_text(what, path));
+  });
+  struct PlainNotice {  // destroyed before `progress`, which the notice above refers to
+    ~PlainNotice() { set_fifo_wait_notice(print_fifo_wait); }
+  } plain_notice_after;
+
   // Every input is read and checked, down to the seeds on the built canvas, before the output
   // directory is looked at: a bad input came after "... already exists; pass --overwrite", which
   // steered the user towards replacing their results to learn what was wrong. The canvas is built
@@ -473,7 +483,9 @@ void add_voronoi_command(CLI::App& app) {
                   "fields do not fit beside its canvas (bytes, or with K/M/G/T, powers of 1024); " +
                       std::string(kDefaultMemoryBudgetHelp))
       ->transform(byte_size);
-  cmd->add_flag("--quiet", options->quiet, "Print nothing but errors");
+  cmd->add_flag("--quiet", options->quiet,
+                "Print nothing but errors (and the note that an input is a FIFO nothing has "
+                "written to yet, before waiting on it)");
   cmd->callback([options, device] {
     require_chosen_device(device, options->device);
     run_voronoi(*options);

@@ -1,20 +1,110 @@
 #include "rvor/input_file.h"
 
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <system_error>
+#include <utility>
 
 #include "rvor/error.h"
 
 namespace rvor {
 
-std::ifstream open_input_file(const std::string& path, const std::string& what) {
+namespace {
+
+std::function<void(const std::string&, const std::string&)>& fifo_wait_notice() {
+  static std::function<void(const std::string&, const std::string&)> notice;
+  return notice;
+}
+
+// Reads a descriptor the buffer owns. A failed read throws std::ios_base::failure with errno
+// kept, as std::filebuf does (read_input_line reports it, naming the file).
+class DescriptorBuffer : public std::streambuf {
+ public:
+  explicit DescriptorBuffer(int fd) : fd_(fd) {}
+  DescriptorBuffer(const DescriptorBuffer&) = delete;
+  DescriptorBuffer& operator=(const DescriptorBuffer&) = delete;
+  ~DescriptorBuffer() override { close(fd_); }
+
+ protected:
+  int_type underflow() override {
+    if (gptr() < egptr()) return traits_type::to_int_type(*gptr());
+    ssize_t got = 0;
+    do got = read(fd_, data_, sizeof data_);
+    while (got < 0 && errno == EINTR);
+    if (got < 0) {
+      const int error = errno;
+      std::ios_base::failure failure("read failed",
+                                     std::error_code(error, std::generic_category()));
+      errno = error;
+      throw failure;
+    }
+    if (got == 0) return traits_type::eof();
+    setg(data_, data_, data_ + got);
+    return traits_type::to_int_type(*gptr());
+  }
+
+ private:
+  int fd_;
+  char data_[1 << 16];
+};
+
+// A FIFO opened without blocking: a named one with no writer would block the open, silently,
+// until one appears. Where nothing is there to read yet, the notice is given and the wait is for
+// the first data or for a writer's close (poll reports neither before a writer came: a read would
+// see the end of the file at once); then reads block as usual and end where the last writer
+// closes.
+std::unique_ptr<std::streambuf> open_fifo(const std::string& path, const std::string& what) {
+  const int fd = open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) throw Error("cannot read " + what + " " + path + ": " + std::strerror(errno));
+  auto buffer = std::make_unique<DescriptorBuffer>(fd);
+  pollfd ready{fd, POLLIN, 0};
+  // A writer that was blocked in its open wakes with this one and writes within the grace: no
+  // notice for it.
+  constexpr int kGraceMilliseconds = 200;
+  if (poll(&ready, 1, kGraceMilliseconds) == 0) {
+    if (fifo_wait_notice()) fifo_wait_notice()(what, path);
+    while (poll(&ready, 1, -1) < 0 && errno == EINTR) {
+    }
+  }
+  const int flags = fcntl(fd, F_GETFL);
+  if (flags < 0 || fcntl(fd, F_SETFL, flags & ~O_NONBLOCK) < 0)
+    throw Error("cannot read " + what + " " + path + ": " + std::strerror(errno));
+  return buffer;
+}
+
+}  // namespace
+
+InputFile::InputFile(std::unique_ptr<std::streambuf> buffer)
+    : std::istream(buffer.get()), buffer_(std::move(buffer)) {}
+
+InputFile::InputFile(InputFile&& other) noexcept
+    : std::istream(std::move(other)), buffer_(std::move(other.buffer_)) {
+  set_rdbuf(buffer_.get());
+}
+
+void set_fifo_wait_notice(
+    std::function<void(const std::string& what, const std::string& path)> notice) {
+  fifo_wait_notice() = std::move(notice);
+}
+
+InputFile open_input_file(const std::string& path, const std::string& what) {
   std::error_code error;
   if (std::filesystem::is_directory(path, error))
     throw Error("cannot read " + what + " " + path + ": it is a directory");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot read " + what + " " + path + ": " + std::strerror(errno));
-  return in;
+  struct stat status {};
+  if (stat(path.c_str(), &status) == 0 && S_ISFIFO(status.st_mode))
+    return InputFile(open_fifo(path, what));
+  auto buffer = std::make_unique<std::filebuf>();
+  if (!buffer->open(path, std::ios::in | std::ios::binary))
+    throw Error("cannot read " + what + " " + path + ": " + std::strerror(errno));
+  return InputFile(std::move(buffer));
 }
 
 namespace {

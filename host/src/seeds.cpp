@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <optional>
 #include <random>
 #include <sstream>
@@ -83,7 +82,7 @@ struct PointFile {
 };
 
 PointFile read_point_file(const std::string& path) {
-  std::ifstream in = open_input_file(path, "point file");
+  InputFile in = open_input_file(path, "point file");
   PointFile file;
   std::string line;
   for (int number = 1; read_input_line(in, line, path, number); ++number) {

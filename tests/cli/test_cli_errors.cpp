@@ -182,6 +182,29 @@ TEST_F(CliErrors, TextInputsWithoutLineEndsAreRefusedEarly) {
       "/dev/zero: a binary file");
 }
 
+// A FIFO that nothing writes to blocked the run in its open, silently and for ever: the run now
+// says that it waits, and reads the FIFO once a writer comes.
+TEST_F(CliErrors, AFifoInputWithoutAWriterIsAnnounced) {
+  const std::string fifo = dir.file("fifo.xyz");
+  ASSERT_EQ(run_command("mkfifo " + fifo).exit_code, 0);
+  for (const std::string option : {"--seeds", "--probe"}) {
+    SCOPED_TRACE(option);
+    const std::string err = dir.file("err.txt");
+    const std::string seeds = option == "--seeds" ? "" : " --random-seeds 2";
+    const std::string script = "(" +
+                               voronoi("--overwrite --domain rect:-1,-1,1,1 --resolution 16 " +
+                                       option + " " + fifo + seeds) +
+                               " 2>" + err + " & pid=$!; for i in $(seq 100); do grep -q waiting " +
+                               err +
+                               " && break; sleep 0.1; done; printf '0.1 0.2\\n-0.5 0.3\\n' >" +
+                               fifo + "; wait $pid; echo $?)";
+    const CommandResult result = run_command(script);
+    EXPECT_EQ(result.out, "0\n") << read_text(err);
+    EXPECT_EQ(read_text(err), "rvor: waiting for point file " + fifo +
+                                  ", a FIFO that nothing has written to yet\n");
+  }
+}
+
 // A run interrupted by SIGTERM, SIGINT or SIGHUP (`timeout`, Ctrl-C, a closed terminal) removes
 // its staging directory, and the output directory and the folders above it that it created
 // (those were left), before it dies of the signal; they stayed until a later run into the same

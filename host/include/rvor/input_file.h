@@ -3,14 +3,37 @@
 // for, its path, and why it cannot be read (missing, unreadable, a directory); and reading its
 // lines with a bound on their length.
 #include <cstddef>
-#include <fstream>
+#include <functional>
+#include <istream>
+#include <memory>
+#include <streambuf>
 #include <string>
 
 namespace rvor {
 
+// A file open for reading, as open_input_file opens it: a std::filebuf, or for a FIFO a buffer on
+// the descriptor that open_input_file opened without blocking (a second, blocking open of the
+// FIFO could wait forever for a writer that already came and went).
+class InputFile : public std::istream {
+ public:
+  explicit InputFile(std::unique_ptr<std::streambuf> buffer);
+  InputFile(InputFile&& other) noexcept;
+  InputFile& operator=(InputFile&&) = delete;
+
+ private:
+  std::unique_ptr<std::streambuf> buffer_;
+};
+
 // `what` names the file's role, e.g. "mesh file" or "point file". Throws rvor::Error
-// "cannot read WHAT PATH: REASON".
-std::ifstream open_input_file(const std::string& path, const std::string& what);
+// "cannot read WHAT PATH: REASON". A FIFO (a named pipe, or /dev/stdin on a pipe) that nothing
+// has written to yet is waited on until a writer writes or closes it, after calling the notice
+// set by set_fifo_wait_notice: its open no longer blocks unseen until a writer appears.
+InputFile open_input_file(const std::string& path, const std::string& what);
+
+// What open_input_file calls, with the FIFO's role and path, before it waits on one: a tool says
+// that it waits, rather than hang silently on a FIFO that nothing writes to. None by default.
+void set_fifo_wait_notice(
+    std::function<void(const std::string& what, const std::string& path)> notice);
 
 // The longest line the text readers accept. Their lines hold a few numbers; without a bound a
 // file with no line ends (a binary file, /dev/zero) would be read whole into memory first.
