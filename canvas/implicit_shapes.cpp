@@ -1,5 +1,6 @@
 #include "implicit_shapes.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
@@ -14,7 +15,12 @@ namespace rvor {
 
 namespace {
 
-using Parameters = std::map<std::string, std::vector<double>>;
+// Each key's values as written, in the order the keys came: a value is read as a number only
+// once its key is known to the shape ("axis=z" is an unknown parameter, not a bad number).
+struct Parameters {
+  std::vector<std::string> keys;
+  std::map<std::string, std::vector<std::string>> values;
+};
 
 [[noreturn]] void fail(const std::string& spec, const std::string& why) {
   throw Error("malformed domain 'implicit:" + spec + "': " + why);
@@ -22,7 +28,7 @@ using Parameters = std::map<std::string, std::vector<double>>;
 
 double parse_number(const std::string& spec, const std::string& text) {
   const std::optional<double> value = parse_decimal(text);
-  if (!value) fail(spec, "'" + text + "' is not a finite number");
+  if (!value) fail(spec, quoted_text(text) + " is not a finite number");
   return *value;
 }
 
@@ -35,27 +41,43 @@ Parameters parse_parameters(const std::string& spec, const std::string& list) {
     if (token.empty()) fail(spec, "empty parameter (two commas in a row, or a trailing comma?)");
     const auto equals = token.find('=');
     if (equals == std::string::npos) {
-      if (current.empty()) fail(spec, "expected key=value, got '" + token + "'");
-      parameters[current].push_back(parse_number(spec, token));
+      if (current.empty()) fail(spec, "expected key=value, got " + quoted_text(token));
+      parameters.values[current].push_back(token);
       continue;
     }
     current = token.substr(0, equals);
     if (current.empty()) fail(spec, "empty parameter name");
-    if (parameters.count(current)) fail(spec, "parameter '" + current + "' given twice");
-    parameters[current].push_back(parse_number(spec, token.substr(equals + 1)));
+    if (parameters.values.count(current))
+      fail(spec, "parameter " + quoted_text(current) + " given twice");
+    parameters.keys.push_back(current);
+    parameters.values[current].push_back(token.substr(equals + 1));
   }
   return parameters;
+}
+
+// The first parameter the shape does not take, named with those it does.
+void require_known(const std::string& spec, const Parameters& parameters, const std::string& name,
+                   const std::vector<std::string>& known) {
+  for (const std::string& key : parameters.keys) {
+    if (std::find(known.begin(), known.end(), key) != known.end()) continue;
+    std::string list;
+    for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+    fail(spec, "unknown parameter " + quoted_text(key) + " for shape '" + name +
+                   "' (known: " + list + ")");
+  }
 }
 
 // Removes and returns a parameter of `count` values, or `fallback` when absent.
 std::vector<double> take(const std::string& spec, Parameters& parameters, const std::string& key,
                          std::size_t count, const std::vector<double>& fallback) {
-  auto found = parameters.find(key);
-  if (found == parameters.end()) return fallback;
-  std::vector<double> values = found->second;
-  parameters.erase(found);
-  if (values.size() != count)
+  auto found = parameters.values.find(key);
+  if (found == parameters.values.end()) return fallback;
+  const std::vector<std::string> texts = found->second;
+  parameters.values.erase(found);
+  if (texts.size() != count)
     fail(spec, "parameter '" + key + "' needs " + std::to_string(count) + " value(s)");
+  std::vector<double> values;
+  for (const std::string& text : texts) values.push_back(parse_number(spec, text));
   return values;
 }
 
@@ -85,18 +107,25 @@ std::string format_spec_number(double value) {
 ImplicitShape ImplicitShape::parse(const std::string& spec) {
   const auto colon = spec.find(':');
   const std::string name = spec.substr(0, colon);
+  static const std::map<std::string, std::vector<std::string>> kKnown = {
+      {"sphere", {"center", "r"}},
+      {"ellipsoid", {"center", "a", "b", "c"}},
+      {"torus", {"center", "R", "r"}},
+      {"disk", {"center", "r"}}};
+  const auto known = kKnown.find(name);
+  if (known == kKnown.end())
+    fail(spec, "unknown shape " + quoted_text(name) + " (sphere, ellipsoid, torus, disk)");
   Parameters parameters =
       colon == std::string::npos ? Parameters{} : parse_parameters(spec, spec.substr(colon + 1));
+  require_known(spec, parameters, name, known->second);
 
   ImplicitShape shape;
-  if (name == "sphere" || name == "ellipsoid" || name == "torus") {
-    const auto c = take(spec, parameters, "center", 3, {0, 0, 0});
-    shape.center_ = Vec3(c[0], c[1], c[2]);
-  } else if (name == "disk") {
+  if (name == "disk") {
     const auto c = take(spec, parameters, "center", 2, {0, 0});
     shape.center_ = Vec3(c[0], c[1], 0);
   } else {
-    fail(spec, "unknown shape '" + name + "' (sphere, ellipsoid, torus, disk)");
+    const auto c = take(spec, parameters, "center", 3, {0, 0, 0});
+    shape.center_ = Vec3(c[0], c[1], c[2]);
   }
 
   if (name == "sphere" || name == "disk") {
@@ -112,8 +141,6 @@ ImplicitShape ImplicitShape::parse(const std::string& spec) {
     shape.radii_ =
         Vec3(take_radius(spec, parameters, "R", 1.0), take_radius(spec, parameters, "r", 0.25), 0);
   }
-  if (!parameters.empty())
-    fail(spec, "unknown parameter '" + parameters.begin()->first + "' for shape '" + name + "'");
   return shape;
 }
 

@@ -189,7 +189,8 @@ std::string domain_help() {
          "that neither cross nor touch each other or themselves and have no zero-area "
          "triangles; one inside another bounds a cavity) | implicit:NAME[:k=v,...]: sphere "
          "(center=X,Y,Z, r=1), ellipsoid (center, a=1, b=0.75, c=0.5), torus (center, R=1, "
-         "r=0.25, axis z), disk (2D: center=X,Y, r=1); centres default to the origin";
+         "r=0.25; always about the z axis, which no parameter turns), disk (2D: center=X,Y, r=1); "
+         "centres default to the origin";
 }
 
 std::string metric_help() {

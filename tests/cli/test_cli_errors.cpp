@@ -377,6 +377,19 @@ TEST_F(CliErrors, MalformedDomain) {
   expect_error("--domain box:1,2,3 --resolution 16 --random-seeds 3", "box:1,2,3");
 }
 
+// A shape's parameter is checked by its name before its value: "axis=z" said "'z' is not a
+// finite number", "foo=bar" "'bar' is not...", as if the names were right.
+TEST_F(CliErrors, AnUnknownShapeParameterIsNamedBeforeItsValueIsRead) {
+  expect_error("--domain implicit:torus:axis=z --resolution 16 --random-seeds 3",
+               "unknown parameter 'axis' for shape 'torus' (known: center, R, r)");
+  expect_error("--domain implicit:sphere:foo=bar --resolution 16 --random-seeds 3",
+               "unknown parameter 'foo' for shape 'sphere' (known: center, r)");
+  expect_error("--domain implicit:cube:foo=bar --resolution 16 --random-seeds 3",
+               "unknown shape 'cube'");
+  expect_error("--domain implicit:sphere:r=big --resolution 16 --random-seeds 3",
+               "'big' is not a finite number");
+}
+
 TEST_F(CliErrors, TruncatedMeditMesh) {
   write_text(dir.file("m.mesh"),
              "MeshVersionFormatted 2\nDimension 2\nVertices\n3\n0 0 0\n1 0 0\n");
