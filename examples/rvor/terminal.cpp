@@ -93,9 +93,14 @@ std::uint64_t parse_byte_size(const std::string& text) {
   const double factor =
       suffix == std::string::npos ? 1.0 : std::pow(1024.0, static_cast<double>(suffix + 1));
   // At least one byte: a budget that rounds to 0 would mean "the default".
-  if (!value || !(*value * factor >= 1) || !std::isfinite(*value * factor) ||
-      *value * factor > 1.8e19)
-    throw Error("memory budget '" + text + "' is not a positive size like 512M, 8G or 1000000");
+  if (!value || !(*value * factor >= 1))
+    throw Error("memory budget " + quoted_text(text) +
+                " is not a positive size like 512M, 8G or 1000000");
+  // Below 2^64 once rounded to a double, so that the conversion to bytes is defined.
+  constexpr double kMostBytes = 1.8e19;
+  if (!(*value * factor <= kMostBytes))
+    throw Error("memory budget " + quoted_text(text) +
+                " is beyond the largest size rvor can represent (1.8e19 bytes, about 15.6 EiB)");
   return static_cast<std::uint64_t>(*value * factor);
 }
 

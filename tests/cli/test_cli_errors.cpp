@@ -297,6 +297,19 @@ TEST_F(CliErrors, BadValuesComeBeforeTheOutputsChecks) {
   }
 }
 
+// A budget past what rvor represents is positive: it was called "not a positive size".
+TEST_F(CliErrors, AMemoryBudgetTooLargeIsCalledSo) {
+  for (const std::string size : {"18446744073709551615", "1e30", "16777216T"}) {
+    const CommandResult result =
+        run_command(voronoi("--domain rect:-1,-1,1,1 --random-seeds 3 --memory-budget " + size));
+    EXPECT_EQ(result.exit_code, 1);
+    EXPECT_NE(result.err.find("memory budget '" + size +
+                              "' is beyond the largest size rvor can represent"),
+              std::string::npos)
+        << result.err;
+  }
+}
+
 TEST_F(CliErrors, ZeroResolution) {
   expect_error("--domain rect:-1,-1,1,1 --resolution 0 --seeds " + seeds2d(), "resolution");
 }
