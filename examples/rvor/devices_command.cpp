@@ -4,6 +4,7 @@
 #include "commands.h"
 #include "rvor/devices.h"
 #include "rvor/error.h"
+#include "rvor/spec_text.h"
 
 namespace rvor::cli {
 
@@ -25,11 +26,11 @@ void print_devices() {
   }
   if (devices.empty()) std::cout << "(no OpenCL device found: use --device cpu)\n";
   const std::string chosen = default_device_name();
-  std::cout << "default: " << chosen << " (set RVOR_DEVICE to change it)";
+  std::cout << "default: " << printable_text(chosen) << " (set RVOR_DEVICE to change it)";
   try {
     require_device(chosen);
   } catch (const Error& error) {
-    std::cout << ", but it cannot be used: " << error.what();
+    std::cout << ", but it cannot be used: " << printable_text(error.what());
   }
   std::cout << "\n";
 }

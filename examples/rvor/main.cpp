@@ -7,6 +7,7 @@
 
 #include "commands.h"
 #include "rvor/input_file.h"
+#include "rvor/spec_text.h"
 #include "terminal.h"
 
 int main(int argc, char** argv) {
@@ -35,7 +36,8 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help
-    std::cerr << "rvor: error: " << rvor::cli::parse_error_text(app, e, argc, argv) << "\n";
+    std::cerr << "rvor: error: "
+              << rvor::printable_text(rvor::cli::parse_error_text(app, e, argc, argv)) << "\n";
     return 1;
   } catch (const std::bad_alloc&) {
     // What ran out is memory the estimates did not foresee (they check the canvas against
@@ -44,7 +46,9 @@ int main(int argc, char** argv) {
                  "this process may use; lower --resolution or the seed count, or free memory\n";
     return 1;
   } catch (const std::exception& e) {
-    std::cerr << "rvor: error: " << rvor::cli::one_line(e.what()) << "\n";
+    // What the user typed (a spec, a path, $RVOR_DEVICE) is echoed in errors: its escape
+    // sequences are shown, not obeyed by the terminal.
+    std::cerr << "rvor: error: " << rvor::printable_text(rvor::cli::one_line(e.what())) << "\n";
     return 1;
   }
   return 0;

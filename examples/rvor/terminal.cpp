@@ -74,7 +74,8 @@ void Progress::note(const std::string& line) {
 }
 
 std::string fifo_wait_text(const std::string& what, const std::string& path) {
-  return "rvor: waiting for " + what + " " + path + ", a FIFO that nothing has written to yet";
+  return "rvor: waiting for " + what + " " + printable_text(path) +
+         ", a FIFO that nothing has written to yet";
 }
 
 void print_fifo_wait(const std::string& what, const std::string& path) {
@@ -263,7 +264,7 @@ void print_voronoi_summary(std::ostream& out, const std::string& out_dir,
       << std::setprecision(1) << rate / (millions ? 1e6 : 1e3) << (millions ? " M" : " k")
       << " voxels/s), total " << std::setprecision(2) << total_seconds << " s\n"
       << std::defaultfloat;
-  out << "  outputs in " << out_dir << "/: " << join(outputs) << "\n";
+  out << "  outputs in " << printable_text(out_dir) << "/: " << join(outputs) << "\n";
 }
 
 }  // namespace rvor::cli

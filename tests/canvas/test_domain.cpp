@@ -132,6 +132,14 @@ TEST(SpecText, ExactTextReadsBackAsTheSameNumber) {
     EXPECT_EQ(parse_decimal(exact_text(value)), value) << value;
 }
 
+// Whole, with UTF-8 kept but C0, DEL, C1 (encoded or raw), overlong forms and stray bytes escaped.
+TEST(SpecText, PrintableTextEscapesControlsAndKeepsUtf8) {
+  EXPECT_EQ(printable_text("rect:\x1B[2J-1"), "rect:\\x1B[2J-1");
+  EXPECT_EQ(printable_text("caf\xC3\xA9 \xE2\x82\xAC\x7F"), "caf\xC3\xA9 \xE2\x82\xAC\\x7F");
+  EXPECT_EQ(printable_text("\xC2\x9B\x9B\xC0\xAF\xE2\x82"), "\\xC2\\x9B\\x9B\\xC0\\xAF\\xE2\\x82");
+  EXPECT_EQ(printable_text(std::string(200, 'z')), std::string(200, 'z'));
+}
+
 TEST(SpecText, QuotedTextIsShortAndPrintable) {
   EXPECT_EQ(quoted_text("abc"), "'abc'");
   EXPECT_EQ(quoted_text(std::string("a\0b\r\xC3", 5)), "'a\\x00b\\x0D\\xC3'");

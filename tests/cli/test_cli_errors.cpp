@@ -310,6 +310,30 @@ TEST_F(CliErrors, AMemoryBudgetTooLargeIsCalledSo) {
   }
 }
 
+// Control characters the user gave (a spec, $RVOR_DEVICE, a path) are shown as \xNN in the
+// error line, as a seed file's bytes are: an escape sequence reached the terminal raw and acted
+// there (clearing the screen, colouring the rest). UTF-8 is kept.
+TEST_F(CliErrors, ControlCharactersOfTheCommandLineAreShownEscaped) {
+  const CommandResult domain =
+      run_command(voronoi("--random-seeds 3 --domain \"$(printf 'rect:\\033[2J-1,-1,1,1')\""));
+  const CommandResult device = run_command("RVOR_DEVICE=\"$(printf 'x\\033[31mred')\" " +
+                                           voronoi("--domain rect:-1,-1,1,1 --random-seeds 3"));
+  const CommandResult listed =
+      run_command("RVOR_DEVICE=\"$(printf 'x\\033[31mred')\" " + rvor_binary() + " devices");
+  const CommandResult path = run_command(
+      voronoi("--domain rect:-1,-1,1,1 --seeds \"$(printf 'no\\302\\233such-\\303\\251.xyz')\""));
+  for (const CommandResult& result : {domain, device, path}) {
+    EXPECT_EQ(result.exit_code, 1);
+    EXPECT_EQ(result.err.find('\x1B'), std::string::npos) << result.err;
+    EXPECT_EQ(result.err.find('\n'), result.err.size() - 1) << result.err;
+  }
+  EXPECT_NE(domain.err.find("'rect:\\x1B[2J-1,-1,1,1'"), std::string::npos) << domain.err;
+  EXPECT_NE(device.err.find("RVOR_DEVICE=x\\x1B[31mred"), std::string::npos) << device.err;
+  EXPECT_EQ(listed.out.find('\x1B'), std::string::npos) << listed.out;
+  // A C1 control (U+009B, the 8-bit CSI) escaped by its bytes; an accent kept.
+  EXPECT_NE(path.err.find("no\\xC2\\x9Bsuch-\xC3\xA9.xyz"), std::string::npos) << path.err;
+}
+
 TEST_F(CliErrors, ZeroResolution) {
   expect_error("--domain rect:-1,-1,1,1 --resolution 0 --seeds " + seeds2d(), "resolution");
 }

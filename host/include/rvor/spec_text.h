@@ -30,6 +30,12 @@ std::string exact_text(float value);
 // binary file's bytes are not) and short (a damaged file's token can be megabytes).
 std::string quoted_text(std::string_view text, std::size_t most = 80);
 
+// `text` for a line on a terminal, whole: its control characters (C0, DEL, and C1 such as the
+// 8-bit CSI) and the bytes that are not UTF-8 written as \xNN as quoted_text writes them, so that
+// an escape sequence given on the command line is shown rather than obeyed; valid UTF-8 (a file
+// name's accents) is kept.
+std::string printable_text(std::string_view text);
+
 // The items between separators, every one of them: with ',', "1,,2," gives "1", "", "2", "" so
 // that callers can report empty items; "" gives one empty item.
 std::vector<std::string> split_at(std::string_view text, char separator);
