@@ -10,6 +10,8 @@
 #include <string>
 #include <utility>
 
+#include "rvor/error.h"
+
 namespace rvor::fields {
 
 namespace {
@@ -56,7 +58,14 @@ Mat3 axial_metric(int dimension, const Vec3& n, double g_along, double g_across)
 class AnalyticField : public MetricField {
  public:
   AnalyticField(std::string name, int dimension, double scale, std::optional<Box> domain)
-      : name_(std::move(name)), dimension_(dimension), scale_(scale), domain_(std::move(domain)) {}
+      : name_(std::move(name)), dimension_(dimension), scale_(scale), domain_(std::move(domain)) {
+    // An infinite factor made the tensor's zeros NaN (0 * inf), and the error a "not finite"
+    // with a -nan in it; a finite one too large for float is named where the canvas stores it.
+    if (!std::isfinite(scale_ * scale_))
+      throw Error("metric " + name_ + ": scale " + format_number(scale_) +
+                  " overflows float: the tensor is scale^2 times the field's, and scale^2 is "
+                  "past even double's range (canvases keep tensors in float, up to about 3.4e38)");
+  }
 
   int dimension() const override { return dimension_; }
   std::optional<Box> natural_domain() const override { return domain_; }

@@ -334,6 +334,18 @@ TEST_F(CliErrors, ControlCharactersOfTheCommandLineAreShownEscaped) {
   EXPECT_NE(path.err.find("no\\xC2\\x9Bsuch-\xC3\xA9.xyz"), std::string::npos) << path.err;
 }
 
+// A scale whose square overflows double said "is not finite: [inf -nan inf ...]" (0 * inf); it
+// overflows float, as a smaller one past float's range is said to.
+TEST_F(CliErrors, AScaleWhoseSquareOverflowsIsNamed) {
+  expect_error("--domain rect:-1,-1,1,1 --random-seeds 2 --metric euclidean:scale=1e300",
+               "metric euclidean: scale 1e+300 overflows float");
+  expect_error(
+      "--domain box:-1,-1,-1,1,1,1 --random-seeds 2 --metric uniform:1,0,1,0,0,1,scale=1e160",
+      "metric uniform: scale 1e+160 overflows float");
+  expect_error("--domain rect:-1,-1,1,1 --random-seeds 2 --metric euclidean:scale=1e20",
+               "does not fit in float");
+}
+
 TEST_F(CliErrors, ZeroResolution) {
   expect_error("--domain rect:-1,-1,1,1 --resolution 0 --seeds " + seeds2d(), "resolution");
 }
