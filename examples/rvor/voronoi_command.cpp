@@ -170,14 +170,27 @@ nlohmann::json summary_json(const FieldSummary& s) {
 }
 
 // The straight dual in the progress line: whether it is a triangulation, and its element count;
-// fewer seeds than a simplex has vertices make none, which is not a failed triangulation.
-std::string straight_dual_detail(const StraightDual& dual, std::size_t seeds, int dimension) {
-  if (seeds <= static_cast<std::size_t>(dimension))
-    return "no elements: " + std::to_string(seeds) + (seeds == 1 ? " seed" : " seeds") +
-           ", and a " + (dimension == 2 ? "triangle" : "tetrahedron") + " needs " +
-           std::to_string(dimension + 1);
-  return std::string(dual.checks.is_triangulation ? "a triangulation" : "NOT a triangulation") +
-         ", " + std::to_string(dual.top_count()) + " elements";
+// too few seeds for a simplex, or seeds all on one point, line or plane (which make flat
+// simplices at best), make none, which is not a failed triangulation either: say why.
+std::string straight_dual_detail(const StraightDual& dual, const std::vector<Vec3>& seeds,
+                                 int dimension) {
+  const std::string simplex = dimension == 2 ? "triangle" : "tetrahedron";
+  const std::string count = std::to_string(seeds.size());
+  if (seeds.size() <= static_cast<std::size_t>(dimension))
+    return "no elements: " + count + (seeds.size() == 1 ? " seed" : " seeds") + ", and a " +
+           simplex + " needs " + std::to_string(dimension + 1);
+  std::string detail =
+      std::string(dual.checks.is_triangulation ? "a triangulation" : "NOT a triangulation") + ", " +
+      std::to_string(dual.top_count()) + " elements";
+  const int spanned = seeds_affine_dimension(seeds, dimension);
+  if (spanned >= dimension) return detail;
+  const std::string why = "the " + count + " seeds " +
+                          (spanned == 0   ? "are all at one point"
+                           : spanned == 1 ? "are collinear"
+                                          : "are coplanar") +
+                          ", and a " + simplex + " needs " + std::to_string(dimension + 1) +
+                          " seeds off one " + (dimension == 2 ? "line" : "plane");
+  return dual.top_count() == 0 ? "no elements: " + why : detail + ", all flat: " + why;
 }
 
 // The curved dual with its faces, on the nerve decided as the straight dual decides it (both duals
@@ -317,7 +330,7 @@ void write_voronoi(const VoronoiOptions& o, const std::vector<std::string>& crea
         write_dual_medit(path("dual.mesh"), *dual);
         write_dual_vtu(path("dual_flagged.vtu"), *dual, /*only_flagged=*/true);
         dual_report = nlohmann::json::parse(dual_report_json(*dual));
-        detail = straight_dual_detail(*dual, seeds.size(), canvas.dimension);
+        detail = straight_dual_detail(*dual, seeds, canvas.dimension);
       }
       if (o.dual != "straight") {
         curved = build_curved(canvas, field, nerve, seeds, canvas_options.memory_budget, progress,

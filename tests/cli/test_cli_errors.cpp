@@ -422,6 +422,30 @@ TEST_F(CliErrors, ADualOfTooFewSeedsSaysWhyItHasNoElements) {
       << result.err;
 }
 
+// Seeds all on one point, line (2D) or plane (3D) make no element either, and say why ("NOT a
+// triangulation, 0 elements" said nothing of it).
+TEST_F(CliErrors, ADualOfDegenerateSeedsSaysWhyItHasNoElements) {
+  struct Case {
+    std::string domain, seeds, detail;
+  };
+  for (const Case& c : {Case{"rect:-1,-1,1,1", "0 0\n0.5 0\n-0.5 0\n",
+                             "(no elements: the 3 seeds are collinear, and a triangle needs 3 "
+                             "seeds off one line)"},
+                        Case{"rect:-1,-1,1,1", "0.1 0.1\n0.1 0.1\n0.1 0.1\n",
+                             "(no elements: the 3 seeds are all at one point"},
+                        Case{"box:-1,-1,-1,1,1,1", "0 0 0\n0.5 0 0\n0 0.5 0\n0.5 0.5 0\n",
+                             "(no elements: the 4 seeds are coplanar, and a tetrahedron needs 4 "
+                             "seeds off one plane)"}}) {
+    SCOPED_TRACE(c.seeds);
+    write_text(dir.file("flat.xyz"), c.seeds);
+    const CommandResult result =
+        run_command(rvor_binary() + " voronoi --overwrite --out " + out() + " --domain " +
+                    c.domain + " --resolution 16 --dual straight --seeds " + dir.file("flat.xyz"));
+    EXPECT_EQ(result.exit_code, 0) << result.err;
+    EXPECT_NE(result.err.find(c.detail), std::string::npos) << result.err;
+  }
+}
+
 TEST_F(CliErrors, MalformedDomain) {
   expect_error("--domain box:1,2,3 --resolution 16 --random-seeds 3", "box:1,2,3");
 }

@@ -483,6 +483,22 @@ TEST(DualChecks, SeedsTooCloseForTheCanvasAreNotATriangulation) {
   EXPECT_EQ(report["intersecting"], c.intersecting);
 }
 
+// Exact: a seed off a line by one ulp raises the hull's dimension; z is not read in 2D.
+TEST(DualChecks, SeedsAffineDimensionIsExact) {
+  EXPECT_EQ(seeds_affine_dimension({}, 2), -1);
+  EXPECT_EQ(seeds_affine_dimension({Vec3(0.1, 0.2, 0), Vec3(0.1, 0.2, 0)}, 2), 0);
+  const std::vector<Vec3> line = {Vec3(0, 0, 0), Vec3(0.5, 0, 0), Vec3(-0.5, 0, 0)};
+  EXPECT_EQ(seeds_affine_dimension(line, 2), 1);
+  std::vector<Vec3> off = line;
+  off.push_back(Vec3(0.25, std::nextafter(0.0, 1.0), 0));
+  EXPECT_EQ(seeds_affine_dimension(off, 2), 2);
+  EXPECT_EQ(seeds_affine_dimension({Vec3(0, 0, 5), Vec3(1, 0, -3), Vec3(2, 0, 7)}, 2), 1);
+  EXPECT_EQ(seeds_affine_dimension({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 1, 0)}, 3),
+            2);
+  EXPECT_EQ(seeds_affine_dimension({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)}, 3),
+            3);
+}
+
 TEST(DualFiles, MeshAndVtuReadBackWithCountsInMeshioAndVtk) {
   const Mat3 F = test::random_uniform_sqrt_metric(3, Vec3(1, 2, 3), 5);
   const Vec3 lo(0, 0, 0), hi(1, 1, 1);

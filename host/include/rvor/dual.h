@@ -139,6 +139,11 @@ StraightDual build_straight_dual(const Canvas& canvas, const Nerve& nerve,
 // have the same combinatorics.
 Nerve decided_nerve(const Canvas& canvas, const Nerve& nerve, const std::vector<Vec3>& seeds);
 
+// The dimension of the seeds' affine hull, by exact predicates on their coordinates (z read as 0
+// where `dimension` is 2): -1 for no seed, 0 where they all coincide, 1 where they are collinear,
+// 2 coplanar, else 3. Below `dimension`, a straight dual can have no element that is not flat.
+int seeds_affine_dimension(const std::vector<Vec3>& seeds, int dimension);
+
 // The `dual` object of report.json as JSON text: vertices, edges, triangles, tetrahedra,
 // inverted, intersecting, intersecting_pairs, non_manifold, degenerate_witnesses,
 // near_degenerate (and _removed, _added), dangling,

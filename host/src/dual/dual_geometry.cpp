@@ -268,3 +268,26 @@ std::vector<std::array<std::size_t, 2>> intersecting_pairs(const StraightDual& d
 }
 
 }  // namespace rvor::dual
+
+namespace rvor {
+
+int seeds_affine_dimension(const std::vector<Vec3>& seeds, int dimension) {
+  using Point = CGAL::Exact_predicates_inexact_constructions_kernel::Point_3;
+  const auto point = [&](std::size_t i) {
+    return Point(seeds[i].x(), seeds[i].y(), dimension == 2 ? 0.0 : seeds[i].z());
+  };
+  if (seeds.empty()) return -1;
+  // The first seed off the hull so far raises its dimension; the rest are tested against it.
+  std::size_t i = 1;
+  const Point a = point(0);
+  while (i < seeds.size() && point(i) == a) ++i;
+  if (i == seeds.size()) return 0;
+  const Point b = point(i);
+  while (i < seeds.size() && CGAL::collinear(a, b, point(i))) ++i;
+  if (i == seeds.size()) return 1;
+  const Point c = point(i);
+  while (i < seeds.size() && CGAL::coplanar(a, b, c, point(i))) ++i;
+  return i == seeds.size() ? 2 : 3;
+}
+
+}  // namespace rvor
