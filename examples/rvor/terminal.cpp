@@ -225,7 +225,7 @@ void require_chosen_device(const CLI::Option* option, const std::string& device)
 void print_voronoi_summary(std::ostream& out, const std::string& out_dir,
                            const std::vector<std::string>& outputs, std::size_t active_voxels,
                            std::size_t seeds, const FieldSummary& summary, const MetricReach& reach,
-                           std::size_t far_probes, double propagation_seconds,
+                           const InputNotes& notes, double propagation_seconds,
                            double total_seconds) {
   out << "rvor voronoi: " << active_voxels << " voxels, " << seeds << " seeds, "
       << summary.non_empty_cells << " non-empty cells (" << summary.smallest_cell << " to "
@@ -242,10 +242,15 @@ void print_voronoi_summary(std::ostream& out, const std::string& out_dir,
         << kValidatedAnisotropy
         << " up to which the tests validate the scheme at any angle: expect distances off by "
            "percents, more where the stencils reach across the canvas\n";
-  if (far_probes > 0)
-    out << "  warning: " << far_probes << " probe" << (far_probes > 1 ? "s lie" : " lies")
+  if (notes.far_probes > 0)
+    out << "  warning: " << notes.far_probes << " probe"
+        << (notes.far_probes > 1 ? "s lie" : " lies")
         << " more than a voxel from the canvas: probe.csv gives the nearest active voxel's "
            "values (and its centre)\n";
+  if (notes.voxels_outside_metric_mesh > 0)
+    out << "  warning: " << notes.voxels_outside_metric_mesh << " of " << active_voxels
+        << " voxels lie outside the bounding box of the --metric-mesh: they take the metric of "
+           "its nearest element\n";
   const std::size_t seedless = summary.unreached_voxels - summary.unreached_beside_reached;
   if (seedless > 0)
     out << "  warning: " << seedless

@@ -94,10 +94,18 @@ CLI::Option* add_device_option(CLI::App* command, std::string& device,
 // $RVOR_DEVICE rather than from --device says so.
 void require_chosen_device(const CLI::Option* option, const std::string& device);
 
+// What a run noticed about its inputs, for the summary's warnings.
+struct InputNotes {
+  std::size_t far_probes = 0;  // probes more than a voxel from the voxel that answers them
+  // Active voxels beyond the --metric-mesh's bounding box by more than half a voxel: they take the
+  // metric of its nearest element.
+  std::size_t voxels_outside_metric_mesh = 0;
+};
+
 void print_voronoi_summary(std::ostream& out, const std::string& out_dir,
                            const std::vector<std::string>& outputs, std::size_t active_voxels,
                            std::size_t seeds, const FieldSummary& summary, const MetricReach& reach,
-                           std::size_t far_probes, double propagation_seconds,
+                           const InputNotes& notes, double propagation_seconds,
                            double total_seconds);
 
 }  // namespace rvor::cli

@@ -157,6 +157,19 @@ XyzPoints seeds_from_file(const VoronoiOptions& o, int dimension) {
   return o.seeds_file.empty() ? XyzPoints{} : read_xyz_with_lines(o.seeds_file, dimension);
 }
 
+// The active voxels whose centres lie beyond `box` by more than half a voxel.
+std::size_t voxels_outside(const Canvas& canvas, const Box& box) {
+  const Vec3 slack = Vec3::Constant(canvas.voxel_size / 2);
+  std::size_t outside = 0;
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
+    if (!canvas.active[slot]) continue;
+    const Vec3 p = canvas.world_of(slot);
+    outside += (p.array() < (box.lo - slack).array()).any() ||
+               (p.array() > (box.hi + slack).array()).any();
+  }
+  return outside;
+}
+
 nlohmann::json summary_json(const FieldSummary& s) {
   return {{"reached_voxels", s.reached_voxels},
           {"unreached_voxels", s.unreached_voxels},
@@ -305,11 +318,13 @@ void write_voronoi(const VoronoiOptions& o, const std::vector<std::string>& crea
     write_voronoi_vdb(path("voronoi.vdb"), canvas, field);
     write_xyz(path("seeds.xyz"), seeds, canvas.dimension);
     if (o.vtu) write_canvas_vtu(path("canvas.vtu"), canvas, field);
-    std::size_t far_probes = 0;  // more than a voxel from the voxel that answers them
+    InputNotes notes;
+    if (!o.metric_mesh.empty() && metric->natural_domain())
+      notes.voxels_outside_metric_mesh = voxels_outside(canvas, *metric->natural_domain());
     if (!o.probe_file.empty()) {
       const std::vector<ProbeSample> samples = probe_field(canvas, field, probes);
       for (const ProbeSample& sample : samples)
-        far_probes += (sample.query - sample.voxel_centre).norm() > canvas.voxel_size;
+        notes.far_probes += (sample.query - sample.voxel_centre).norm() > canvas.voxel_size;
       write_probe_csv(path("probe.csv"), samples);
     }
     const FieldSummary summary = summarize_field(canvas, field, seeds.size());
@@ -374,7 +389,9 @@ void write_voronoi(const VoronoiOptions& o, const std::vector<std::string>& crea
           {"total", total}}},
         {"field", summary_json(summary)},
         {"outputs", output_names(o)}};
-    if (!o.probe_file.empty()) report["probes_beyond_a_voxel"] = far_probes;
+    if (!o.probe_file.empty()) report["probes_beyond_a_voxel"] = notes.far_probes;
+    if (!o.metric_mesh.empty())
+      report["voxels_outside_metric_mesh"] = notes.voxels_outside_metric_mesh;
     if (!dual_report.is_null()) report["dual"] = dual_report;
     if (!curved_report.is_null()) report["curved_dual"] = curved_report;
     write_file_atomically(path("report.json"),
@@ -387,7 +404,7 @@ void write_voronoi(const VoronoiOptions& o, const std::vector<std::string>& crea
     });
     if (!o.quiet)
       print_voronoi_summary(std::cout, out, output_names(o), canvas.active_voxel_count,
-                            seeds.size(), summary, reach, far_probes, propagation_seconds, total);
+                            seeds.size(), summary, reach, notes, propagation_seconds, total);
   } catch (const Error& error) {
     throw Error(outputs.shown(error.what()));  // the output's name, not its staging path
   }

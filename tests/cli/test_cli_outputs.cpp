@@ -57,6 +57,35 @@ class CliOutputs : public ::testing::Test {
   }
 };
 
+// A metric mesh that does not cover the domain gives its nearest element's metric beyond it, which
+// a misplaced mesh (other units, another origin) turns into a silently wrong field: the summary
+// and report.json count the voxels beyond the mesh's box.
+TEST_F(CliOutputs, VoxelsBeyondTheMetricMeshAreCounted) {
+  write_text(dir.file("m.mesh"),
+             "MeshVersionFormatted 2\nDimension 2\nVertices\n4\n0 0 0\n1 0 0\n1 1 0\n0 1 "
+             "0\nTriangles\n2\n1 2 3 0\n1 3 4 0\nEnd\n");
+  write_text(dir.file("m.sol"),
+             "MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n4\n1 3\n1 0 1\n1 0 1\n1 0 "
+             "1\n1 0 1\nEnd\n");
+  const std::string metric =
+      " --metric-mesh " + dir.file("m.mesh") + " --metric-file " + dir.file("m.sol");
+  // rect 2 x 1 at 16: h = 0.125, columns 9 to 15 (centres from 1.1875) beyond x = 1 + h / 2.
+  const CommandResult beyond =
+      run_command(rvor_binary() + " voronoi --out " + out() +
+                  " --domain rect:0,0,2,1 --resolution 16 --random-seeds 3" + metric);
+  ASSERT_EQ(beyond.exit_code, 0) << beyond.err;
+  EXPECT_NE(beyond.out.find("warning: 56 of 128 voxels lie outside the bounding box of the "
+                            "--metric-mesh"),
+            std::string::npos)
+      << beyond.out;
+  std::ifstream in(out() + "/report.json");
+  EXPECT_EQ(nlohmann::json::parse(in)["voxels_outside_metric_mesh"].get<int>(), 56);
+  const nlohmann::json inside =
+      report_of("--overwrite --domain rect:0,0,1,1 --resolution 16 --random-seeds 3" + metric);
+  ASSERT_FALSE(inside.is_null());
+  EXPECT_EQ(inside["voxels_outside_metric_mesh"].get<int>(), 0);
+}
+
 TEST_F(CliOutputs, ReportHoldsTheRunFacts) {
   const CommandResult result = run_uniform_2d("--device cpu");
   ASSERT_EQ(result.exit_code, 0) << result.err;
