@@ -21,6 +21,25 @@ std::string temporary_prefix(const std::string& file_name) {
   return "." + file_name + ".tmp-";
 }
 
+// Throws unless what is at `path` may be replaced: nothing, a file, a symlink (its target is left
+// alone) or a directory (the rename then says so). A device, FIFO or socket at the path would be
+// replaced by a regular file: as root, writing to /dev/full replaced the device node for the
+// whole machine.
+void require_replaceable(const std::string& path) {
+  std::error_code error;
+  const fs::file_status status = fs::symlink_status(path, error);
+  const fs::file_type type = error ? fs::file_type::not_found : status.type();
+  const char* kind = type == fs::file_type::character ? "a character device"
+                     : type == fs::file_type::block   ? "a block device"
+                     : type == fs::file_type::fifo    ? "a FIFO"
+                     : type == fs::file_type::socket  ? "a socket"
+                     : type == fs::file_type::unknown ? "a file of an unknown kind"
+                                                      : nullptr;
+  if (kind)
+    throw Error("cannot write " + path + ": it is " + kind +
+                ", which rvor would replace by a regular file (it writes regular files only)");
+}
+
 }  // namespace
 
 std::string temporary_path_for(const std::string& path) {
@@ -46,6 +65,12 @@ std::optional<long> temporary_owner(const std::string& name, const std::string& 
 
 void publish_temporary(const std::string& temporary, const std::string& path) {
   std::error_code error;
+  try {
+    require_replaceable(path);
+  } catch (const Error&) {
+    fs::remove(temporary, error);
+    throw;
+  }
   fs::rename(temporary, path, error);
   if (error) {
     // Why, where it is plain: an empty path, or a directory in the file's place.
@@ -74,6 +99,7 @@ void link_new(const std::string& source, const std::string& target) {
 
 void write_file_atomically(const std::string& path,
                            const std::function<void(std::ostream&)>& writer, bool binary) {
+  require_replaceable(path);  // before the work, and again at the rename
   const std::string temporary = temporary_path_for(path);
   try {
     std::ofstream out(temporary, binary ? std::ios::binary | std::ios::trunc : std::ios::trunc);

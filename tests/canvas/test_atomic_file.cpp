@@ -1,6 +1,7 @@
 // Publishing output files: link_new never replaces a file that appeared at the target; the
 // temporaries' names give back their process.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -17,6 +18,22 @@
 
 namespace rvor {
 namespace {
+
+// A FIFO (or a device: as root, /dev/full became a regular file) at an output's path is not
+// replaced: an error names it, and it stays what it was.
+TEST(AtomicFile, ADeviceOrFifoAtThePathIsNeverReplaced) {
+  test::TempDir dir;
+  const std::string fifo = dir.file("seeds.xyz");
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  const std::string message = test::error_of([&] { write_xyz(fifo, {Vec3(0, 0, 0)}, 3); });
+  EXPECT_NE(message.find("cannot write " + fifo + ": it is a FIFO"), std::string::npos) << message;
+  const std::string staged = temporary_path_for(fifo);
+  std::ofstream(staged) << "staged\n";
+  EXPECT_NE(test::error_of([&] { publish_temporary(staged, fifo); }).find("it is a FIFO"),
+            std::string::npos);
+  EXPECT_TRUE(std::filesystem::is_fifo(fifo));
+  EXPECT_FALSE(std::filesystem::exists(staged));
+}
 
 // Two runs writing into one output directory: the one that publishes second must not replace
 // the first one's file (its "already exists" check was made long before).

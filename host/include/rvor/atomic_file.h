@@ -3,7 +3,8 @@
 // directory and renamed over the target only once complete. Every library writer (write_xyz,
 // write_voronoi_vdb, the VTU, Medit and PNG writers) goes through here, so it replaces a file
 // already at its path without asking (the CLI asks first: --overwrite), takes a symlink's place
-// (its target is left alone) and gives the file the process's default mode.
+// (its target is left alone) and gives the file the process's default mode. A device, FIFO or
+// socket at the path is an error: it is never replaced.
 #include <functional>
 #include <optional>
 #include <ostream>
