@@ -15,6 +15,7 @@
 #include <Eigen/LU>
 
 #include "canvas_identity.h"
+#include "one_call_at_a_time.h"
 #include "rvor/error.h"
 #include "rvor/memory_budget.h"
 #include "rvor/nearest_seeds.h"
@@ -609,6 +610,7 @@ class ReferencePropagator final : public Propagator {
 
   PropagationStats solve(const Canvas& canvas, const std::vector<Vec3>& seeds,
                          VoronoiField& field) override {
+    const OneCallAtATime exclusive(busy_, "the CPU reference propagator");
     return naming_out_of_memory("solving on the CPU reference", [&] {
       validate_seeds(canvas, seeds);
       ReferenceSolver& solver = solver_for(canvas);
@@ -620,6 +622,7 @@ class ReferencePropagator final : public Propagator {
 
   PropagationStats insert(const Canvas& canvas, const std::vector<Vec3>& seeds,
                           std::size_t first_new, VoronoiField& field) override {
+    const OneCallAtATime exclusive(busy_, "the CPU reference propagator");
     return naming_out_of_memory("inserting seeds on the CPU reference", [&] {
       validate_seeds(canvas, seeds);
       require_first_new(first_new, seeds.size());
@@ -672,6 +675,7 @@ class ReferencePropagator final : public Propagator {
 
   bool exact_start_;
   std::uint64_t memory_budget_ = 0;
+  std::atomic<bool> busy_{false};  // OneCallAtATime
   std::unique_ptr<ReferenceSolver> solver_;
   std::optional<uint64_t> canvas_id_;
   ExactField last_;

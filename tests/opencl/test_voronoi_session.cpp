@@ -5,7 +5,9 @@
 #include <cmath>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "opencl/opencl_test_support.h"
@@ -55,6 +57,48 @@ TEST(VoronoiSession, InsertionsEqualASolveWithAllSeeds) {
 
 TEST(VoronoiSession, InsertionsEqualASolveWithAllSeedsOnTheReference) {
   expect_insertions_equal_a_solve(make_reference_propagator(), make_reference_propagator());
+}
+
+// Two threads calling one propagator at once: each overlapping call is an rvor::Error naming the
+// rule, the others solve correctly (they shared its canvas and field, and the process crashed).
+void expect_overlapping_calls_refused(Propagator& propagator) {
+  const Canvas small = sheared_box();
+  const Canvas flat =
+      test::make_uniform_box_canvas(2, Vec3(-1, -1, 0), Vec3(1, 1, 0), 64, Mat3::Identity());
+  const std::vector<Vec3> seeds3 = test::random_points(kLo, kHi, 3, 5, 7);
+  const std::vector<Vec3> seeds2 = {Vec3(0.1, 0.2, 0), Vec3(-0.5, 0.4, 0)};
+  VoronoiField expected3, expected2;
+  make_reference_propagator()->solve(small, seeds3, expected3);
+  make_reference_propagator()->solve(flat, seeds2, expected2);
+  std::vector<std::string> unexpected;
+  std::mutex unexpected_mutex;
+  const auto calls = [&](const Canvas& canvas, const std::vector<Vec3>& seeds,
+                         const VoronoiField& expected) {
+    for (int n = 0; n < 20; ++n) {
+      VoronoiField field;
+      try {
+        propagator.solve(canvas, seeds, field);
+      } catch (const Error& error) {
+        if (std::string(error.what()).find("a propagator serves one call at a time") ==
+            std::string::npos) {
+          const std::lock_guard<std::mutex> lock(unexpected_mutex);
+          unexpected.push_back(error.what());
+        }
+        continue;
+      }
+      test::expect_same_field(canvas, expected, field);
+    }
+  };
+  std::thread other([&] { calls(flat, seeds2, expected2); });
+  calls(small, seeds3, expected3);
+  other.join();
+  EXPECT_TRUE(unexpected.empty()) << unexpected.front();
+}
+
+TEST(Propagators, OverlappingCallsFromTwoThreadsAreRefused) {
+  REQUIRE_ENGINE(RelaxationVariant::automatic);
+  expect_overlapping_calls_refused(*engine);
+  expect_overlapping_calls_refused(*make_reference_propagator());
 }
 
 TEST(VoronoiSession, InsertionBeforeASolveIsAnError) {

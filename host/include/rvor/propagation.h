@@ -93,6 +93,9 @@ struct PropagationStats {
 class Propagator {
  public:
   virtual ~Propagator() = default;
+  // One call at a time: a propagator keeps its canvas and last field between calls, so a call
+  // that overlaps another on the same propagator (from another thread) throws rvor::Error. Use
+  // one propagator per thread; separate propagators run in parallel.
   // What runs the propagation, e.g. "cpu reference" or "OpenCL: pthread-haswell (PoCL 3.1)".
   virtual std::string device_description() const = 0;
   // Bytes the propagator's own arrays may take (0, the default: the memory available when a

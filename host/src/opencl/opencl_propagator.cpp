@@ -15,6 +15,7 @@
 #include <utility>
 
 #include "../canvas_identity.h"
+#include "../one_call_at_a_time.h"
 #include "device_canvas.h"
 #include "field_transfer.h"
 #include "front_step.h"
@@ -144,6 +145,7 @@ class OpenCLPropagator final : public Propagator {
  private:
   template <typename F>
   auto guarded(const std::string& doing, F&& body) -> decltype(body()) {
+    const OneCallAtATime exclusive(busy_, "the OpenCL propagator on " + device_.info.name);
     try {
       return body();
     } catch (const cl::Error& e) {
@@ -800,6 +802,7 @@ class OpenCLPropagator final : public Propagator {
 
   opencl::Device device_;
   OpenCLOptions options_;
+  std::atomic<bool> busy_{false};  // OneCallAtATime
   RelaxationVariant variant_ = RelaxationVariant::brick_sweep;
   cl::Context context_;
   cl::CommandQueue queue_;
