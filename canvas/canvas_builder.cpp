@@ -72,6 +72,22 @@ struct ResolvedDomain {
               std::to_string(resolution) + ": it is empty or thinner than a voxel");
 }
 
+double farthest_coordinate(const Box& bounds) {
+  return std::max(bounds.lo.cwiseAbs().maxCoeff(), bounds.hi.cwiseAbs().maxCoeff());
+}
+
+// Distances are floats. A mesh is checked as soon as read: the checks of its geometry took a unit
+// cube 1e16 from the origin (its corners rounded together) for one with slivers, and a vertex at
+// 1e300 for a self-intersection.
+void check_coordinates(const DomainSpec& domain, const Box& bounds) {
+  constexpr double kLargestCoordinate = 1e15;
+  if (farthest_coordinate(bounds) <= kLargestCoordinate) return;
+  std::ostringstream problem;
+  problem << "domain " << domain.description() << " has coordinates beyond +-" << kLargestCoordinate
+          << " (distances are 32-bit floats): express it in larger units";
+  throw Error(problem.str());
+}
+
 ResolvedDomain resolve(const DomainSpec& domain) {
   ResolvedDomain resolved;
   resolved.spec = &domain;
@@ -85,24 +101,22 @@ ResolvedDomain resolve(const DomainSpec& domain) {
   }
   if (domain.kind == DomainSpec::Kind::Mesh) {
     resolved.mesh = read_surface_mesh(domain.path);
+    resolved.bounds = bounds_of(*resolved.mesh);
+    if (!resolved.mesh->triangles.empty()) check_coordinates(domain, resolved.bounds);
     require_closed(*resolved.mesh, domain.path);
     require_no_self_intersection(*resolved.mesh, domain.path);
-    resolved.bounds = bounds_of(*resolved.mesh);
   }
   return resolved;
 }
 
 // What the numbers can hold: OpenVDB transforms (the canvas's, the .vdb written) refuse voxels
-// with h^3 < 3e-15; voxel indices are 32-bit; distances are floats.
+// with h^3 < 3e-15; voxel indices are 32-bit; distances are floats (check_coordinates).
 void check_scale(const DomainSpec& domain, const Box& bounds, double h) {
-  constexpr double kSmallestVoxel = 1.5e-5, kFarthestVoxel = 1e9, kLargestCoordinate = 1e15;
-  const double farthest =
-      std::max(bounds.lo.cwiseAbs().maxCoeff(), bounds.hi.cwiseAbs().maxCoeff());
+  constexpr double kSmallestVoxel = 1.5e-5, kFarthestVoxel = 1e9;
+  check_coordinates(domain, bounds);
+  const double farthest = farthest_coordinate(bounds);
   std::ostringstream problem;
-  if (farthest > kLargestCoordinate)
-    problem << "has coordinates beyond +-" << kLargestCoordinate
-            << " (distances are 32-bit floats): express it in larger units";
-  else if (h < kSmallestVoxel)
+  if (h < kSmallestVoxel)
     problem << "gives voxels of size " << h << ", below " << kSmallestVoxel
             << ", the smallest an OpenVDB transform takes: express it in smaller units or lower "
                "the resolution";

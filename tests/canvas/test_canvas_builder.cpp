@@ -275,6 +275,23 @@ TEST(BuildCanvas, SelfIntersectingMeshesAreRejected) {
   EXPECT_LT(b, 24);
 }
 
+// Coordinates past what float distances hold are named before the mesh's geometry is checked:
+// a unit cube 1e16 from the origin, its corners rounded together, was refused for a degenerate
+// triangle, and one with a vertex at 1e300 for crossing itself.
+TEST(BuildCanvas, FarMeshesAreRefusedForTheirCoordinates) {
+  test::TempDir dir;
+  test::write_box_off(dir.file("far.off"), Vec3(1e16, 0, 0), Vec3(1e16 + 1, 1, 1));
+  test::write_text(dir.file("spike.off"),
+                   "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1e300\n"
+                   "3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n");
+  for (const std::string name : {"far.off", "spike.off"}) {
+    const std::string message = mesh_error(dir, name);
+    EXPECT_NE(message.find("domain mesh:" + dir.file(name) + " has coordinates beyond +-1e+15"),
+              std::string::npos)
+        << message;
+  }
+}
+
 TEST(BuildCanvas, NestedAndMisorientedMeshesAreAccepted) {
   test::TempDir dir;
   // A box with a box-shaped cavity (two disjoint surfaces), and a box with one face reversed.
