@@ -2,6 +2,8 @@
 #include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <fstream>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -196,28 +198,63 @@ class VertexWelder {
   std::map<std::array<double, 3>, int> indices_;
 };
 
-bool looks_binary_stl(const std::string& path) {
-  InputFile in = open_input(path);
-  in.seekg(0, std::ios::end);
-  const auto size = static_cast<std::uint64_t>(in.tellg());
-  if (size < 84) return false;
-  in.seekg(80);
-  std::uint32_t count = 0;
-  in.read(reinterpret_cast<char*>(&count), 4);
-  if (size == 84 + 50 * static_cast<std::uint64_t>(count)) return true;  // "solid" in both kinds
-  // A binary file of another size (truncated, padded): a NUL byte past the header, which ASCII
-  // STL never holds, so that read_binary_stl reports it rather than the ASCII reader.
-  std::string start(static_cast<std::size_t>(std::min<std::uint64_t>(size - 80, 4096)), ' ');
-  in.seekg(80);
-  in.read(start.data(), static_cast<std::streamsize>(start.size()));
-  return start.find('\0') != std::string::npos;
+// What a binary STL's size must be: an 80-byte header, the facet count, 50 bytes a facet.
+std::uint64_t binary_stl_size(std::uint32_t facets) {
+  return 84 + 50 * static_cast<std::uint64_t>(facets);
 }
 
-SurfaceMesh read_binary_stl(const std::string& path) {
+struct StlStart {
+  std::uint64_t size = 0;
+  std::uint32_t facets = 0;  // the count a binary header would declare
+  std::string text;          // the first 4 KiB
+};
+
+StlStart read_stl_start(const std::string& path) {
   InputFile in = open_input(path);
-  in.seekg(80);
-  std::uint32_t count = 0;
-  in.read(reinterpret_cast<char*>(&count), 4);
+  StlStart start;
+  in.seekg(0, std::ios::end);
+  start.size = static_cast<std::uint64_t>(in.tellg());
+  in.seekg(0);
+  start.text.assign(static_cast<std::size_t>(std::min<std::uint64_t>(start.size, 4096)), ' ');
+  in.read(start.text.data(), static_cast<std::streamsize>(start.text.size()));
+  if (start.size >= 84) std::memcpy(&start.facets, start.text.data() + 80, 4);
+  return start;
+}
+
+// A file whose size matches the count in a binary header is binary, whatever it starts with
+// (binary headers may start with "solid" too). Of the others, one that starts as ASCII STL does
+// ("solid", then a facet or the end) is read as ASCII STL, so that a stray control byte is
+// reported where it is; one with a NUL byte past the header, which ASCII STL never holds, is a
+// binary file of the wrong size.
+bool looks_binary_stl(const StlStart& start) {
+  if (start.size < 84) return false;
+  if (start.size == binary_stl_size(start.facets)) return true;
+  const std::size_t first = start.text.find_first_not_of(" \t\r\n");
+  if (first != std::string::npos && start.text.compare(first, 5, "solid") == 0 &&
+      (start.text.find("facet") != std::string::npos ||
+       start.text.find("endsolid") != std::string::npos))
+    return false;
+  return start.text.find('\0', 80) != std::string::npos;
+}
+
+SurfaceMesh read_binary_stl(const std::string& path, const StlStart& start) {
+  const std::uint32_t count = start.facets;
+  const std::uint64_t expected = binary_stl_size(count);
+  const std::string sizes = "its header declares " + std::to_string(count) + " facets, 84 + 50 * " +
+                            std::to_string(count) + " = " + std::to_string(expected) +
+                            " bytes, and the file has " + std::to_string(start.size);
+  // Facets past the count were dropped, as were extra bytes: a cube with a cavity lost its cavity.
+  // Writers that pad their files are refused too: which bytes are padding cannot be told.
+  if (start.size > expected)
+    throw Error(path + ": binary STL larger than its facet count says: " + sizes + " (" +
+                std::to_string((start.size - expected) / 50) + " facets and " +
+                std::to_string((start.size - expected) % 50) +
+                " bytes more); rvor reads a binary STL only when its size matches its count");
+  if (start.size < expected)
+    throw Error(path + ": truncated binary STL at facet " + std::to_string((start.size - 84) / 50) +
+                ": " + sizes);
+  InputFile in = open_input(path);
+  in.seekg(84);
   SurfaceMesh mesh;
   VertexWelder welder(mesh);
   for (std::uint32_t f = 0; f < count; ++f) {
@@ -225,7 +262,7 @@ SurfaceMesh read_binary_stl(const std::string& path) {
     char attribute[2];
     in.read(reinterpret_cast<char*>(record), sizeof record);
     in.read(attribute, sizeof attribute);
-    if (!in) throw Error(path + ": truncated binary STL at facet " + std::to_string(f));
+    if (!in) throw Error(path + ": cannot read binary STL at facet " + std::to_string(f));
     std::vector<int> triangle;
     for (int v = 1; v <= 3; ++v) {
       const Vec3 p(record[3 * v], record[3 * v + 1], record[3 * v + 2]);
@@ -253,7 +290,10 @@ SurfaceMesh read_ascii_stl(const std::string& path) {
     if (keyword == "endloop") in_loop = false;
     if (keyword == "vertex") loop.push_back(welder.index_of(parse_point(reader, fields)));
     if (keyword == "endloop") {
-      if (loop.size() < 3) reader.fail("facet with fewer than 3 vertices");
+      // A polygon would have been cut into triangles, then found open: STL facets are triangles.
+      if (loop.size() != 3)
+        reader.fail("facet with " + std::to_string(loop.size()) +
+                    " vertices (STL facets are triangles)");
       add_polygon(mesh, loop);
       loop.clear();
     }
@@ -269,8 +309,10 @@ SurfaceMesh read_surface_mesh(const std::string& path) {
   const std::string extension = lowercase_extension(path);
   if (extension == ".off") return read_off(path);
   if (extension == ".obj") return read_obj(path);
-  if (extension == ".stl")
-    return looks_binary_stl(path) ? read_binary_stl(path) : read_ascii_stl(path);
+  if (extension == ".stl") {
+    const StlStart start = read_stl_start(path);
+    return looks_binary_stl(start) ? read_binary_stl(path, start) : read_ascii_stl(path);
+  }
   throw Error("mesh file " + path + ": unsupported format (expected .off, .obj or .stl)");
 }
 

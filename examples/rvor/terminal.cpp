@@ -193,7 +193,8 @@ std::string join(const std::vector<std::string>& items, const std::string& separ
 std::string domain_help() {
   return "box:X0,Y0,Z0,X1,Y1,Z1 | rect:X0,Y0,X1,Y1 | mesh:FILE (.off/.obj/.stl: closed surfaces "
          "that neither cross nor touch each other or themselves and have no zero-area "
-         "triangles; one inside another bounds a cavity) | implicit:NAME[:k=v,...]: sphere "
+         "triangles; one inside another bounds a cavity; a binary STL's size must be 84 + 50 "
+         "bytes per facet of its count) | implicit:NAME[:k=v,...]: sphere "
          "(center=X,Y,Z, r=1), ellipsoid (center, a=1, b=0.75, c=0.5), torus (center, R=1, "
          "r=0.25; always about the z axis, which no parameter turns), disk (2D: center=X,Y, r=1); "
          "centres default to the origin";

@@ -141,6 +141,56 @@ TEST(SurfaceMesh, AConvexFaceOfManyCornersIsCutQuickly) {
   EXPECT_EQ(mesh.triangles[1], (std::array<int, 3>{1, 2, 3}));
 }
 
+// The facets past a binary STL's count were dropped (a cube's cavity, stored after the count,
+// was lost), and trailing bytes were ignored.
+TEST(SurfaceMesh, BinaryStlSizeMustMatchItsFacetCount) {
+  TempDir dir;
+  test::write_box_stl_binary(dir.file("outer.stl"), Vec3(0, 0, 0), Vec3(3, 3, 3));
+  test::write_box_stl_binary(dir.file("inner.stl"), Vec3(1, 1, 1), Vec3(2, 2, 2));
+  const std::string outer = test::read_text(dir.file("outer.stl"));
+  test::write_text(dir.file("cavity.stl"),
+                   outer + test::read_text(dir.file("inner.stl")).substr(84));
+  const std::string more = error_of([&] { read_surface_mesh(dir.file("cavity.stl")); });
+  EXPECT_NE(more.find(dir.file("cavity.stl") +
+                      ": binary STL larger than its facet count says: its header declares 12 "
+                      "facets, 84 + 50 * 12 = 684 bytes, and the file has 1284 (12 facets and 0 "
+                      "bytes more)"),
+            std::string::npos)
+      << more;
+  test::write_text(dir.file("padded.stl"), outer + std::string(10, '\0'));
+  const std::string padded = error_of([&] { read_surface_mesh(dir.file("padded.stl")); });
+  EXPECT_NE(padded.find("(0 facets and 10 bytes more)"), std::string::npos) << padded;
+  const std::string cut_text = outer.substr(0, outer.size() - 30);
+  test::write_text(dir.file("cut.stl"), cut_text);
+  const std::string cut = error_of([&] { read_surface_mesh(dir.file("cut.stl")); });
+  EXPECT_NE(cut.find("truncated binary STL at facet 11: its header declares 12 facets, 84 + 50 * "
+                     "12 = 684 bytes, and the file has 654"),
+            std::string::npos)
+      << cut;
+}
+
+// A text STL with a stray control byte was taken for a binary one ("truncated binary STL at
+// facet 19"), and a facet of 4 vertices was cut in two, then found open.
+TEST(SurfaceMesh, TextStlErrorsAreTextErrors) {
+  TempDir dir;
+  test::write_box_stl_ascii(dir.file("box.stl"), Vec3(0, 0, 0), Vec3(1, 1, 1));
+  std::string text = test::read_text(dir.file("box.stl"));
+  const std::size_t vertex = text.find("vertex", text.find("facet", text.find("endfacet")));
+  const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + vertex, '\n'));
+  text.insert(vertex + 7, std::string(1, '\0'));
+  test::write_text(dir.file("nul.stl"), text);
+  const std::string nul = error_of([&] { read_surface_mesh(dir.file("nul.stl")); });
+  EXPECT_NE(nul.find("nul.stl:" + std::to_string(line) + ": expected x y z"), std::string::npos)
+      << nul;
+  test::write_text(dir.file("quad.stl"),
+                   "solid q\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
+                   "vertex 1 1 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid q\n");
+  const std::string quad = error_of([&] { read_surface_mesh(dir.file("quad.stl")); });
+  EXPECT_NE(quad.find("quad.stl:8: facet with 4 vertices (STL facets are triangles)"),
+            std::string::npos)
+      << quad;
+}
+
 TEST(SurfaceMesh, ErrorsNameFileAndLine) {
   TempDir dir;
   test::write_text(dir.file("bad.obj"), "v 0 0 0\nv 1 0 0\nv 0 1\n");
