@@ -110,7 +110,9 @@ bool parse_real(std::string_view text, double& value) {
 // The token stream of one Medit file. `#` starts a comment that runs to the end of the line.
 class MeditTokens {
  public:
-  explicit MeditTokens(std::string path) : path_(std::move(path)), text_(read_whole_file(path_)) {}
+  explicit MeditTokens(std::string path) : path_(std::move(path)), text_(read_whole_file(path_)) {
+    if (text_.rfind("\xEF\xBB\xBF", 0) == 0) position_ = 3;  // a UTF-8 byte order mark
+  }
 
   const std::string& path() const { return path_; }
   // The line of the last token read (error messages at the end of a file point at the last

@@ -115,7 +115,7 @@ SurfaceMesh read_off(const std::string& path) {
   std::istringstream header(line);
   std::string keyword;
   header >> keyword;
-  if (keyword != "OFF") reader.fail("expected OFF header");
+  if (keyword != "OFF") reader.fail("expected OFF header, found " + quoted_text(keyword));
   const OffCounts counts = read_off_counts(reader, header);
   SurfaceMesh mesh;
   for (long long v = 0; v < counts.vertices; ++v) {

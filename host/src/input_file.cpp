@@ -121,6 +121,13 @@ int next_byte(std::streambuf& buffer, const std::string& path, long number, bool
   }
 }
 
+// A UTF-8 byte order mark, which some Windows editors write before the first line: kept, it made
+// the OBJ reader skip the first line and the OFF reader miss its header. Always true.
+bool strip_byte_order_mark(std::string& line, long number) {
+  if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
+  return true;
+}
+
 }  // namespace
 
 bool read_input_line(std::istream& in, std::string& line, const std::string& path, long number) {
@@ -131,12 +138,12 @@ bool read_input_line(std::istream& in, std::string& line, const std::string& pat
     const int c = next_byte(*buffer, path, number);
     if (c == std::char_traits<char>::eof()) {
       in.setstate(std::ios::eofbit);
-      return !line.empty();
+      return !line.empty() && strip_byte_order_mark(line, number);
     }
-    if (c == '\n') return true;
+    if (c == '\n') return strip_byte_order_mark(line, number);
     if (c == '\r') {  // CRLF, or CR alone: the line ends of classic Mac OS files
       if (next_byte(*buffer, path, number, true) == '\n') buffer->sbumpc();
-      return true;
+      return strip_byte_order_mark(line, number);
     }
     if (line.size() == kMaxInputLineBytes)
       throw Error(path + ":" + std::to_string(number) + ": a line longer than " +

@@ -86,7 +86,6 @@ PointFile read_point_file(const std::string& path) {
   PointFile file;
   std::string line;
   for (int number = 1; read_input_line(in, line, path, number); ++number) {
-    if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 BOM
     const auto first = line.find_first_not_of(" \t");
     if (first == std::string::npos || line[first] == '#') continue;
     const std::string where = path + ":" + std::to_string(number) + ": ";

@@ -191,6 +191,27 @@ TEST(SurfaceMesh, TextStlErrorsAreTextErrors) {
       << quad;
 }
 
+// A UTF-8 byte order mark before the first line: the OBJ reader skipped that line (and lost a
+// vertex), the OFF reader missed its header.
+TEST(SurfaceMesh, AByteOrderMarkIsSkipped) {
+  TempDir dir;
+  const Vec3 lo(0, 0, 0), hi(1, 2, 3);
+  test::write_box_off(dir.file("box.off"), lo, hi);
+  test::write_box_obj(dir.file("box.obj"), lo, hi);
+  test::write_box_stl_ascii(dir.file("box.stl"), lo, hi);
+  for (const std::string name : {"box.off", "box.obj", "box.stl"}) {
+    test::write_text(dir.file("bom_" + name), "\xEF\xBB\xBF" + test::read_text(dir.file(name)));
+    const SurfaceMesh mesh = read_surface_mesh(dir.file("bom_" + name));
+    EXPECT_EQ(mesh.vertices.size(), 8u) << name;
+    EXPECT_EQ(mesh.triangles.size(), 12u) << name;
+    EXPECT_NO_THROW(require_closed(mesh, name)) << name;
+  }
+  test::write_text(dir.file("other.off"), "COFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  const std::string message = error_of([&] { read_surface_mesh(dir.file("other.off")); });
+  EXPECT_NE(message.find("other.off:1: expected OFF header, found 'COFF'"), std::string::npos)
+      << message;
+}
+
 TEST(SurfaceMesh, ErrorsNameFileAndLine) {
   TempDir dir;
   test::write_text(dir.file("bad.obj"), "v 0 0 0\nv 1 0 0\nv 0 1\n");

@@ -106,6 +106,18 @@ TEST(MeditMesh, Reads2DVerticesWithTwoCoordinates) {
   EXPECT_EQ(mesh.vertices[2], Vec3(0, 0.1, 0));
 }
 
+// A UTF-8 byte order mark before the first keyword, as some Windows editors write: it made the
+// first token unknown, and the file was refused.
+TEST(MeditMesh, SkipsAByteOrderMark) {
+  TempDir dir;
+  write_text(dir.file("bom.mesh"),
+             "\xEF\xBB\xBFMeshVersionFormatted 1\nDimension 2\nVertices\n3\n0 0 1\n2.5 0 1\n"
+             "0 1 3\nTriangles\n1\n1 2 3 0\nEnd\n");
+  const MeditMesh mesh = read_medit_mesh(dir.file("bom.mesh"));
+  EXPECT_EQ(mesh.vertices.size(), 3u);
+  EXPECT_EQ(mesh.triangles.size(), 1u);
+}
+
 // The message of reading `text` as a .mesh must start with "FILE:LINE:" and hold `problem`.
 void expect_read_error(const std::string& text, int line, const std::string& problem) {
   TempDir dir;

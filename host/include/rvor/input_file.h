@@ -40,8 +40,9 @@ void set_fifo_wait_notice(
 inline constexpr std::size_t kMaxInputLineBytes = std::size_t{1} << 20;
 
 // std::getline for the text readers: the next line of `in` without its line end, which is "\n",
-// "\r\n" or a lone "\r" (false at the end of the input). Throws rvor::Error "PATH:NUMBER: ..." for
-// a line longer than kMaxInputLineBytes, `number` being that line's number.
+// "\r\n" or a lone "\r" (false at the end of the input); line 1 without a UTF-8 byte order mark.
+// Throws rvor::Error "PATH:NUMBER: ..." for a line longer than kMaxInputLineBytes, `number` being
+// that line's number.
 bool read_input_line(std::istream& in, std::string& line, const std::string& path, long number);
 
 }  // namespace rvor
