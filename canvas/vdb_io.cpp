@@ -175,6 +175,16 @@ void read_in_a_child_first(const std::string& path) {
 openvdb::GridPtrVec read_grids(const std::string& path,
                                const std::function<void(const VdbArchiveSummary&)>& before_values) {
   openvdb::initialize();
+  // The file is read three times (its archive walked, read in a child, then here): a pipe
+  // (`--metric-vdb <(cat m.vdb)`) failed at the first seek with "basic_ios::clear: iostream
+  // error". Checked before opening, which waits for a writer on a named pipe.
+  std::error_code error;
+  const std::filesystem::file_type type = std::filesystem::status(path, error).type();
+  if (!error && type != std::filesystem::file_type::regular &&
+      type != std::filesystem::file_type::directory)  // open_input_file names a directory
+    throw Error(cannot_read(path) + "not a regular file (" +
+                (type == std::filesystem::file_type::fifo ? "a pipe" : "a device or special file") +
+                ": rvor reads a VDB file more than once; save it to a file first)");
   InputFile in = open_input_file(path, "VDB file");
   const VdbArchiveSummary summary = check_vdb_archive(in, path);
   if (before_values) before_values(summary);
@@ -188,9 +198,7 @@ void write_voronoi_vdb(const std::string& path, const Canvas& canvas, const Voro
   require_placed(canvas, "cannot write VDB file " + path);
   require_field_for(canvas, field, "cannot write VDB file " + path);
   auto distance = make_canvas_grid<openvdb::FloatGrid>(canvas, "distance", kDistanceBackground);
-  const auto distance_unwinding = freeing_on_unwind(distance->tree());
   auto label = make_canvas_grid<openvdb::Int32Grid>(canvas, "label", kLabelBackground);
-  const auto label_unwinding = freeing_on_unwind(label->tree());
   fill_active(*distance, canvas, [&](std::size_t slot) { return field.distance[slot]; });
   fill_active(*label, canvas, [&](std::size_t slot) { return field.label[slot]; });
   write_grids_atomically(path, {distance, label});
@@ -234,17 +242,13 @@ VoronoiField read_voronoi_vdb(const std::string& path, const Canvas& canvas) {
 
 void write_metric_vdb(const std::string& path, const Canvas& canvas) {
   require_placed(canvas, "cannot write VDB file " + path);
-  std::vector<openvdb::FloatGrid::Ptr> components;
-  const UnwindGuard unwinding([&components] {
-    for (const auto& grid : components) grid->tree().root().clear();  // as freeing_on_unwind
-  });
+  openvdb::GridPtrVec grids;
   for (int component = 0; component < 6; ++component) {
-    components.push_back(
-        make_canvas_grid<openvdb::FloatGrid>(canvas, kMetricGridNames[component], 0.0f));
-    fill_active(*components.back(), canvas,
-                [&](std::size_t slot) { return canvas.metric_of(slot)[component]; });
+    auto grid = make_canvas_grid<openvdb::FloatGrid>(canvas, kMetricGridNames[component], 0.0f);
+    fill_active(*grid, canvas, [&](std::size_t slot) { return canvas.metric_of(slot)[component]; });
+    grids.push_back(grid);
   }
-  write_grids_atomically(path, openvdb::GridPtrVec(components.begin(), components.end()));
+  write_grids_atomically(path, grids);
 }
 
 }  // namespace rvor

@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include "canvas_test_support.h"
 
@@ -206,6 +207,20 @@ TEST(VdbIo, MissingFilesAndGridsAreNamed) {
   test::write_text(dir.file("garbage.vdb"), "not a vdb file");
   EXPECT_NE(error_of([&] { load_vdb_metric(dir.file("garbage.vdb")); }).find("garbage.vdb"),
             std::string::npos);
+}
+
+// The file is read more than once: a pipe (`--metric-vdb <(cat m.vdb)`) failed with
+// "basic_ios::clear: iostream error", naming nothing.
+TEST(VdbIo, APipeIsRefusedAsNotARegularFile) {
+  test::TempDir dir;
+  ASSERT_EQ(mkfifo(dir.file("pipe.vdb").c_str(), 0600), 0);
+  const std::string pipe = error_of([&] { load_vdb_metric(dir.file("pipe.vdb")); });
+  EXPECT_NE(
+      pipe.find("cannot read VDB file " + dir.file("pipe.vdb") + ": not a regular file (a pipe: "),
+      std::string::npos)
+      << pipe;
+  const std::string device = error_of([&] { load_vdb_metric("/dev/null"); });
+  EXPECT_NE(device.find("/dev/null: not a regular file (a device"), std::string::npos) << device;
 }
 
 // Writes the identity metric of the unit box at `resolution` to `path`; returns its size.
