@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -100,30 +99,23 @@ SurfaceMesh double_cone(int n, bool pushed = false) {
   return mesh;
 }
 
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 // Every pair of a fan's triangles overlaps at its centre: CGAL's self-intersection test tested
-// them all (over a minute for this cone of 20k rim vertices, 14 s for 10k), and the convexity
-// test compared every face around a vertex with every vertex around it (about 1.4 s here). Now
-// about 0.5 s in all; the bound leaves room for a loaded machine.
-TEST(SurfaceMesh, AHighDegreeFanIsCheckedQuickly) {
+// them all (over a minute for this cone of 20k rim vertices), and the convexity test compared
+// every face around a vertex with every vertex around it; both checks now skip what a fan cannot
+// hold (times: bench_canvas_build, BM_MeshDomainChecks). The answers stay those of the exact test.
+TEST(SurfaceMesh, AHighDegreeFanIsAcceptedAndAFanThroughItselfIsNot) {
   const SurfaceMesh cone = double_cone(20000);
-  const auto start = std::chrono::steady_clock::now();
   EXPECT_NO_THROW(require_closed(cone, "cone"));
   EXPECT_NO_THROW(require_no_self_intersection(cone, "cone"));
   EXPECT_TRUE(is_convex(cone, 0.1));
-  EXPECT_LT(seconds_since(start), 6.0);
-  // A fan through itself is still found.
   const std::string message =
       error_of([&] { require_no_self_intersection(double_cone(20000, true), "pushed"); });
   EXPECT_NE(message.find("mesh pushed intersects itself: triangle "), std::string::npos) << message;
 }
 
-// The ear clipping tested every corner left against each ear: 9 s for a 40k-gon face. A convex
-// face is cut as before (the same triangles), without the search.
-TEST(SurfaceMesh, AConvexFaceOfManyCornersIsCutQuickly) {
+// The ear clipping tested every corner left against each ear (9 s for this 40k-gon face); a
+// convex face is now cut without the search, into the same triangles.
+TEST(SurfaceMesh, AConvexFaceOfManyCornersIsCutAsByEarClipping) {
   constexpr int kCorners = 40000;
   SurfaceMesh mesh;
   std::vector<int> polygon;
@@ -132,9 +124,7 @@ TEST(SurfaceMesh, AConvexFaceOfManyCornersIsCutQuickly) {
     mesh.vertices.emplace_back(std::cos(angle), 0.5 * std::sin(angle), 2);
     polygon.push_back(i);
   }
-  const auto start = std::chrono::steady_clock::now();
   add_polygon(mesh, polygon);
-  EXPECT_LT(seconds_since(start), 2.0);
   ASSERT_EQ(mesh.triangles.size(), kCorners - 2u);
   // Every other corner clipped: the first ears are 0 and 2, round the outline.
   EXPECT_EQ(mesh.triangles[0], (std::array<int, 3>{kCorners - 1, 0, 1}));
