@@ -228,6 +228,21 @@ TEST(DualChecks, EntryPointsReadSeedsAsThePropagatorsDoAndCheckTheNerve) {
   expect_refused([&] { compute_local_fields(canvas, broken, seeds); }, "local fields");
   expect_refused([&] { build_curved_dual(canvas, field, broken, seeds); }, "curved dual");
   EXPECT_THROW(decided_nerve(canvas, nerve, {}), Error);
+  // A witness slot past the canvas (the duals read its metric: they crashed).
+  for (const bool far_end : {true, false}) {
+    Nerve far_witness = nerve;
+    (far_end ? far_witness.triangles[0].farthest : far_witness.edges[0].nearest).slot = 1 << 30;
+    for (const auto& [call, who] : std::vector<std::pair<std::function<void()>, std::string>>{
+             {[&] { build_straight_dual(canvas, far_witness, seeds); }, "straight dual"},
+             {[&] { decided_nerve(canvas, far_witness, seeds); }, "decided nerve"},
+             {[&] { compute_local_fields(canvas, far_witness, seeds); }, "local fields"}}) {
+      const std::string message = test::error_of(call);
+      EXPECT_EQ(message.rfind(who + ": a nerve simplex of seeds ", 0), 0u) << message;
+      EXPECT_NE(message.find("has a witness at slot 1073741824, not in the canvas"),
+                std::string::npos)
+          << message;
+    }
+  }
 
   VoronoiField unlabelled = field;  // -1 is "unreached"; no other negative label is a seed's
   for (std::size_t slot = 0; slot < unlabelled.label.size(); slot += 2) unlabelled.label[slot] = -7;
