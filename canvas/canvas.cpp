@@ -317,9 +317,17 @@ void Canvas::set_active(std::size_t slot, const std::array<float, 6>& stored) {
   if (!uniform_metric_) std::copy(stored.begin(), stored.end(), &metric_[6 * slot]);
 }
 
+void Canvas::require_consistent() const {
+  require_consistent_geometry(*this);
+  if (active.size() != slot_count() || metric_slot_count() != slot_count())
+    throw Error("canvas: " + std::to_string(active.size()) + " activity flags and tensors for " +
+                std::to_string(metric_slot_count()) + " slots in a canvas of " +
+                std::to_string(slot_count()) + " slots");
+}
+
 void Canvas::finalize() {
   content_hash_.reset();
-  require_consistent_geometry(*this);
+  require_consistent();
   active_voxel_count = 0;
   for (uint8_t a : active) active_voxel_count += a;
   // 1 marks a voxel active; a 2 was counted twice and taken as active by the engines.
@@ -327,10 +335,6 @@ void Canvas::finalize() {
       odd != active.end())
     throw Error("canvas: slot " + std::to_string(odd - active.begin()) + " has activity flag " +
                 std::to_string(*odd) + ", not 0 or 1");
-  if (active.size() != slot_count() || metric_slot_count() != slot_count())
-    throw Error("canvas: " + std::to_string(active.size()) + " activity flags and tensors for " +
-                std::to_string(metric_slot_count()) + " slots in a canvas of " +
-                std::to_string(slot_count()) + " slots");
   if (dimension == 2) require_planar_tensors(*this);
   content_hash_ = hash_geometry(*this) +
                   sum_over_slot_ranges(slot_count(), [&](std::size_t begin, std::size_t end) {

@@ -194,6 +194,7 @@ void validate_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds,
 void validate_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds,
                     std::size_t first_unchecked,
                     const std::function<std::string(std::size_t)>& name) {
+  canvas.require_consistent();  // the seeds are looked up in its bricks, and then solved on it
   if (canvas.active_voxel_count == 0) throw Error(kEmptyCanvasMessage);
   if (seeds.empty()) throw Error("no seeds given");
   // More seeds than voxels leave some without a cell, and the seed blocks' claims cost the square

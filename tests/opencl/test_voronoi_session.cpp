@@ -8,6 +8,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "opencl/opencl_test_support.h"
@@ -15,6 +16,7 @@
 #include "rvor/opencl_propagator.h"
 #include "rvor/voronoi_session.h"
 #include "support/box_canvas.h"
+#include "support/error_of.h"
 
 namespace rvor {
 namespace {
@@ -99,6 +101,30 @@ TEST(Propagators, OverlappingCallsFromTwoThreadsAreRefused) {
   REQUIRE_ENGINE(RelaxationVariant::automatic);
   expect_overlapping_calls_refused(*engine);
   expect_overlapping_calls_refused(*make_reference_propagator());
+}
+
+// A canvas whose bricks or arrays were edited without finalize() is refused by both engines, as
+// finalize() would refuse it (they read past its arrays: SIGSEGV).
+void expect_inconsistent_canvases_refused(Propagator& propagator) {
+  const Canvas good = sheared_box();
+  const std::vector<Vec3> seeds = {Vec3(0.5, 0.5, 0.5)};
+  Canvas bad_table = good;
+  bad_table.brick_table[0] = 9999;
+  Canvas short_activity = good;
+  short_activity.active.resize(10);
+  for (const auto& [canvas, expected] : std::vector<std::pair<const Canvas*, std::string>>{
+           {&bad_table, "brick table cell 0 holds brick 9999"},
+           {&short_activity, "10 activity flags"}}) {
+    VoronoiField field;
+    const std::string message = test::error_of([&] { propagator.solve(*canvas, seeds, field); });
+    EXPECT_NE(message.find(expected), std::string::npos) << message;
+  }
+}
+
+TEST(Propagators, CanvasesEditedWithoutFinalizeAreRefused) {
+  REQUIRE_ENGINE(RelaxationVariant::automatic);
+  expect_inconsistent_canvases_refused(*engine);
+  expect_inconsistent_canvases_refused(*make_reference_propagator());
 }
 
 TEST(VoronoiSession, InsertionBeforeASolveIsAnError) {

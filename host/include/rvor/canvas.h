@@ -107,6 +107,10 @@ class Canvas {
   // Tensors are not checked here (the builder checks them): one that is not SPD is an error of the
   // solve that meets it, naming its voxel.
   void finalize();
+  // finalize()'s checks of the geometry and of the arrays' sizes, without recounting or hashing:
+  // the propagators' first step, so that a canvas whose bricks or arrays were edited without
+  // finalize() is an error naming what does not fit, not an out-of-bounds read.
+  void require_consistent() const;
   // A hash of what the propagators read: the geometry (h, origin, dims, bricks) and every slot's
   // activity and tensor; a canvas changed in one of them always hashes differently, one changed in
   // many by chance only. Both forms of the same tensors hash the same. Recorded by finalize(); none
