@@ -89,6 +89,11 @@ void check_coordinates(const DomainSpec& domain, const Box& bounds) {
 }
 
 ResolvedDomain resolve(const DomainSpec& domain) {
+  using Kind = DomainSpec::Kind;
+  if (domain.kind != Kind::Box && domain.kind != Kind::Rectangle && domain.kind != Kind::Mesh &&
+      domain.kind != Kind::Implicit)  // a DomainSpec made by hand: it built a box
+    throw Error("domain of unknown kind " + std::to_string(static_cast<int>(domain.kind)) +
+                ": make it with parse_domain");
   ResolvedDomain resolved;
   resolved.spec = &domain;
   resolved.dimension = domain.dimension();
@@ -401,6 +406,9 @@ static Canvas build_canvas_itself(const DomainSpec& domain, const MetricField& m
     throw Error("canvas resolution " + std::to_string(options.resolution) + " is not in [" +
                 std::to_string(kLeastCanvasResolution) + ", " +
                 std::to_string(kMostCanvasResolution) + "]");
+  if (metric.dimension() != 2 && metric.dimension() != 3)
+    throw Error("metric '" + metric.description() + "' says it is " +
+                std::to_string(metric.dimension()) + "D: a metric field is 2D or 3D");
   const ResolvedDomain resolved = resolve(domain);
   if (metric.dimension() == 2 && resolved.dimension == 3)
     throw Error("metric '" + metric.description() + "' is 2D but domain " + domain.description() +

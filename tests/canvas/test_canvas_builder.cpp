@@ -506,6 +506,28 @@ class HeldMemoryMetric : public MetricField {
   std::uint64_t held_;
 };
 
+// What a caller's own types can claim: a metric of another dimension, a domain kind that no
+// parser makes (a canvas of 4096 voxels was built from each).
+class FourDimensionalMetric : public MetricField {
+ public:
+  int dimension() const override { return 4; }
+  Mat3 at(const Vec3&) const override { return Mat3::Identity(); }
+  std::string description() const override { return "four-dimensional"; }
+};
+
+TEST(BuildCanvas, AMetricOfAnotherDimensionAndAnUnknownDomainKindAreRefused) {
+  CanvasOptions options;
+  options.resolution = 16;
+  EXPECT_NE(build_error(parse_domain("rect:0,0,1,1"), FourDimensionalMetric(), options)
+                .find("metric 'four-dimensional' says it is 4D"),
+            std::string::npos);
+  DomainSpec unknown = parse_domain("box:0,0,0,1,1,1");
+  unknown.kind = static_cast<DomainSpec::Kind>(42);
+  EXPECT_NE(
+      build_error(unknown, test::euclidean_metric(3), options).find("domain of unknown kind 42"),
+      std::string::npos);
+}
+
 TEST(BuildCanvas, TheMetricFieldsMemoryCountsAgainstTheBudget) {
   const DomainSpec box = parse_domain("box:0,0,0,1,1,1");
   CanvasOptions options;
