@@ -127,6 +127,37 @@ TEST(Propagators, CanvasesEditedWithoutFinalizeAreRefused) {
   expect_inconsistent_canvases_refused(*make_reference_propagator());
 }
 
+// An insertion into the field a propagator returned last, with other old seeds than it solved
+// for: refused by both engines (the reference returned a field that solves no seeds, silently).
+void expect_other_old_seeds_refused(Propagator& propagator) {
+  const Canvas canvas = sheared_box();
+  const std::vector<Vec3> seeds = test::random_points(kLo, kHi, 3, 5, 11);
+  VoronoiField field;
+  propagator.solve(canvas, seeds_between(seeds, 0, 3), field);
+  std::vector<Vec3> moved = seeds;
+  moved[1] = Vec3(-0.3, 0.2, 0.1);
+  VoronoiField copy = field;
+  const std::string moved_error =
+      test::error_of([&] { propagator.insert(canvas, moved, 3, copy); });
+  EXPECT_NE(moved_error.find("the field is this propagator's solve of other seeds: seed 1 is not "
+                             "the one it was solved with"),
+            std::string::npos)
+      << moved_error;
+  copy = field;
+  const std::string count_error =
+      test::error_of([&] { propagator.insert(canvas, seeds, 2, copy); });
+  EXPECT_NE(count_error.find("the field is not one solved for the first 2 seeds"),
+            std::string::npos)
+      << count_error;
+  EXPECT_NO_THROW(propagator.insert(canvas, seeds, 3, field));
+}
+
+TEST(Propagators, InsertionsWithOtherOldSeedsThanTheFieldsAreRefused) {
+  REQUIRE_ENGINE(RelaxationVariant::automatic);
+  expect_other_old_seeds_refused(*engine);
+  expect_other_old_seeds_refused(*make_reference_propagator());
+}
+
 TEST(VoronoiSession, InsertionBeforeASolveIsAnError) {
   VoronoiSession session(make_reference_propagator());
   const Canvas canvas = sheared_box();

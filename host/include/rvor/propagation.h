@@ -110,7 +110,7 @@ class Propagator {
   // field of the canvas is taken, once checked (require_insertable_field), which reads every
   // slot; chains of insertions into the field returned last skip that in a VoronoiSession. That
   // the field was solved for seeds[0..first_new) is the caller's promise, which no check of the
-  // field alone can keep; the OpenCL engine refuses its own last field with other old seeds.
+  // field alone can keep; both engines refuse their own last field with other old seeds.
   virtual PropagationStats insert(const Canvas& canvas, const std::vector<Vec3>& seeds,
                                   std::size_t first_new, VoronoiField& field) = 0;
   // Per canvas brick, 1 where the brick holds a multi-label grid cell (find_multi_label_bricks),

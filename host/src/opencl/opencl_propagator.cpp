@@ -244,11 +244,11 @@ class OpenCLPropagator final : public Propagator {
                                              std::size_t first_new, std::size_t known_seeds) {
     if (!held || !held->solved_seeds || caller.hash != held->hash) return;
     if (*held->solved_seeds != first_new)
-      throw Error("insert(): the field is this engine's solve of " +
+      throw Error("insert(): the field is this propagator's solve of " +
                   std::to_string(*held->solved_seeds) +
                   " seeds, not of first_new = " + std::to_string(first_new));
     if (known_seeds < first_new)
-      throw Error("insert(): the field is this engine's solve of other seeds: seed " +
+      throw Error("insert(): the field is this propagator's solve of other seeds: seed " +
                   std::to_string(known_seeds) + " is not the one it was solved with");
   }
 
