@@ -35,10 +35,11 @@ inline constexpr const char* kEmptyCanvasMessage =
 // Throws rvor::Error "seed N at (x, y, z) is outside the domain" when a seed's containing voxel
 // is not an active canvas voxel, or its coordinates are not finite; on an empty canvas
 // (kEmptyCanvasMessage), an empty seed list, and more seeds than active voxels.
-// A 2D canvas ignores z, which must still be finite (read_xyz with a dimension checks files). Seeds before `first_unchecked`
-// are taken as checked already (an insertion's solved seeds); the count is always checked. Seeds
-// that share a voxel are accepted (the engines give the voxel to the smaller label, so the other
-// seed's cell may be empty: FieldSummary::empty_cells, which `rvor voronoi` reports).
+// A 2D canvas ignores z, which must still be finite (read_xyz with a dimension checks files). Seeds
+// before `first_unchecked` are taken as checked already (an insertion's solved seeds); the count is
+// always checked. Seeds that share a voxel are accepted (the engines give the voxel to the smaller
+// label, so the other seed's cell may be empty: FieldSummary::empty_cells, which `rvor voronoi`
+// reports).
 void validate_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds,
                     std::size_t first_unchecked = 0);
 // The same, naming seed n by name(n) instead of "seed N" (say, "seeds.xyz:4: seed 2").
