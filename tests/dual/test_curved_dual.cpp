@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <limits>
 #include <sstream>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -29,6 +30,7 @@
 #include "rvor/seed_blocks.h"
 #include "rvor/seeds.h"
 #include "support/box_canvas.h"
+#include "support/error_of.h"
 #include "support/run_command.h"
 #include "support/temp_dir.h"
 
@@ -496,6 +498,38 @@ TEST(CurvedDual, RejectsMismatchedSeeds) {
   ASSERT_EQ(dual.edges.size(), 1u);
   EXPECT_TRUE(dual.edges[0].reached());
   EXPECT_NEAR(dual.edges[0].length, 0.5, 0.01);
+}
+
+// The curved writers check what they are given, as the straight ones do (an altered dual was
+// written as a corrupt file: seeds -5 and 99, a bisector past the points, a triangle on point
+// 99999).
+TEST(CurvedDual, WritersRefuseAnAlteredDual) {
+  const Canvas canvas =
+      test::make_uniform_box_canvas(2, Vec3(0, 0, 0), Vec3(1, 1, 1), 32, Mat3::Identity());
+  const std::vector<Vec3> seeds{Vec3(0.25, 0.5, 0), Vec3(0.75, 0.5, 0)};
+  const VoronoiField field = test::exact_uniform_field(canvas, seeds, Mat3::Identity());
+  const CurvedDual dual =
+      build_curved_dual(canvas, field, extract_nerve(canvas, field, seeds.size()), seeds);
+  test::TempDir dir;
+  const auto expect_refused = [&](const CurvedDual& altered, const std::string& expected) {
+    for (const std::string name : {"edges.vtu", "faces.vtu"}) {
+      const std::string path = dir.file(name);
+      const std::string message = test::error_of([&] {
+        name == "edges.vtu" ? write_curved_dual_vtu(path, altered)
+                            : write_curved_faces_vtu(path, altered);
+      });
+      EXPECT_EQ(message.rfind("cannot write " + path + ": " + expected, 0), 0u) << message;
+    }
+  };
+  CurvedDual seeds_beyond = dual;
+  seeds_beyond.edges[0].seeds = {-5, 99};
+  expect_refused(seeds_beyond, "curved edge 0 names seed -5, not one of the dual's 2");
+  CurvedDual bisector_beyond = dual;
+  bisector_beyond.edges[0].bisector_index = 999;
+  expect_refused(bisector_beyond, "curved edge 0 has its bisector point at 999");
+  CurvedDual triangle_beyond = dual;
+  triangle_beyond.faces.push_back({{0, 1, 0}, {Vec3(0, 0, 0)}, {{0, 0, 99999}}});
+  expect_refused(triangle_beyond, "curved face 0 has a triangle on point 99999 of 1");
 }
 
 }  // namespace

@@ -112,6 +112,11 @@ CurvedDual build_curved_dual(const Canvas& canvas, const VoronoiField& field, co
 // (Float64, in the metric), reached (UInt8, 1 when both sides reached their seed), seed_a, seed_b
 // (Int32). Atomic.
 void write_curved_dual_vtu(const std::string& path, const CurvedDual& dual);
+// Throws rvor::Error (prefixed with `where`) where an edge or face names a seed that is not one of
+// the dual's vertices, an edge's bisector index lies past its points or a face's triangle uses a
+// point it does not have: what the writers check before writing (an altered dual was written as
+// a corrupt file).
+void require_consistent_curved_dual(const CurvedDual& dual, const std::string& where);
 
 // VTK .vtu of the curved faces as triangles (VTK_TRIANGLE, cell type 5), all patches in one
 // point set. Cell data: face (Int32, index in dual.faces and the nerve's triangles), seed_a,

@@ -155,7 +155,42 @@ CurvedDual build_curved_dual(const Canvas& canvas, const VoronoiField& field, co
   });
 }
 
+namespace {
+
+template <std::size_t N>
+void require_seeds_of(const std::array<int32_t, N>& seeds, std::size_t vertices, const char* what,
+                      std::size_t index, const std::string& where) {
+  for (const int32_t seed : seeds)
+    if (seed < 0 || static_cast<std::size_t>(seed) >= vertices)
+      throw Error(where + ": curved " + what + " " + std::to_string(index) + " names seed " +
+                  std::to_string(seed) + ", not one of the dual's " + std::to_string(vertices));
+}
+
+}  // namespace
+
+void require_consistent_curved_dual(const CurvedDual& dual, const std::string& where) {
+  const std::size_t n = dual.vertices.size();
+  for (std::size_t e = 0; e < dual.edges.size(); ++e) {
+    const CurvedEdge& edge = dual.edges[e];
+    require_seeds_of(edge.seeds, n, "edge", e, where);
+    if (!edge.points.empty() && edge.bisector_index >= edge.points.size())
+      throw Error(where + ": curved edge " + std::to_string(e) + " has its bisector point at " +
+                  std::to_string(edge.bisector_index) + " of " +
+                  std::to_string(edge.points.size()) + " points");
+  }
+  for (std::size_t f = 0; f < dual.faces.size(); ++f) {
+    const CurvedFace& face = dual.faces[f];
+    require_seeds_of(face.seeds, n, "face", f, where);
+    for (const std::array<uint32_t, 3>& t : face.triangles)
+      for (const uint32_t v : t)
+        if (v >= face.points.size())
+          throw Error(where + ": curved face " + std::to_string(f) + " has a triangle on point " +
+                      std::to_string(v) + " of " + std::to_string(face.points.size()));
+  }
+}
+
 void write_curved_dual_vtu(const std::string& path, const CurvedDual& dual) {
+  require_consistent_curved_dual(dual, "cannot write " + path);
   std::vector<double> points;  // doubles: a dual far from the origin keeps its shape
   std::vector<int64_t> connectivity, offsets;
   std::vector<uint8_t> types, reached, staircase;

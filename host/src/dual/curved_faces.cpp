@@ -130,6 +130,7 @@ CurvedFace build_curved_face(const Canvas& canvas, const GeodesicTracer& tracer,
 }  // namespace detail
 
 void write_curved_faces_vtu(const std::string& path, const CurvedDual& dual) {
+  require_consistent_curved_dual(dual, "cannot write " + path);
   std::vector<double> points;  // doubles: faces far from the origin keep their shape
   std::vector<int64_t> connectivity, offsets;
   std::vector<uint8_t> types, reached;
