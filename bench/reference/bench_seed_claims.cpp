@@ -36,11 +36,25 @@ void BM_ClaimsScaleVarying(benchmark::State& state) {
   claims_of_a_solve(state, canvas);
 }
 
+// N copies of one seed among 1000 others: each copy's block was read by all the others.
+void BM_ClaimsCopiesOfOneSeed(benchmark::State& state) {
+  static const rvor::Canvas canvas = rvor::test::make_uniform_box_canvas(
+      3, rvor::Vec3(-1, -1, -1), rvor::Vec3(1, 1, 1), 128, rvor::Mat3::Identity());
+  std::vector<rvor::Vec3> seeds = rvor::random_seeds(canvas, 1000, 3);
+  seeds.insert(seeds.end(), static_cast<std::size_t>(state.range(0)), seeds.front());
+  for (auto _ : state) benchmark::DoNotOptimize(rvor::foreign_seed_claims(canvas, seeds));
+}
+
 BENCHMARK(BM_ClaimsUniform)->ArgName("seeds")->Arg(1000)->Arg(20000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ClaimsScaleVarying)
     ->ArgName("seeds")
     ->Arg(1000)
     ->Arg(20000)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ClaimsCopiesOfOneSeed)
+    ->ArgName("copies")
+    ->Arg(1000)
+    ->Arg(3000)
     ->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -66,7 +66,9 @@ void index_seeds(const Canvas& canvas, const std::vector<Vec3>& seeds, std::size
 // touches: the box around it that holds every x with u0(x) <= reach.
 class SeedGrid {
  public:
-  SeedGrid(const Canvas& canvas, const std::vector<IndexSeed>& seeds, double reach)
+  // Seeds marked in `repeats` are not listed (repeated_seeds).
+  SeedGrid(const Canvas& canvas, const std::vector<IndexSeed>& seeds, double reach,
+           const std::vector<std::uint8_t>& repeats)
       : dimension_(canvas.dimension) {
     for (int a = 0; a < 3; ++a) dims_[a] = canvas.dims[a];
     // Coarser cells when the boxes are long (strong anisotropy), so that the lists stay small.
@@ -78,6 +80,7 @@ class SeedGrid {
     lists_.resize(static_cast<std::size_t>(cells_[0]) * cells_[1] * cells_[2]);
     first_cells_.resize(seeds.size());
     for (std::size_t t = 0; t < seeds.size(); ++t) {
+      if (repeats[t]) continue;
       const auto [lo, hi] = cell_box(seeds[t], reach);
       first_cells_[t] = lo;
       for (int k = lo[2]; k <= hi[2]; ++k)
@@ -291,6 +294,26 @@ void report_claims(const Canvas& canvas, const std::vector<IndexSeed>& seeds, st
 // are farther), radial_shock_3d with 20 000 unchanged (2.64 / 2.82 s -> 2.62 / 2.82 s).
 constexpr std::ptrdiff_t kFirstPassSeeds = 16;
 
+// 1 for each seed at the very position of an earlier one: it ties that seed everywhere and loses
+// every tie (the smaller label wins), so it claims nothing and its block is the earlier one's.
+// Without it, N copies of one seed read each other N^2 times per block voxel (10 000 copies at
+// 128^3: 80 s).
+std::vector<std::uint8_t> repeated_seeds(const std::vector<IndexSeed>& seeds) {
+  std::vector<std::size_t> order(seeds.size());
+  for (std::size_t t = 0; t < order.size(); ++t) order[t] = t;
+  const auto position = [&](std::size_t t) {
+    const Vec3& c = seeds[t].centre;
+    return std::make_tuple(c.x(), c.y(), c.z());
+  };
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return std::make_pair(position(a), a) < std::make_pair(position(b), b);
+  });
+  std::vector<std::uint8_t> repeats(seeds.size(), 0);
+  for (std::size_t n = 1; n < order.size(); ++n)
+    repeats[order[n]] = position(order[n]) == position(order[n - 1]);
+  return repeats;
+}
+
 // Grids of reach boxes for reaches r_max / 2^k (r_max the largest block reach), down to the least
 // block reach: a block reads the least level whose reach covers what it asks for. One grid at
 // r_max listed nearly every seed near every block of a field whose scale varies (radial_shock_3d:
@@ -307,8 +330,10 @@ class SeedGridLevels {
     std::size_t levels = 1;
     // Level 0 is at least the least reach and at most twice it (a degenerate reach stops at 64).
     while (std::isfinite(least) && levels < 64 && reach_of(0, levels) / 2 >= least) ++levels;
+    repeats_ = repeated_seeds(seeds);
     for (std::size_t level = 0; level < levels; ++level)
-      grids_.push_back(std::make_unique<SeedGrid>(canvas, seeds, reach_of(level, levels)));
+      grids_.push_back(
+          std::make_unique<SeedGrid>(canvas, seeds, reach_of(level, levels), repeats_));
   }
 
   // The least level whose reach is at least `reach` (the top one beyond it).
@@ -318,6 +343,8 @@ class SeedGridLevels {
     return level;
   }
   const SeedGrid& grid(std::size_t level) const { return *grids_[level]; }
+  // Whether gridded seed t repeats an earlier one's position (repeated_seeds).
+  bool repeats(std::size_t t) const { return repeats_[t] != 0; }
   // The reach of the top level: a listing covers no more.
   double top_reach() const { return reach_of(grids_.size() - 1, grids_.size()); }
 
@@ -327,6 +354,7 @@ class SeedGridLevels {
   }
 
   double largest_ = 0.0;
+  std::vector<std::uint8_t> repeats_;
   std::vector<std::unique_ptr<SeedGrid>> grids_;
 };
 
@@ -395,6 +423,7 @@ void claim_all_blocks(const Canvas& canvas, const std::vector<IndexSeed>& seeds,
   for_slot_ranges(order.size(), threads, [&](unsigned part, std::size_t begin, std::size_t end) {
     for (std::size_t n = begin; n < end; ++n) {
       const std::size_t s = static_cast<std::size_t>(order[n]);
+      if (grids.repeats(s)) continue;  // its block is the earlier seed's, and settled there
       std::vector<LeastPair> best = owner_pairs(canvas, seeds, s);
       settle_block(canvas, seeds, s, source, best);
       report_claims(canvas, seeds, s, best, parts[part]);

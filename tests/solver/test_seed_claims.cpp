@@ -220,6 +220,18 @@ TEST(SeedClaims, AnExactTieGoesToTheSmallerIndex) {
   EXPECT_EQ(listed_claims(canvas, owner_first), brute_force_claims(canvas, owner_first));
 }
 
+// Copies of a seed at the very same position (they tie it everywhere and lose every tie) claim
+// nothing and settle no block of their own: the claims are those of a brute force over all
+// seeds, copies included. (N copies read each other N^2 times per block voxel before.)
+TEST(SeedClaims, CopiesOfASeedMatchBruteForce) {
+  const Canvas canvas = make_box_canvas(3, Vec3(-1, -1, -1), Vec3(1, 1, 1), 24,
+                                        [](const Vec3& p) { return turning_metric(p, 3); });
+  std::vector<Vec3> seeds = random_seeds(canvas, 150, 9);
+  for (std::size_t n = 0; n < 150; n += 3) seeds.insert(seeds.begin() + n / 2, seeds[n]);
+  seeds.insert(seeds.begin(), seeds.back());  // a copy before its original
+  EXPECT_EQ(listed_claims(canvas, seeds), brute_force_claims(canvas, seeds));
+}
+
 // Claims as a comparable list.
 std::vector<std::tuple<int, int, int, int>> claim_tuples(const std::vector<SeedClaim>& claims) {
   std::vector<std::tuple<int, int, int, int>> tuples;
