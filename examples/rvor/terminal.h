@@ -94,8 +94,12 @@ CLI::Option* add_device_option(CLI::App* command, std::string& device,
 // $RVOR_DEVICE rather than from --device says so.
 void require_chosen_device(const CLI::Option* option, const std::string& device);
 
-// What a run noticed about its inputs, for the summary's warnings.
-struct InputNotes {
+// What a run noticed about its inputs and its solve, for the summary's warnings.
+struct RunNotes {
+  // The OpenCL engine's voxel updates per active voxel (0 on the CPU reference): many more than a
+  // few dozen come from strongly anisotropic stencils with few seeds, where the reference, which
+  // orders its updates by value, can be far faster (docs: README, "How accurate, how fast").
+  double opencl_updates_per_voxel = 0;
   std::size_t far_probes = 0;  // probes more than a voxel from the voxel that answers them
   // Active voxels beyond the --metric-mesh's bounding box by more than half a voxel: they take the
   // metric of its nearest element.
@@ -105,7 +109,6 @@ struct InputNotes {
 void print_voronoi_summary(std::ostream& out, const std::string& out_dir,
                            const std::vector<std::string>& outputs, std::size_t active_voxels,
                            std::size_t seeds, const FieldSummary& summary, const MetricReach& reach,
-                           const InputNotes& notes, double propagation_seconds,
-                           double total_seconds);
+                           const RunNotes& notes, double propagation_seconds, double total_seconds);
 
 }  // namespace rvor::cli

@@ -318,7 +318,10 @@ void write_voronoi(const VoronoiOptions& o, const std::vector<std::string>& crea
     write_voronoi_vdb(path("voronoi.vdb"), canvas, field);
     write_xyz(path("seeds.xyz"), seeds, canvas.dimension);
     if (o.vtu) write_canvas_vtu(path("canvas.vtu"), canvas, field);
-    InputNotes notes;
+    RunNotes notes;
+    if (o.device != "cpu" && canvas.active_voxel_count > 0)
+      notes.opencl_updates_per_voxel =
+          static_cast<double>(stats.voxel_updates) / static_cast<double>(canvas.active_voxel_count);
     if (!o.metric_mesh.empty() && metric->natural_domain())
       notes.voxels_outside_metric_mesh = voxels_outside(canvas, *metric->natural_domain());
     if (!o.probe_file.empty()) {
