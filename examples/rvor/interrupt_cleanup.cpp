@@ -25,13 +25,14 @@ struct sigaction previous[sizeof kSignals / sizeof *kSignals];
 // hold(): a signal is kept in `pending` rather than acted on. (sigprocmask would block it for the
 // calling thread only, and PoCL's and TBB's threads can take it.)
 volatile sig_atomic_t holding = 0, pending = 0;
+volatile sig_atomic_t progress_line_open = 0;  // set_progress_line_open
 std::atomic_flag cleaning = ATOMIC_FLAG_INIT;  // lock-free, so a handler may use it
 
 // A getdents64 record (the libc wrapper, readdir, allocates; a handler may not): inode and offset
 // (8 bytes each), the record's length (2), the entry's type (1), then its name.
 constexpr int kRecordLengthAt = 16, kNameAt = 19;
 
-// Only async-signal-safe calls: open, getdents64, unlinkat, close, rmdir, sigaction, raise.
+// Only async-signal-safe calls: open, getdents64, unlinkat, close, rmdir, write, sigaction, raise.
 void remove_staging_and_die(int signal_number) {
   if (holding) {
     pending = signal_number;
@@ -56,6 +57,11 @@ void remove_staging_and_die(int signal_number) {
     rmdir(staging_path);
   }
   for (int n = 0; n < created_count; ++n) rmdir(created_paths[n]);  // only when empty
+  if (progress_line_open) {
+    constexpr char kInterrupted[] = " interrupted\n";
+    [[maybe_unused]] const ssize_t written =  // nothing more to do where stderr is gone
+        write(STDERR_FILENO, kInterrupted, sizeof kInterrupted - 1);
+  }
   // Death by this signal, as without the handler: the default action, pending until the handler
   // returns (the signal is blocked while it runs).
   struct sigaction default_action {};
@@ -64,12 +70,26 @@ void remove_staging_and_die(int signal_number) {
   raise(signal_number);
 }
 
+// record_ignored_signals(): which of kSignals were ignored when the process started.
+bool ignored_at_start[sizeof kSignals / sizeof *kSignals] = {};
+
 void copy_path(const std::string& path, char (&into)[PATH_MAX]) {
   if (path.size() >= PATH_MAX) throw Error("output path too long: " + path);
   std::memcpy(into, path.c_str(), path.size() + 1);
 }
 
 }  // namespace
+
+void set_progress_line_open(bool open) {
+  progress_line_open = open ? 1 : 0;
+}
+
+void record_ignored_signals() {
+  for (std::size_t n = 0; n < sizeof kSignals / sizeof *kSignals; ++n) {
+    struct sigaction now {};
+    ignored_at_start[n] = sigaction(kSignals[n], nullptr, &now) == 0 && now.sa_handler == SIG_IGN;
+  }
+}
 
 InterruptCleanup::InterruptCleanup(const std::string& staging,
                                    const std::vector<std::string>& created_folders) {
@@ -86,8 +106,10 @@ InterruptCleanup::InterruptCleanup(const std::string& staging,
   for (int s : kSignals) sigaddset(&action.sa_mask, s);  // one cleanup at a time
   for (std::size_t n = 0; n < sizeof kSignals / sizeof *kSignals; ++n) {
     sigaction(kSignals[n], nullptr, &previous[n]);
-    // A signal the caller ignores (nohup) stays ignored.
-    if (previous[n].sa_handler != SIG_IGN) sigaction(kSignals[n], &action, nullptr);
+    // A signal the caller ignores (nohup) stays ignored, also where PoCL's LLVM has put its own
+    // handler in SIG_IGN's place since.
+    if (previous[n].sa_handler != SIG_IGN && !ignored_at_start[n])
+      sigaction(kSignals[n], &action, nullptr);
   }
 }
 

@@ -7,6 +7,15 @@
 
 namespace rvor::cli {
 
+// Records which of the signals the caller ignores (nohup; a shell's background job), before
+// anything else installs handlers: PoCL's LLVM replaces SIG_IGN with its own handlers when OpenCL
+// starts, and a run under nohup then died of the terminal's SIGHUP. Call first in main().
+void record_ignored_signals();
+
+// Whether a progress line is open on stderr (Progress sets it): a run stopped by a signal ends it
+// with " interrupted", so that the shell's prompt does not land on it.
+void set_progress_line_open(bool open);
+
 class InterruptCleanup {
  public:
   static constexpr int kMostCreatedFolders = 8;

@@ -6,11 +6,13 @@
 #include <new>
 
 #include "commands.h"
+#include "interrupt_cleanup.h"
 #include "rvor/input_file.h"
 #include "rvor/spec_text.h"
 #include "terminal.h"
 
 int main(int argc, char** argv) {
+  rvor::cli::record_ignored_signals();  // before OpenCL's LLVM installs its handlers
   // Past a file size limit the kernel sends SIGXFSZ, whose default kills the process: ignored, the
   // write fails with EFBIG and the writer reports it, naming the file.
   std::signal(SIGXFSZ, SIG_IGN);

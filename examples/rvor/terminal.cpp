@@ -12,6 +12,7 @@
 #include <optional>
 #include <sstream>
 
+#include "interrupt_cleanup.h"
 #include "rvor/canvas_builder.h"
 #include "rvor/devices.h"
 #include "rvor/error.h"
@@ -23,6 +24,7 @@ namespace rvor::cli {
 Progress::Progress(bool quiet) : quiet_(quiet), terminal_(isatty(STDERR_FILENO) == 1) {}
 
 Progress::~Progress() {
+  set_progress_line_open(false);
   if (!open_ || quiet_) return;
   restart_line();
   std::cerr << " failed\n";
@@ -34,6 +36,7 @@ void Progress::begin(const std::string& stage) {
   updated_ = false;
   stage_ = stage;
   if (!quiet_) std::cerr << stage << " ..." << std::flush;
+  set_progress_line_open(!quiet_);
 }
 
 void Progress::update(const std::string& status, bool now) {
@@ -52,6 +55,7 @@ void Progress::restart_line() {
 
 double Progress::end(const std::string& detail) {
   open_ = false;
+  set_progress_line_open(false);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   if (!quiet_) {

@@ -235,6 +235,32 @@ TEST_F(CliErrors, InterruptedRunLeavesNoStagingBehind) {
   }
 }
 
+// A hangup the caller ignores (nohup) stays ignored on the OpenCL device too: PoCL's LLVM puts its
+// own handlers in SIG_IGN's place when OpenCL starts, and the run died of the terminal's SIGHUP
+// (exit 129). A signal that does stop a run ends its open progress line with "interrupted".
+TEST_F(CliErrors, AnIgnoredHangupStaysIgnoredAndAnInterruptEndsTheLine) {
+  if (list_opencl_devices().empty()) GTEST_SKIP() << "no OpenCL device";
+  const std::string run = rvor_binary() +
+                          " voronoi --device pocl --domain box:1,1,1,11,11,11 --metric "
+                          "radial_shock_3d --resolution 160 --random-seeds 1000 --out ";
+  const auto signalled = [&](const std::string& out_dir, const std::string& ignore,
+                             const std::string& signal) {
+    return "(" + ignore + run + out_dir + " >/dev/null 2>" + out_dir +
+           ".err & pid=$!; for i in $(seq 100); do grep -q propagating " + out_dir +
+           ".err 2>/dev/null && break; sleep 0.1; done; kill -" + signal +
+           " $pid; wait $pid; echo $?)";
+  };
+  const std::string ignored = dir.file("ignored");
+  const CommandResult kept = run_command(signalled(ignored, "trap '' HUP; ", "HUP"));
+  EXPECT_EQ(kept.out, "0\n") << read_text(ignored + ".err");
+  EXPECT_TRUE(std::filesystem::exists(ignored + "/voronoi.vdb"));
+  const std::string stopped = dir.file("stopped");
+  const CommandResult ended = run_command(signalled(stopped, "", "TERM"));
+  EXPECT_EQ(ended.out, "143\n");
+  const std::string err = read_text(stopped + ".err");
+  EXPECT_NE(err.find("propagating from 1000 seeds ... interrupted\n"), std::string::npos) << err;
+}
+
 // A run that fails removes the output directory it created (an empty directory was left).
 TEST_F(CliErrors, FailedRunRemovesTheOutputDirectoryItCreated) {
   ASSERT_FALSE(std::filesystem::exists(out()));
