@@ -108,6 +108,19 @@ TEST(RunBenchmarkCase, CheckedInsertionsAreTimedToo) {
   EXPECT_GE(*r.insert_mean_rounds, 1.0);
 }
 
+// On the reference (--device cpu) an insertion is timed, but it pops a queue: no rounds to report
+// (it gave its pops as rounds, and 0 s in them).
+TEST(RunBenchmarkCase, ReferenceInsertionsHaveNoRounds) {
+  BenchCase c = small_case(24, 10);
+  c.device = "cpu";
+  c.inserted_seeds = 3;
+  c.reference = c.fastsweeping = false;
+  const BenchResult r = run_benchmark_case(c);
+  ASSERT_TRUE(r.insert_mean_seconds);
+  EXPECT_FALSE(r.insert_mean_rounds);
+  EXPECT_FALSE(r.insert_mean_round_seconds);
+}
+
 // Insertions of several seeds each (--insert-batch), the last taking what is left.
 TEST(RunBenchmarkCase, InsertionsInBatches) {
   REQUIRE_OPENCL_DEVICE();
