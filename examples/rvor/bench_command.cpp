@@ -350,7 +350,7 @@ void add_bench_command(CLI::App& app) {
                   "stencils and Voronoi cells at least 50 voxels across, else off")
       ->check(front_step_range);
   cmd->add_option("--max-sweeps", options->max_sweeps,
-                  "brick_lanes and brick_sweep: most sweeps per brick relaxation (default "
+                  "brick_lanes and brick_sweep: most sweeps per brick relaxation, 1 to 64 (default "
                   "automatic: 4 for a uniform metric with axis offsets, 2 for any other stencil; "
                   "visits_per_relaxation in --json gives what ran)")
       ->transform(visit_count);

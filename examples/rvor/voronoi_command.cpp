@@ -448,7 +448,7 @@ void add_voronoi_command(CLI::App& app) {
       "with --dual the files listed there, with --png voronoi.png.");
   cmd->add_option("--domain", options->domain, domain_help())->required();
   cmd->add_option("--resolution", options->resolution,
-                  "Voxels along the longest side of the domain")
+                  "Voxels along the longest side of the domain (2 to 65536)")
       ->transform(resolution_value)
       ->capture_default_str();
   CLI::Option* metric_option =
