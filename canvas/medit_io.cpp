@@ -111,7 +111,7 @@ bool parse_real(std::string_view text, double& value) {
 class MeditTokens {
  public:
   explicit MeditTokens(std::string path) : path_(std::move(path)), text_(read_whole_file(path_)) {
-    if (text_.rfind("\xEF\xBB\xBF", 0) == 0) position_ = 3;  // a UTF-8 byte order mark
+    position_ = byte_order_mark_length(text_);
   }
 
   const std::string& path() const { return path_; }

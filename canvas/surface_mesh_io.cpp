@@ -209,7 +209,8 @@ struct StlStart {
 };
 
 StlStart read_stl_start(const std::string& path) {
-  InputFile in = open_input(path);
+  InputFile in =
+      open_regular_input_file(path, "mesh file", "rvor reads an STL file's size to tell its kind");
   StlStart start;
   in.seekg(0, std::ios::end);
   start.size = static_cast<std::uint64_t>(in.tellg());

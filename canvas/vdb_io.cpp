@@ -175,17 +175,9 @@ void read_in_a_child_first(const std::string& path) {
 openvdb::GridPtrVec read_grids(const std::string& path,
                                const std::function<void(const VdbArchiveSummary&)>& before_values) {
   openvdb::initialize();
-  // The file is read three times (its archive walked, read in a child, then here): a pipe
-  // (`--metric-vdb <(cat m.vdb)`) failed at the first seek with "basic_ios::clear: iostream
-  // error". Checked before opening, which waits for a writer on a named pipe.
-  std::error_code error;
-  const std::filesystem::file_type type = std::filesystem::status(path, error).type();
-  if (!error && type != std::filesystem::file_type::regular &&
-      type != std::filesystem::file_type::directory)  // open_input_file names a directory
-    throw Error(cannot_read(path) + "not a regular file (" +
-                (type == std::filesystem::file_type::fifo ? "a pipe" : "a device or special file") +
-                ": rvor reads a VDB file more than once; save it to a file first)");
-  InputFile in = open_input_file(path, "VDB file");
+  // Read three times (its archive walked, read in a child, then here): a pipe failed at the first
+  // seek with "basic_ios::clear: iostream error".
+  InputFile in = open_regular_input_file(path, "VDB file", "rvor reads a VDB file more than once");
   const VdbArchiveSummary summary = check_vdb_archive(in, path);
   if (before_values) before_values(summary);
   read_in_a_child_first(path);

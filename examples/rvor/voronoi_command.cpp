@@ -304,6 +304,8 @@ void write_voronoi(const VoronoiOptions& o, const std::vector<std::string>& crea
     const PropagationStats stats = propagator->solve(canvas, seeds, field);
     const std::string device = propagator->device_description();
     const double propagation_seconds = progress.end(device);
+    const double updates_per_voxel =
+        canvas.active_voxel_count ? double(stats.voxel_updates) / canvas.active_voxel_count : 0.0;
     // The dual's bricks come from the device's state. With them taken, the device's buffers (host
     // memory on PoCL) are freed before the outputs and the duals take theirs.
     const auto bricks_start = std::chrono::steady_clock::now();
@@ -319,9 +321,7 @@ void write_voronoi(const VoronoiOptions& o, const std::vector<std::string>& crea
     write_xyz(path("seeds.xyz"), seeds, canvas.dimension);
     if (o.vtu) write_canvas_vtu(path("canvas.vtu"), canvas, field);
     RunNotes notes;
-    if (o.device != "cpu" && canvas.active_voxel_count > 0)
-      notes.opencl_updates_per_voxel =
-          static_cast<double>(stats.voxel_updates) / static_cast<double>(canvas.active_voxel_count);
+    if (o.device != "cpu") notes.opencl_updates_per_voxel = updates_per_voxel;
     if (!o.metric_mesh.empty() && metric->natural_domain())
       notes.voxels_outside_metric_mesh = voxels_outside(canvas, *metric->natural_domain());
     if (!o.probe_file.empty()) {
@@ -365,33 +365,31 @@ void write_voronoi(const VoronoiOptions& o, const std::vector<std::string>& crea
 
     const double total =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    nlohmann::json report = {
-        {"generator", "rvor voronoi"},
-        {"domain", domain.description()},
-        {"metric", metric->description()},
-        {"dimension", canvas.dimension},
-        {"resolution", o.resolution},
-        {"voxel_size", canvas.voxel_size},
-        {"index_box", canvas.dims},
-        {"active_voxels", canvas.active_voxel_count},
-        {"seeds", seeds.size()},
-        {"device", device},
-        {"iterations", stats.iterations},
-        {"voxel_updates", stats.voxel_updates},
-        {"brick_relaxations", stats.brick_relaxations},
-        {"exact_start", stats.exact_start},
-        {"max_anisotropy", reach.max_anisotropy},
-        {"longest_stencil_offset", reach.longest_offset},
-        {"updates_per_voxel",
-         canvas.active_voxel_count ? double(stats.voxel_updates) / canvas.active_voxel_count : 0.0},
-        {"timings",
-         {{"canvas", canvas_seconds},
-          {"propagation", propagation_seconds},
-          {"outputs", output_seconds},
-          {"dual", dual_seconds},
-          {"total", total}}},
-        {"field", summary_json(summary)},
-        {"outputs", output_names(o)}};
+    nlohmann::json report = {{"generator", "rvor voronoi"},
+                             {"domain", domain.description()},
+                             {"metric", metric->description()},
+                             {"dimension", canvas.dimension},
+                             {"resolution", o.resolution},
+                             {"voxel_size", canvas.voxel_size},
+                             {"index_box", canvas.dims},
+                             {"active_voxels", canvas.active_voxel_count},
+                             {"seeds", seeds.size()},
+                             {"device", device},
+                             {"iterations", stats.iterations},
+                             {"voxel_updates", stats.voxel_updates},
+                             {"brick_relaxations", stats.brick_relaxations},
+                             {"exact_start", stats.exact_start},
+                             {"max_anisotropy", reach.max_anisotropy},
+                             {"longest_stencil_offset", reach.longest_offset},
+                             {"updates_per_voxel", updates_per_voxel},
+                             {"timings",
+                              {{"canvas", canvas_seconds},
+                               {"propagation", propagation_seconds},
+                               {"outputs", output_seconds},
+                               {"dual", dual_seconds},
+                               {"total", total}}},
+                             {"field", summary_json(summary)},
+                             {"outputs", output_names(o)}};
     if (!o.probe_file.empty()) report["probes_beyond_a_voxel"] = notes.far_probes;
     if (!o.metric_mesh.empty())
       report["voxels_outside_metric_mesh"] = notes.voxels_outside_metric_mesh;

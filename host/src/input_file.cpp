@@ -107,6 +107,22 @@ InputFile open_input_file(const std::string& path, const std::string& what) {
   return InputFile(std::move(buffer));
 }
 
+InputFile open_regular_input_file(const std::string& path, const std::string& what,
+                                  const std::string& why) {
+  std::error_code error;
+  const std::filesystem::file_type type = std::filesystem::status(path, error).type();
+  if (!error && type != std::filesystem::file_type::regular &&
+      type != std::filesystem::file_type::directory)  // open_input_file names a directory
+    throw Error("cannot read " + what + " " + path + ": not a regular file (" +
+                (type == std::filesystem::file_type::fifo ? "a pipe" : "a device or special file") +
+                ": " + why + "; save it to a file first)");
+  return open_input_file(path, what);
+}
+
+std::size_t byte_order_mark_length(std::string_view text) {
+  return text.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0;
+}
+
 namespace {
 
 // The file buffer throws where the system's read fails (EIO, or /proc/self/mem), with a message
@@ -121,16 +137,8 @@ int next_byte(std::streambuf& buffer, const std::string& path, long number, bool
   }
 }
 
-// A UTF-8 byte order mark, which some Windows editors write before the first line: kept, it made
-// the OBJ reader skip the first line and the OFF reader miss its header. Always true.
-bool strip_byte_order_mark(std::string& line, long number) {
-  if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
-  return true;
-}
-
-}  // namespace
-
-bool read_input_line(std::istream& in, std::string& line, const std::string& path, long number) {
+// read_input_line without the byte order mark's removal.
+bool read_raw_line(std::istream& in, std::string& line, const std::string& path, long number) {
   line.clear();
   errno = 0;  // next_byte's message reads it: only a failed read sets it in the loop
   std::streambuf* buffer = in.rdbuf();
@@ -138,12 +146,12 @@ bool read_input_line(std::istream& in, std::string& line, const std::string& pat
     const int c = next_byte(*buffer, path, number);
     if (c == std::char_traits<char>::eof()) {
       in.setstate(std::ios::eofbit);
-      return !line.empty() && strip_byte_order_mark(line, number);
+      return !line.empty();
     }
-    if (c == '\n') return strip_byte_order_mark(line, number);
+    if (c == '\n') return true;
     if (c == '\r') {  // CRLF, or CR alone: the line ends of classic Mac OS files
       if (next_byte(*buffer, path, number, true) == '\n') buffer->sbumpc();
-      return strip_byte_order_mark(line, number);
+      return true;
     }
     if (line.size() == kMaxInputLineBytes)
       throw Error(path + ":" + std::to_string(number) + ": a line longer than " +
@@ -151,6 +159,16 @@ bool read_input_line(std::istream& in, std::string& line, const std::string& pat
                   " MiB (a binary file, or not the file meant?)");
     line.push_back(static_cast<char>(c));
   }
+}
+
+}  // namespace
+
+bool read_input_line(std::istream& in, std::string& line, const std::string& path, long number) {
+  if (!read_raw_line(in, line, path, number)) return false;
+  // Kept, a byte order mark made the OBJ reader skip the first line and the OFF reader miss its
+  // header.
+  if (number == 1) line.erase(0, byte_order_mark_length(line));
+  return true;
 }
 
 }  // namespace rvor

@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <array>
@@ -129,6 +130,18 @@ TEST(SurfaceMesh, AConvexFaceOfManyCornersIsCutAsByEarClipping) {
   // Every other corner clipped: the first ears are 0 and 2, round the outline.
   EXPECT_EQ(mesh.triangles[0], (std::array<int, 3>{kCorners - 1, 0, 1}));
   EXPECT_EQ(mesh.triangles[1], (std::array<int, 3>{1, 2, 3}));
+}
+
+// An STL's kind is told from its size: a pipe failed at that seek, unclearly; it is refused by
+// name, as a VDB file is (open_regular_input_file).
+TEST(SurfaceMesh, AnStlPipeIsRefusedAsNotARegularFile) {
+  TempDir dir;
+  ASSERT_EQ(mkfifo(dir.file("pipe.stl").c_str(), 0600), 0);
+  const std::string message = error_of([&] { read_surface_mesh(dir.file("pipe.stl")); });
+  EXPECT_NE(message.find("cannot read mesh file " + dir.file("pipe.stl") +
+                         ": not a regular file (a pipe: rvor reads an STL file's size"),
+            std::string::npos)
+      << message;
 }
 
 // The facets past a binary STL's count were dropped (a cube's cavity, stored after the count,

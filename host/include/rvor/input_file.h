@@ -8,6 +8,7 @@
 #include <memory>
 #include <streambuf>
 #include <string>
+#include <string_view>
 
 namespace rvor {
 
@@ -29,6 +30,17 @@ class InputFile : public std::istream {
 // has written to yet is waited on until a writer writes or closes it, after calling the notice
 // set by set_fifo_wait_notice: its open no longer blocks unseen until a writer appears.
 InputFile open_input_file(const std::string& path, const std::string& what);
+
+// open_input_file for readers that seek or read a file more than once (VDB archives, STL, whose
+// kind its size tells): a pipe or a device is refused, naming `why` they need a regular file,
+// rather than failing at the first seek. Checked before opening, which would wait for a writer on a
+// named pipe.
+InputFile open_regular_input_file(const std::string& path, const std::string& what,
+                                  const std::string& why);
+
+// The bytes of a UTF-8 byte order mark at the start of `text` (some Windows editors write one
+// before the first line): 3, or 0 where there is none.
+std::size_t byte_order_mark_length(std::string_view text);
 
 // What open_input_file calls, with the FIFO's role and path, before it waits on one: a tool says
 // that it waits, rather than hang silently on a FIFO that nothing writes to. None by default.
