@@ -47,4 +47,15 @@ void require_first_new(std::size_t first_new, std::size_t seed_count) {
                 std::to_string(seed_count) + " seeds");
 }
 
+void require_solved_for_these_seeds(std::size_t solved_seeds, std::size_t unchanged,
+                                    std::size_t first_new) {
+  if (solved_seeds != first_new)
+    throw Error("insert(): the field is this propagator's solve of " +
+                std::to_string(solved_seeds) +
+                " seeds, not of first_new = " + std::to_string(first_new));
+  if (unchanged < first_new)
+    throw Error("insert(): the field is this propagator's solve of other seeds: seed " +
+                std::to_string(unchanged) + " is not the one it was solved with");
+}
+
 }  // namespace rvor

@@ -57,6 +57,13 @@ void require_insertable_field(const Canvas& canvas, const VoronoiField& field,
 // start within `seed_count` (every engine's insert() checks it).
 void require_first_new(std::size_t first_new, std::size_t seed_count);
 
+// For an insertion into the field the engine returned last, solved for `solved_seeds` seeds of
+// which the first `unchanged` are the caller's seeds[0..unchanged): throws rvor::Error unless those
+// are the insertion's old seeds, first_new of them (other old seeds would give a field that solves
+// no seeds, silently; every engine checks its own last field so).
+void require_solved_for_these_seeds(std::size_t solved_seeds, std::size_t unchanged,
+                                    std::size_t first_new);
+
 struct PropagationStats {
   // Outer iterations (reference: queue pops; OpenCL: active-list rounds).
   std::uint64_t iterations = 0;

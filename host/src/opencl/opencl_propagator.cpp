@@ -227,7 +227,7 @@ class OpenCLPropagator final : public Propagator {
     const opencl::FieldDigest caller =
         digest.valid() ? digest.get() : opencl::digest_field(field, first_new);
     if (caller.faulty) require_insertable_field(canvas, field, first_new, "insert()");
-    require_solved_for_these_seeds(caller, held, first_new, known_seeds);
+    require_own_field_for_these_seeds(caller, held, first_new, known_seeds);
     if (held && caller.hash != held->hash) held.reset();
     if (speculate && held) return stats;
     if (!held) upload_field(field);
@@ -239,17 +239,11 @@ class OpenCLPropagator final : public Propagator {
   // seeds it was solved for are known: old seeds other than those would give a field that is no
   // solve of any seeds, silently (0.98 relative error measured), so they are refused. A field from
   // elsewhere (the reference, a file) cannot be checked so: the caller's promise.
-  static void require_solved_for_these_seeds(const opencl::FieldDigest& caller,
-                                             const std::optional<HeldField>& held,
-                                             std::size_t first_new, std::size_t known_seeds) {
-    if (!held || !held->solved_seeds || caller.hash != held->hash) return;
-    if (*held->solved_seeds != first_new)
-      throw Error("insert(): the field is this propagator's solve of " +
-                  std::to_string(*held->solved_seeds) +
-                  " seeds, not of first_new = " + std::to_string(first_new));
-    if (known_seeds < first_new)
-      throw Error("insert(): the field is this propagator's solve of other seeds: seed " +
-                  std::to_string(known_seeds) + " is not the one it was solved with");
+  static void require_own_field_for_these_seeds(const opencl::FieldDigest& caller,
+                                                const std::optional<HeldField>& held,
+                                                std::size_t first_new, std::size_t known_seeds) {
+    if (held && held->solved_seeds && caller.hash == held->hash)
+      require_solved_for_these_seeds(*held->solved_seeds, known_seeds, first_new);
   }
 
   // The lists of an insertion's exact start (lower_to_nearest_seeds) over the new seeds, labelled
