@@ -56,14 +56,8 @@ class UnwindGuard {
 // std::terminate (a 2D canvas of 30000² under `ulimit -v 3000000`). RootNode::clear deletes the
 // nodes as it walks them.
 template <typename TreeType>
-void free_nodes_without_allocating(TreeType& tree) {
-  tree.root().clear();
-}
-
-// free_nodes_without_allocating(tree) should an exception leave the scope.
-template <typename TreeType>
 auto freeing_on_unwind(TreeType& tree) {
-  return UnwindGuard([&tree] { free_nodes_without_allocating(tree); });
+  return UnwindGuard([&tree] { tree.root().clear(); });
 }
 
 inline const char* const kMetricGridNames[6] = {"m11", "m12", "m22", "m13", "m23", "m33"};

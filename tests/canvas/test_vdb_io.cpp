@@ -21,6 +21,7 @@
 #include "rvor/metric_field.h"
 #include "rvor/vdb_io.h"
 #include "support/box_canvas.h"
+#include "support/limited_child.h"
 #include "support/temp_dir.h"
 
 namespace rvor {
@@ -207,6 +208,28 @@ TEST(VdbIo, MissingFilesAndGridsAreNamed) {
   test::write_text(dir.file("garbage.vdb"), "not a vdb file");
   EXPECT_NE(error_of([&] { load_vdb_metric(dir.file("garbage.vdb")); }).find("garbage.vdb"),
             std::string::npos);
+}
+
+// Writing the field's grids runs out of memory (a limit far below what a 2D canvas's leaves take:
+// a 2D brick is an 8^3 OpenVDB leaf): the failure leaves write_voronoi_vdb as an exception, not an
+// abort. (Unlike the canvas's tree, whose ~Tree aborted at such a failure, the grids' leaves are
+// freed first, with the vector fill_active builds them in, so their trees' teardown finds room.)
+TEST(VdbIo, AWriteThatRunsOutOfMemoryFailsAsAnException) {
+  const Canvas canvas =
+      test::make_uniform_box_canvas(2, Vec3(-1, -1, 0), Vec3(1, 1, 0), 4096, Mat3::Identity());
+  VoronoiField field;
+  field.distance.assign(canvas.slot_count(), 1.0f);
+  field.label.assign(canvas.slot_count(), 0);
+  test::TempDir dir;
+  const int code = test::exit_code_in_a_child(rlim_t{256} << 20, [&] {
+    try {
+      write_voronoi_vdb(dir.file("field.vdb"), canvas, field);
+    } catch (const std::exception&) {
+      return true;
+    }
+    return false;  // written: the limit did not bite
+  });
+  EXPECT_EQ(code, 0) << "1: written within the limit; 134: aborted";
 }
 
 // The file is read more than once: a pipe (`--metric-vdb <(cat m.vdb)`) failed with
