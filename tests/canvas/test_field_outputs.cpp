@@ -48,9 +48,7 @@ TEST(FieldOutputs, AFieldOfAnotherCanvasIsAnError) {
 TEST(FieldSummary, UnreachedVoxelsBesideReachedOnesAreCountedApart) {
   Canvas canvas =
       test::make_uniform_box_canvas(2, Vec3(-1, -1, 0), Vec3(1, 1, 0), 16, Mat3::Identity());
-  VoronoiField field;
-  field.distance.assign(canvas.slot_count(), 1.0f);
-  field.label.assign(canvas.slot_count(), 0);
+  VoronoiField field = test::constant_field(canvas, 1.0f, 0);
   const auto set_unreached = [&](int i, int j) {
     const auto slot = static_cast<std::size_t>(canvas.slot_of(i, j, 0));
     field.distance[slot] = std::numeric_limits<float>::infinity();
@@ -71,9 +69,7 @@ TEST(FieldSummary, UnreachedVoxelsBesideReachedOnesAreCountedApart) {
 TEST(FieldOutputs, LabelsBeyondTheSeedsAndNonFiniteProbesAreErrors) {
   const Canvas canvas =
       test::make_uniform_box_canvas(2, Vec3(-1, -1, 0), Vec3(1, 1, 0), 16, Mat3::Identity());
-  VoronoiField field;
-  field.distance.assign(canvas.slot_count(), 1.0f);
-  field.label.assign(canvas.slot_count(), 3);
+  VoronoiField field = test::constant_field(canvas, 1.0f, 3);
   EXPECT_NE(test::error_of([&] { summarize_field(canvas, field, 2); }).find("has label 3"),
             std::string::npos);
   const std::string message =
@@ -178,9 +174,7 @@ TEST(FieldOutputs, VtuPointsFarFromTheOriginStayApart) {
     SCOPED_TRACE("canvas at " + std::to_string(at));
     const Canvas canvas = test::make_uniform_box_canvas(
         2, Vec3(at, at, 0), Vec3(at + 0.3, at + 0.3, 0), 16, Mat3::Identity());
-    VoronoiField field;
-    field.distance.assign(canvas.slot_count(), 1.0f);
-    field.label.assign(canvas.slot_count(), 0);
+    VoronoiField field = test::constant_field(canvas, 1.0f, 0);
     write_canvas_vtu(dir.file("far.vtu"), canvas, field);
     const std::string type = at > 0 ? "Float64" : "Float32";
     EXPECT_NE(test::read_text(dir.file("far.vtu")).find("<Points>\n<DataArray type=\"" + type),

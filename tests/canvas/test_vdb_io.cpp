@@ -31,9 +31,7 @@ using test::error_of;
 
 // A Voronoi field with finite values, unreached voxels (+inf, -1) and negative labels.
 VoronoiField sample_field(const Canvas& canvas) {
-  VoronoiField field;
-  field.distance.assign(canvas.slot_count(), std::numeric_limits<float>::infinity());
-  field.label.assign(canvas.slot_count(), -1);
+  VoronoiField field = test::constant_field(canvas, std::numeric_limits<float>::infinity(), -1);
   for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
     if (!canvas.active[slot] || slot % 11 == 0) continue;
     field.distance[slot] = static_cast<float>(canvas.world_of(slot).norm());
@@ -217,9 +215,7 @@ TEST(VdbIo, MissingFilesAndGridsAreNamed) {
 TEST(VdbIo, AWriteThatRunsOutOfMemoryFailsAsAnException) {
   const Canvas canvas =
       test::make_uniform_box_canvas(2, Vec3(-1, -1, 0), Vec3(1, 1, 0), 4096, Mat3::Identity());
-  VoronoiField field;
-  field.distance.assign(canvas.slot_count(), 1.0f);
-  field.label.assign(canvas.slot_count(), 0);
+  VoronoiField field = test::constant_field(canvas, 1.0f, 0);
   test::TempDir dir;
   const int code = test::exit_code_in_a_child(rlim_t{256} << 20, [&] {
     try {

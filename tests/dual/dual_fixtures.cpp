@@ -1,5 +1,7 @@
 #include "dual/dual_fixtures.h"
 
+#include "support/box_canvas.h"
+
 #include <Eigen/Geometry>
 #include <cmath>
 #include <limits>
@@ -56,9 +58,7 @@ std::vector<Vec3> poisson_disk_seeds(int dimension, const Vec3& lo, const Vec3& 
 
 VoronoiField exact_uniform_field(const Canvas& canvas, const std::vector<Vec3>& seeds,
                                  const Mat3& F) {
-  VoronoiField field;
-  field.distance.assign(canvas.slot_count(), std::numeric_limits<float>::infinity());
-  field.label.assign(canvas.slot_count(), -1);
+  VoronoiField field = constant_field(canvas, std::numeric_limits<float>::infinity(), -1);
   std::vector<Vec3> images;
   for (const Vec3& s : seeds) images.push_back(F * s);
   for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {

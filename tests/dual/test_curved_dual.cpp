@@ -115,9 +115,7 @@ TEST(CurvedDual, PulledBackMetricEdgesAndFacesFollowExactGeodesics) {
   const std::vector<Vec3> seeds = test::poisson_disk_seeds(
       2, seed_lo, seed_hi, 0, Mat3::Identity(),
       test::poisson_radius(2, seed_lo, seed_hi, Mat3::Identity(), 20), 20, 51);
-  VoronoiField field;
-  field.distance.assign(canvas.slot_count(), std::numeric_limits<float>::infinity());
-  field.label.assign(canvas.slot_count(), -1);
+  VoronoiField field = test::constant_field(canvas, std::numeric_limits<float>::infinity(), -1);
   std::vector<Vec3> images;
   for (const Vec3& s : seeds) images.push_back(pull.phi(s));
   for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {

@@ -15,9 +15,7 @@ namespace {
 
 // Labels every voxel with the nearest of `seeds` (Euclidean), distance = that distance.
 VoronoiField nearest_seed_field(const Canvas& canvas, const std::vector<Vec3>& seeds) {
-  VoronoiField field;
-  field.distance.assign(canvas.slot_count(), std::numeric_limits<float>::infinity());
-  field.label.assign(canvas.slot_count(), -1);
+  VoronoiField field = test::constant_field(canvas, std::numeric_limits<float>::infinity(), -1);
   for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
     if (!canvas.active[slot]) continue;
     const Vec3 p = canvas.world_of(slot);

@@ -40,6 +40,13 @@ Canvas make_uniform_box_canvas(int dimension, const Vec3& lo, const Vec3& hi, in
   return make_box_canvas(dimension, lo, hi, resolution, [&G](const Vec3&) { return G; });
 }
 
+VoronoiField constant_field(const Canvas& canvas, float distance, int label) {
+  VoronoiField field;
+  field.distance.assign(canvas.slot_count(), distance);
+  field.label.assign(canvas.slot_count(), label);
+  return field;
+}
+
 Canvas box_with_a_wall(int dimension, int resolution) {
   Canvas canvas = make_uniform_box_canvas(dimension, Vec3(-1, -1, -1), Vec3(1, 1, 1), resolution,
                                           Mat3::Identity());

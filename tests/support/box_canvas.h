@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "rvor/canvas.h"
+#include "rvor/propagation.h"
 
 namespace rvor::test {
 
@@ -17,6 +18,8 @@ Canvas make_box_canvas(int dimension, const Vec3& lo, const Vec3& hi, int resolu
                        const MetricFunction& metric);
 Canvas make_uniform_box_canvas(int dimension, const Vec3& lo, const Vec3& hi, int resolution,
                                const Mat3& G);
+// A field of the canvas's shape holding `distance` and `label` at every slot.
+VoronoiField constant_field(const Canvas& canvas, float distance, int label);
 // The isotropic box [-1,1]^d at `resolution` voxels a side less a wall x in [-0.2, 0.03), with a
 // door at y < -0.5: a domain that is not convex, whose wall cuts through bricks and quarters.
 Canvas box_with_a_wall(int dimension, int resolution);
