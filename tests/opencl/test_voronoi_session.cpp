@@ -2,6 +2,7 @@
 // test device's engine and on the CPU reference (rvor/voronoi_session.h).
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <functional>
 #include <memory>
@@ -23,10 +24,10 @@ namespace {
 
 const Vec3 kLo(-1, -1, -1), kHi(1, 1, 1);
 
-Canvas sheared_box() {
+Canvas sheared_box(int resolution = 32) {
   Mat3 G;
   G << 5, 2, 0, 2, 2, 0, 0, 0, 1;
-  return test::make_uniform_box_canvas(3, kLo, kHi, 32, G);
+  return test::make_uniform_box_canvas(3, kLo, kHi, resolution, G);
 }
 
 std::vector<Vec3> seeds_between(const std::vector<Vec3>& seeds, std::size_t begin,
@@ -63,37 +64,44 @@ TEST(VoronoiSession, InsertionsEqualASolveWithAllSeedsOnTheReference) {
 
 // Two threads calling one propagator at once: each overlapping call is an rvor::Error naming the
 // rule, the others solve correctly (they shared its canvas and field, and the process crashed).
+// One thread makes a single solve of a canvas large enough to take a while; the other calls
+// again and again until that solve has returned, so the two overlap at least once, whichever
+// thread's call the propagator takes.
 void expect_overlapping_calls_refused(Propagator& propagator) {
-  const Canvas small = sheared_box();
+  const Canvas large = sheared_box(64);
   const Canvas flat =
-      test::make_uniform_box_canvas(2, Vec3(-1, -1, 0), Vec3(1, 1, 0), 64, Mat3::Identity());
-  const std::vector<Vec3> seeds3 = test::random_points(kLo, kHi, 3, 5, 7);
+      test::make_uniform_box_canvas(2, Vec3(-1, -1, 0), Vec3(1, 1, 0), 32, Mat3::Identity());
+  const std::vector<Vec3> seeds3 = test::random_points(kLo, kHi, 3, 20, 7);
   const std::vector<Vec3> seeds2 = {Vec3(0.1, 0.2, 0), Vec3(-0.5, 0.4, 0)};
   VoronoiField expected3, expected2;
-  make_reference_propagator()->solve(small, seeds3, expected3);
+  make_reference_propagator()->solve(large, seeds3, expected3);
   make_reference_propagator()->solve(flat, seeds2, expected2);
+  std::atomic<int> refused{0};
   std::vector<std::string> unexpected;
   std::mutex unexpected_mutex;
-  const auto calls = [&](const Canvas& canvas, const std::vector<Vec3>& seeds,
-                         const VoronoiField& expected) {
-    for (int n = 0; n < 20; ++n) {
-      VoronoiField field;
-      try {
-        propagator.solve(canvas, seeds, field);
-      } catch (const Error& error) {
-        if (std::string(error.what()).find("a propagator serves one call at a time") ==
-            std::string::npos) {
-          const std::lock_guard<std::mutex> lock(unexpected_mutex);
-          unexpected.push_back(error.what());
-        }
-        continue;
-      }
-      test::expect_same_field(canvas, expected, field);
+  const auto call = [&](const Canvas& canvas, const std::vector<Vec3>& seeds,
+                        const VoronoiField& expected) {
+    VoronoiField field;
+    try {
+      propagator.solve(canvas, seeds, field);
+    } catch (const Error& error) {
+      const std::lock_guard<std::mutex> lock(unexpected_mutex);
+      if (std::string(error.what()).find("a propagator serves one call at a time") ==
+          std::string::npos)
+        unexpected.push_back(error.what());
+      ++refused;
+      return;
     }
+    test::expect_same_field(canvas, expected, field);
   };
-  std::thread other([&] { calls(flat, seeds2, expected2); });
-  calls(small, seeds3, expected3);
+  std::atomic<bool> large_done{false};
+  std::thread other([&] {
+    call(large, seeds3, expected3);
+    large_done = true;
+  });
+  while (!large_done) call(flat, seeds2, expected2);
   other.join();
+  EXPECT_GE(refused.load(), 1);
   EXPECT_TRUE(unexpected.empty()) << unexpected.front();
 }
 
