@@ -89,24 +89,26 @@ void require_consistent_geometry(const Canvas& c) {
     fail_geometry("brick table of " + std::to_string(c.brick_table.size()) +
                   " cells for a brick grid of " + std::to_string(g[0]) + "x" +
                   std::to_string(g[1]) + "x" + std::to_string(g[2]));
-  std::size_t listed = 0;
-  for (std::size_t cell = 0; cell < c.brick_table.size(); ++cell) {
-    const int32_t brick = c.brick_table[cell];
-    if (brick == -1) continue;
-    if (brick < 0 || static_cast<std::size_t>(brick) >= c.brick_count())
-      fail_geometry("brick table cell " + std::to_string(cell) + " holds brick " +
-                    std::to_string(brick) + " of " + std::to_string(c.brick_count()));
-    const VoxelIndex& o = c.brick_origins[brick];
-    const int bi = static_cast<int>(cell % g[0]), bj = static_cast<int>(cell / g[0] % g[1]);
-    const int bk = static_cast<int>(cell / g[0] / g[1]);
-    if (o.i != bi * Canvas::kBrickEdge || o.j != bj * Canvas::kBrickEdge ||
-        o.k != bk * c.brick_edge_z())
-      fail_geometry("brick " + std::to_string(brick) + " is listed at brick cell (" +
-                    std::to_string(bi) + ", " + std::to_string(bj) + ", " + std::to_string(bk) +
-                    ") but its origin is voxel (" + std::to_string(o.i) + ", " +
-                    std::to_string(o.j) + ", " + std::to_string(o.k) + ")");
-    ++listed;
-  }
+  // Cells in table order, their coordinates counted rather than divided out: the engines run this
+  // at every solve and insertion (Canvas::require_consistent), 107 us at 256^3 with divisions.
+  std::size_t listed = 0, cell = 0;
+  for (int bk = 0; bk < g[2]; ++bk)
+    for (int bj = 0; bj < g[1]; ++bj)
+      for (int bi = 0; bi < g[0]; ++bi, ++cell) {
+        const int32_t brick = c.brick_table[cell];
+        if (brick == -1) continue;
+        if (brick < 0 || static_cast<std::size_t>(brick) >= c.brick_count())
+          fail_geometry("brick table cell " + std::to_string(cell) + " holds brick " +
+                        std::to_string(brick) + " of " + std::to_string(c.brick_count()));
+        const VoxelIndex& o = c.brick_origins[brick];
+        if (o.i != bi * Canvas::kBrickEdge || o.j != bj * Canvas::kBrickEdge ||
+            o.k != bk * c.brick_edge_z())
+          fail_geometry("brick " + std::to_string(brick) + " is listed at brick cell (" +
+                        std::to_string(bi) + ", " + std::to_string(bj) + ", " + std::to_string(bk) +
+                        ") but its origin is voxel (" + std::to_string(o.i) + ", " +
+                        std::to_string(o.j) + ", " + std::to_string(o.k) + ")");
+        ++listed;
+      }
   // Each listed brick matches its cell's origin, so no brick is listed twice; every one must be.
   if (listed != c.brick_count())
     fail_geometry(std::to_string(c.brick_count() - listed) + " of " +

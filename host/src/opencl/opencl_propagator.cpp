@@ -310,9 +310,9 @@ class OpenCLPropagator final : public Propagator {
 
   // Uploads the canvas unless the device holds it already.
   void hold_canvas(const Canvas& canvas) {
-    canvas.require_consistent();  // before its bricks are read
     const std::optional<std::uint64_t> identity = canvas_identity(canvas);
     if (!canvas_ || held_address_ != &canvas || !identity || held_identity_ != identity) {
+      canvas.require_consistent();  // before its bricks are read (solves check it again, cheaply)
       canvas_.reset();
       canvas_ = std::make_unique<opencl::DeviceCanvas>(
           opencl::upload_canvas(context_, canvas, colours(canvas)));
