@@ -109,6 +109,77 @@ std::uint64_t parse_byte_size(const std::string& text) {
   return static_cast<std::uint64_t>(*value * factor);
 }
 
+namespace {
+
+// Edits (insertions, deletions, substitutions) that turn `a` into `b`.
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+// The option of `command` that `word` (an unknown "--name" or "--name=value") was most likely
+// meant to be: a typo (a letter or two off, "--rng-seeds") or a longer or shorter name that holds
+// it ("--output" for --out, "--random-seeds" for bench's --seeds); "" where none is near.
+std::string nearest_option(const CLI::App& command, const std::string& word) {
+  const std::string typed = word.substr(0, word.find('='));
+  const std::size_t start = typed.find_first_not_of('-');
+  if (start == std::string::npos) return "";  // dashes only
+  const std::string bare = typed.substr(start);
+  std::string best;
+  std::size_t best_distance = std::string::npos;
+  for (const CLI::Option* option : command.get_options())
+    for (const std::string& name : option->get_lnames()) {
+      const std::size_t distance = edit_distance(bare, name);
+      // Up to two edits, fewer for short names, whose every neighbour is a few edits away.
+      const bool typo =
+          distance <= std::min<std::size_t>(2, std::max<std::size_t>(1, bare.size() / 3));
+      const bool holds =
+          std::min(bare.size(), name.size()) >= 3 &&
+          (bare.find(name) != std::string::npos || name.find(bare) != std::string::npos);
+      if ((typo || holds) && distance < best_distance) {
+        best = "--" + name;
+        best_distance = distance;
+      }
+    }
+  return best;
+}
+
+// A word on the command line that CLI11 did not take is an option where it starts with '-' and is
+// no number ("-1" is a coordinate split off a spec by a blank).
+bool looks_like_option(const std::string& word) {
+  return word.size() > 1 && word[0] == '-' && !parse_decimal(word);
+}
+
+// An ExtrasError's text: an unknown option, named with the option it was likely meant to be, or
+// the words no option took, in the order they were typed (CLI11's message lists them backwards).
+std::string extras_text(const CLI::App& app, const CLI::App& command) {
+  std::vector<std::string> left = app.remaining();  // before the sub-command's name
+  for (const std::string& word : command.remaining()) left.push_back(word);
+  for (const std::string& word : left) {
+    if (!looks_like_option(word)) continue;
+    const std::string meant = nearest_option(command, word);
+    if (meant == word.substr(0, word.find('=')))  // typed before the sub-command's name
+      return "option '" + meant + "' comes before the sub-command: write it after `rvor " +
+             command.get_name() + "`";
+    return "unknown option '" + word + "' for `rvor " + command.get_name() + "`" +
+           (meant.empty() ? "" : " (did you mean " + meant + "?)");
+  }
+  return "unexpected argument" + std::string(left.size() > 1 ? "s" : "") + " '" + join(left, " ") +
+         "': each option takes one value (quote a value that holds blanks)";
+}
+
+}  // namespace
+
 std::string parse_error_text(const CLI::App& app, const CLI::ParseError& error, int argc,
                              char** argv) {
   const std::vector<CLI::App*> chosen = app.get_subcommands();
@@ -121,7 +192,10 @@ std::string parse_error_text(const CLI::App& app, const CLI::ParseError& error, 
              join(names) + "; see `rvor --help`)";
     return "unknown sub-command '" + std::string(argv[1]) + "' (one of " + join(names) + ")";
   }
-  std::string text = one_line(error.what());
+  // CLI11 names an ExtrasError after the command, not its kind: told apart by its type.
+  std::string text = dynamic_cast<const CLI::ExtrasError*>(&error) && !chosen.empty()
+                         ? extras_text(app, *chosen[0])
+                         : one_line(error.what());
   if (text.size() > 200) text = text.substr(0, 200) + "...";
   const std::string help =
       chosen.empty() ? "rvor --help" : "rvor " + chosen[0]->get_name() + " --help";

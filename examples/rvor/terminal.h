@@ -64,7 +64,8 @@ std::string join(const std::vector<std::string>& items, const std::string& separ
 // blank ones dropped, at most 4000 characters.
 std::string one_line(const std::string& text);
 // A command-line parse error as one line: CLI11's message, or "unknown sub-command" (or option)
-// for a word it took for one, and where to read the options.
+// for a word it took for one, an unknown option of a sub-command with the one it was likely meant
+// to be, and where to read the options.
 std::string parse_error_text(const CLI::App& app, const CLI::ParseError& error, int argc,
                              char** argv);
 // Option validators: a whole number in [least, most] (CLI11 takes "-1" for the largest unsigned),

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <filesystem>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -620,6 +622,35 @@ TEST_F(CliErrors, ParseErrorsAreOneLineWithExitCodeOne) {
   const CommandResult version = run_command(tool + " --version");
   EXPECT_EQ(version.exit_code, 0);
   EXPECT_EQ(version.out.rfind("rvor ", 0), 0u) << version.out;
+}
+
+// An option the command does not know is named with the one it was likely meant to be (CLI11
+// said "The following arguments were not expected: 4 --rng-seeds", the words backwards, without
+// a hint), and stray words come in the order they were typed.
+TEST_F(CliErrors, AnUnknownOptionIsNamedWithTheOptionItWasLikelyMeantToBe) {
+  const std::string tool = rvor_binary() + " ";
+  const std::string run = "voronoi --domain rect:-1,-1,1,1 --random-seeds 3 ";
+  for (const auto& [args, text] : std::vector<std::pair<std::string, std::string>>{
+           {run + "--rng-seeds 4",
+            "unknown option '--rng-seeds' for `rvor voronoi` (did you mean --rng-seed?)"},
+           {run + "--output x", "(did you mean --out?)"},
+           {run + "--metric_file m.sol", "(did you mean --metric-file?)"},
+           {"bench --random-seeds 10",
+            "unknown option '--random-seeds' for `rvor bench` (did "
+            "you mean --seeds?)"},
+           {"bench --resolutoin=8",
+            "'--resolutoin=8' for `rvor bench` (did you mean "
+            "--resolution?)"},
+           {run + "--verbose", "unknown option '--verbose' for `rvor voronoi` (see"},
+           {"--rng-seed 4 " + run, "option '--rng-seed' comes before the sub-command"},
+           {"voronoi --domain rect:-1 -1 1 1 --random-seeds 3",
+            "unexpected arguments '-1 1 1': each option takes one value"}}) {
+    const CommandResult result = run_command(tool + args + " --out " + out());
+    EXPECT_EQ(result.exit_code, 1) << args;
+    EXPECT_EQ(result.err.find('\n'), result.err.size() - 1) << args << ": " << result.err;
+    EXPECT_NE(result.err.find(text), std::string::npos) << args << ": " << result.err;
+  }
+  EXPECT_FALSE(std::filesystem::exists(out()));
 }
 
 // Seed files must match the domain: one coordinate count on every line, 3 in 3D, z = 0 in 2D.
