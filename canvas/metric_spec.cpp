@@ -91,11 +91,21 @@ class SpecParser {
     fail("unknown field '" + name + "' (known: " + known + ")");
   }
 
+  // A field without a form in the domain's dimension names both ways out: a domain of the field's
+  // dimension, or a field of the domain's.
   void check_dimension(const FieldKind& kind) const {
-    if (dimension_ == 2 && !kind.in_2d)
-      fail("'" + std::string(kind.name) + "' is a 3D field, the domain is 2D");
-    if (dimension_ == 3 && !kind.in_3d)
-      fail("'" + std::string(kind.name) + "' is a 2D field, the domain is 3D");
+    const bool fits = dimension_ == 2 ? kind.in_2d : kind.in_3d;
+    if (fits) return;
+    std::string fields;
+    for (const FieldKind& other : kFieldKinds)
+      if (dimension_ == 2 ? other.in_2d : other.in_3d)
+        fields += (fields.empty() ? "" : ", ") + std::string(other.name);
+    const std::string domains =
+        dimension_ == 2 ? "box:, a mesh: or a 3D implicit: shape" : "rect: or implicit:disk";
+    fail("'" + std::string(kind.name) + "' is a " + (dimension_ == 2 ? "3D" : "2D") +
+         " field, the domain is " + std::to_string(dimension_) + "D: give it a " +
+         (dimension_ == 2 ? "3D" : "2D") + " domain (" + domains + "), or a field with a " +
+         std::to_string(dimension_) + "D form (" + fields + ")");
   }
 
   void parse_parameters(const std::string& list, const FieldKind& kind) {

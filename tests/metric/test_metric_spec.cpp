@@ -115,6 +115,14 @@ INSTANTIATE_TEST_SUITE_P(
         BadSpec{"StarredIn3d", "starred:scale=2", 3, "is a 2D field"},
         BadSpec{"UnidimensionalIn3d", "unidimensional_shock", 3, "is a 2D field"},
         BadSpec{"RadialIn2d", "radial_shock_3d", 2, "'radial_shock_3d' is a 3D field"},
+        // Both ways out are named: a domain of the field's dimension, or a field of the domain's.
+        BadSpec{"SwirlIn3dNamesTheFix", "swirl", 3,
+                "the domain is 3D: give it a 2D domain (rect: or implicit:disk), or a field with "
+                "a 3D form (euclidean, uniform, hyperbolic_shock, radial_shock_3d)"},
+        BadSpec{"RadialIn2dNamesTheFix", "radial_shock_3d", 2,
+                "give it a 3D domain (box:, a mesh: or a 3D implicit: shape), or a field with a "
+                "2D form (euclidean, uniform, swirl, starred, hyperbolic_shock, "
+                "unidimensional_shock)"},
         BadSpec{"BadDimension", "euclidean", 4, "dimension 4 is not 2 or 3"}),
     [](const testing::TestParamInfo<BadSpec>& info) { return info.param.name; });
 
