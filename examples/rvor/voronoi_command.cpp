@@ -31,6 +31,7 @@
 #include "rvor/nerve.h"
 #include "rvor/propagation.h"
 #include "rvor/seeds.h"
+#include "rvor/spec_text.h"
 #include "rvor/vdb_io.h"
 #include "terminal.h"
 
@@ -154,7 +155,15 @@ void require_one_seed_source(const VoronoiOptions& o) {
 // The seeds of a --seeds file, read before the canvas is built (a bad file is reported at once,
 // not after a long build); none with --random-seeds, which are drawn on the canvas.
 XyzPoints seeds_from_file(const VoronoiOptions& o, int dimension) {
-  return o.seeds_file.empty() ? XyzPoints{} : read_xyz_with_lines(o.seeds_file, dimension);
+  if (o.seeds_file.empty()) return {};
+  // "--seeds 100" (rvor bench's --seeds is a count) names no file: say which option takes a count.
+  const std::optional<long long> count = parse_integer(o.seeds_file);
+  std::error_code error;
+  if (count && *count > 0 && !std::filesystem::exists(o.seeds_file, error))
+    throw Error("--seeds " + o.seeds_file +
+                ": no such file; --seeds takes a file of points, --random-seeds a count (for " +
+                o.seeds_file + " random seeds: --random-seeds " + o.seeds_file + ")");
+  return read_xyz_with_lines(o.seeds_file, dimension);
 }
 
 // The active voxels whose centres lie beyond `box` by more than half a voxel.

@@ -514,6 +514,23 @@ TEST_F(CliErrors, NonSpdTensorInSol) {
                "m.sol");
 }
 
+// "--seeds 100" (a count, as rvor bench's --seeds takes) said "cannot read point file 100": the
+// error names --random-seeds. A file that is named by a number is still read.
+TEST_F(CliErrors, ASeedCountGivenToSeedsNamesRandomSeeds) {
+  const std::string in_dir = "cd " + dir.path() + " && ";
+  CommandResult result =
+      run_command(in_dir + voronoi("--domain rect:-1,-1,1,1 --resolution 16 --seeds 100"));
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_NE(result.err.find("rvor: error: --seeds 100: no such file; --seeds takes a file of "
+                            "points, --random-seeds a count (for 100 random seeds: "
+                            "--random-seeds 100)"),
+            std::string::npos)
+      << result.err;
+  write_text(dir.file("100"), "0.1 0.2\n");
+  result = run_command(in_dir + voronoi("--domain rect:-1,-1,1,1 --resolution 16 --seeds 100"));
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+}
+
 TEST_F(CliErrors, UnwritableOutputDirectory) {
   write_text(dir.file("a-file"), "not a directory");
   const CommandResult result =
