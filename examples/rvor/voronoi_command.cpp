@@ -1,6 +1,7 @@
 // rvor voronoi: domain + metric + seeds -> distance and label per voxel, written as .vdb (and
 // .vtu, probes) with a report.json.
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -58,13 +59,33 @@ struct VoronoiOptions {
   bool quiet = false;
 };
 
+std::string lowercase_extension(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension;
+}
+
+// The Medit pair with a .sol given to --metric-mesh or a .mesh to --metric-file (swapped, say):
+// the reader's error speaks of the file's sections ("no Tetrahedra"), not of the options.
+std::unique_ptr<MetricField> load_medit_metric(const VoronoiOptions& o) {
+  try {
+    return load_mesh_metric(o.metric_mesh, o.metric_sol);
+  } catch (const Error& error) {
+    if (lowercase_extension(o.metric_mesh) != ".sol" &&
+        lowercase_extension(o.metric_sol) != ".mesh")
+      throw;
+    throw Error(std::string(error.what()) +
+                " (--metric-mesh takes the .mesh file, --metric-file the .sol file)");
+  }
+}
+
 std::unique_ptr<MetricField> load_metric(const VoronoiOptions& o, int dimension,
                                          std::uint64_t memory_budget) {
   if (!o.metric_vdb.empty()) return load_vdb_metric(o.metric_vdb, memory_budget);
   if (!o.metric_sol.empty() || !o.metric_mesh.empty()) {
     if (o.metric_sol.empty() || o.metric_mesh.empty())
       throw Error("--metric-file and --metric-mesh must be given together");
-    return load_mesh_metric(o.metric_mesh, o.metric_sol);
+    return load_medit_metric(o);
   }
   return make_analytic_metric(o.metric, dimension);
 }

@@ -514,6 +514,21 @@ TEST_F(CliErrors, NonSpdTensorInSol) {
                "m.sol");
 }
 
+// A .sol given to --metric-mesh (or a .mesh to --metric-file) failed with the reader's words
+// only ("m.sol: no Tetrahedra to interpolate the metric on"): the error names what each takes.
+TEST_F(CliErrors, SwappedMeditFilesAreNamedWithWhatEachOptionTakes) {
+  write_text(dir.file("m.mesh"),
+             "MeshVersionFormatted 2\nDimension 2\nVertices\n3\n0 0 0\n1 0 0\n0 1 "
+             "0\nTriangles\n1\n1 2 3 0\nEnd\n");
+  write_text(
+      dir.file("m.sol"),
+      "MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n3\n1 3\n1 0 1\n1 0 1\n1 0 1\nEnd\n");
+  expect_error("--domain rect:0,0,1,1 --resolution 16 --metric-mesh " + dir.file("m.sol") +
+                   " --metric-file " + dir.file("m.mesh") + " --seeds " + seeds2d(),
+               "m.sol: no Triangles to interpolate the metric on (--metric-mesh "
+               "takes the .mesh file, --metric-file the .sol file)");
+}
+
 // "--seeds 100" (a count, as rvor bench's --seeds takes) said "cannot read point file 100": the
 // error names --random-seeds. A file that is named by a number is still read.
 TEST_F(CliErrors, ASeedCountGivenToSeedsNamesRandomSeeds) {
