@@ -329,7 +329,7 @@ void add_bench_command(CLI::App& app) {
   cmd->add_option("--metric", options->metric,
                   metric_help() + " (default: euclidean when --domain is given)");
   cmd->add_option("--resolution", options->resolution,
-                  "Voxels along the longest side (default 256)")
+                  "Voxels along the longest side of the domain (2 to 65536; default 256)")
       ->transform(resolution_value);
   cmd->add_option("--seeds", options->seeds, "Number of random seeds (default 1000)")
       ->transform(seed_count(1));
@@ -346,7 +346,7 @@ void add_bench_command(CLI::App& app) {
   cmd->add_option("--front-step", options->front_step,
                   "brick_lanes solves: front stepping, in voxel lengths K (values above a "
                   "threshold stay tentative; once per colour cycle it moves K past the least "
-                  "tentative value), at least 0.25; 0: off; default automatic: 3 for non-axis "
+                  "tentative value), 0.25 to 1000; 0: off; default automatic: 3 for non-axis "
                   "stencils and Voronoi cells at least 50 voxels across, else off")
       ->check(front_step_range);
   cmd->add_option("--max-sweeps", options->max_sweeps,
@@ -356,16 +356,16 @@ void add_bench_command(CLI::App& app) {
       ->transform(visit_count);
   cmd->add_option("--phase-iterations", options->phase_iterations,
                   "voxel_phases (an explicit --variant, or auto on a GPU): most iterations per "
-                  "round of a solve (default " +
+                  "round of a solve, 1 to 64 (default " +
                       std::to_string(OpenCLOptions{}.phase_iterations) + ")")
       ->transform(visit_count);
   cmd->add_option("--insertion-phase-iterations", options->insertion_phase_iterations,
-                  "voxel_phases: most iterations per round of an insertion (default " +
+                  "voxel_phases: most iterations per round of an insertion, 1 to 64 (default " +
                       std::to_string(OpenCLOptions{}.insertion_phase_iterations) + ")")
       ->transform(visit_count);
   cmd->add_option("--repeat", options->repetitions,
-                  "Solves per case with the same engine, and runs of FastSweeping; the fastest "
-                  "of each counts (the engine's first solve also "
+                  "Solves per case with the same engine, and runs of FastSweeping, 1 to 100; the "
+                  "fastest of each counts (the engine's first solve also "
                   "uploads the canvas, and compiles the kernels where PoCL's cache lacks them: "
                   "seconds at small sizes; with --insert and 2 or more, an untimed insertion "
                   "follows it, so that the timed ones find their kernels built)")

@@ -7,6 +7,8 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <tuple>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -464,6 +466,32 @@ TEST_F(CliOutputs, HelpExplainsEveryOption) {
        {"--domain", "--resolution", "--metric", "--metric-file", "--metric-mesh", "--metric-vdb",
         "--seeds", "--device", "--probe", "--out", "--vtu", "Examples:"})
     EXPECT_NE(result.out.find(option), std::string::npos) << option;
+}
+
+// Every bounded option's help gives the range its error names (bench's --resolution, --repeat and
+// phase iterations gave none, --front-step only its least).
+TEST_F(CliOutputs, HelpGivesTheRangeEachOptionEnforces) {
+  for (const auto& [command, option, bad] :
+       std::vector<std::tuple<std::string, std::string, std::string>>{
+           {"voronoi", "--resolution", "1"},
+           {"bench", "--resolution", "1"},
+           {"bench", "--repeat", "0"},
+           {"bench", "--max-sweeps", "0"},
+           {"bench", "--phase-iterations", "0"},
+           {"bench", "--insertion-phase-iterations", "0"},
+           {"bench", "--front-step", "0.1"}}) {
+    SCOPED_TRACE(command + " " + option);
+    const CommandResult error =
+        run_command(rvor_binary() + " " + command + " " + option + " " + bad);
+    const std::size_t from = error.err.find(" from ");
+    ASSERT_NE(from, std::string::npos) << error.err;
+    const std::string range = error.err.substr(from + 6, error.err.find(" (see") - from - 6);
+    const std::string help = run_command(rvor_binary() + " " + command + " --help").out;
+    const std::size_t start = help.find("  " + option + " ");
+    ASSERT_NE(start, std::string::npos);
+    const std::string text = help.substr(start, help.find("\n  --", start + 1) - start);
+    EXPECT_NE(text.find(range), std::string::npos) << range << " not in: " << text;
+  }
 }
 
 }  // namespace
