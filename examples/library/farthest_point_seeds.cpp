@@ -43,10 +43,25 @@ long long whole_number(const char* text, const char* name, long long least, long
   return *value;
 }
 
+constexpr const char* kUsage = "farthest_point_seeds [METRIC [DOMAIN [RESOLUTION [SEEDS]]]]";
+
+// -h or --help: the usage with its defaults, on stdout (it was taken for a METRIC named "--help").
+bool asked_for_help(int argc, char** argv) {
+  if (argc != 2 || (std::string(argv[1]) != "-h" && std::string(argv[1]) != "--help")) return false;
+  const Arguments defaults;
+  std::printf(
+      "Usage: %s\n"
+      "Farthest-point seeding on incremental insertion, checked against one solve of all seeds\n"
+      "(exit status 2 where they differ). METRIC and DOMAIN as `rvor voronoi` takes them; the\n"
+      "device: $RVOR_DEVICE, else auto. Defaults: %s %s %d %zu\n",
+      kUsage, defaults.metric.c_str(), defaults.domain.c_str(), defaults.resolution,
+      defaults.seeds);
+  return true;
+}
+
 Arguments parse_arguments(int argc, char** argv) {
   Arguments a;
-  if (argc > 5)
-    throw rvor::Error("usage: farthest_point_seeds [METRIC [DOMAIN [RESOLUTION [SEEDS]]]]");
+  if (argc > 5) throw rvor::Error(std::string("usage: ") + kUsage);
   if (argc > 1) a.metric = argv[1];
   if (argc > 2) a.domain = argv[2];
   if (argc > 3)
@@ -101,6 +116,7 @@ bool same_field(const rvor::VoronoiField& chain, const rvor::VoronoiField& solve
 }  // namespace
 
 int main(int argc, char** argv) try {
+  if (asked_for_help(argc, argv)) return 0;
   const Arguments a = parse_arguments(argc, argv);
   const rvor::DomainSpec domain = rvor::parse_domain(a.domain);
   const auto metric = rvor::make_analytic_metric(a.metric, domain.dimension());
