@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The README's "Using the tool" against the tool: every default that `rvor voronoi --help` shows
-# (OPTION TYPE=DEFAULT) is the one the README's option table gives on that option's row.
+# (OPTION TYPE=DEFAULT) is the one the README's option table gives on that option's row; and its
+# "Layout" names every top-level folder of the source tree.
 # Usage: readme_agrees.sh RVOR README.md
 set -euo pipefail
 rvor=$1
@@ -24,6 +25,23 @@ while read -r option value; do
   fi
 done < <(env -u RVOR_DEVICE "$rvor" voronoi --help |
   sed -nE 's/^  (--[a-z-]+) [A-Z]+(:[A-Z]+)?=([^ ]+).*/\1 \3/p')
+
+# The tree's top-level folders (not hidden ones, nor the build's or a run's outputs, which
+# .gitignore keeps out: tracked files only where this is a git checkout).
+source_dir=$(dirname "$readme")
+if git -C "$source_dir" rev-parse --is-inside-work-tree >/dev/null 2>&1; then
+  folders=$(git -C "$source_dir" ls-files | sed -n 's|^\([^./][^/]*\)/.*|\1|p' | sort -u)
+else
+  folders=$(find "$source_dir" -mindepth 1 -maxdepth 1 -type d ! -name '.*' ! -name 'build*' \
+    ! -name 'rvor-out*' ! -name 'out*' -printf '%f\n' | sort)
+fi
+layout=$(awk '/^## Layout/ {on = 1; next} /^## / {on = 0} on' "$readme")
+for folder in $folders; do
+  if ! grep -qF -- "| \`$folder/\` |" <<<"$layout"; then
+    echo "README: \"Layout\" does not name the folder $folder/" >&2
+    failed=1
+  fi
+done
 
 [ "$failed" -eq 0 ] && echo "readme_agrees.sh: the README agrees with the tool"
 exit "$failed"
