@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # The README's "Using the tool" against the tool: every default that `rvor voronoi --help` shows
 # (OPTION TYPE=DEFAULT) is the one the README's option table gives on that option's row; and its
-# "Layout" names every top-level folder of the source tree.
+# "Layout" names every top-level folder of the source tree; and the first example of its "Using
+# the tool" block runs as written (build/bin/rvor being RVOR), in a fresh directory.
 # Usage: readme_agrees.sh RVOR README.md
 set -euo pipefail
-rvor=$1
+rvor=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")  # absolute: the example runs elsewhere
 readme=$2
 failed=0
 
@@ -42,6 +43,21 @@ for folder in $folders; do
     failed=1
   fi
 done
+
+# The first example: the lines of the sh block up to its first blank line, on the CPU reference
+# (what is checked is the command line and its files; it runs where no OpenCL device is).
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+awk '/^## Using the tool/ {on = 1; next} /^## / {if (on) done = 1; on = 0}
+  on && !done && $0 == "```sh" {inside = 1; next}
+  inside && /^$/ {inside = 0; done = 1}
+  inside' "$readme" |
+  sed "s|build/bin/rvor|\"\$RVOR\"|g" >"$work/example.sh"
+if ! (cd "$work" && RVOR=$rvor RVOR_DEVICE=cpu bash -e example.sh >log 2>&1 && [ -s out/uniform/probe.csv ]); then
+  echo "README: the first example of \"Using the tool\" fails as written:" >&2
+  cat "$work/example.sh" "$work/log" >&2
+  failed=1
+fi
 
 [ "$failed" -eq 0 ] && echo "readme_agrees.sh: the README agrees with the tool"
 exit "$failed"
