@@ -499,13 +499,14 @@ void add_voronoi_command(CLI::App& app) {
   vdb_option->excludes(sol_option)->excludes(mesh_option);
   cmd->add_option("--seeds", options->seeds_file,
                   "Seeds, one point per line (2 or 3 coordinates, separated by blanks, commas or "
-                  "semicolons; lines starting with # are skipped)")
+                  "semicolons; lines starting with # are skipped). A run needs this or "
+                  "--random-seeds")
       ->check(non_empty_path);
   CLI::Option* random_option =
       cmd->add_option("--random-seeds", options->random_seed_count,
                       "Draw N seeds uniformly in distinct voxels of the canvas (the domain to half "
                       "a voxel); two of them closer than the canvas resolves can still share a "
-                      "cell (report.json: field.empty_cells)")
+                      "cell (report.json: field.empty_cells). A run needs this or --seeds")
           ->transform(seed_count(1));
   cmd->add_option("--rng-seed", options->rng_seed, "Random generator seed for --random-seeds")
       ->transform(rng_seed_value)

@@ -466,6 +466,10 @@ TEST_F(CliOutputs, HelpExplainsEveryOption) {
        {"--domain", "--resolution", "--metric", "--metric-file", "--metric-mesh", "--metric-vdb",
         "--seeds", "--device", "--probe", "--out", "--vtu", "Examples:"})
     EXPECT_NE(result.out.find(option), std::string::npos) << option;
+  // --domain shows REQUIRED; a seed source is required too, one of two options, which CLI11
+  // cannot mark: their help says so.
+  EXPECT_NE(result.out.find("A run needs this or --random-seeds"), std::string::npos);
+  EXPECT_NE(result.out.find("A run needs this or --seeds"), std::string::npos);
 }
 
 // Every bounded option's help gives the range its error names (bench's --resolution, --repeat and
