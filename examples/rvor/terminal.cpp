@@ -178,6 +178,16 @@ std::string extras_text(const CLI::App& app, const CLI::App& command) {
          "': each option takes one value (quote a value that holds blanks)";
 }
 
+// CLI11's "--metric: At Most 1 required but received 2" for an option given twice, in plain
+// words; any other text as it is.
+std::string repeated_option_text(const std::string& text) {
+  const std::string marker = ": At Most 1 required but received ";
+  const std::size_t at = text.find(marker);
+  if (at == std::string::npos) return text;
+  return text.substr(0, at) + " is given " + text.substr(at + marker.size()) +
+         " times: give it once";
+}
+
 }  // namespace
 
 std::string parse_error_text(const CLI::App& app, const CLI::ParseError& error, int argc,
@@ -195,7 +205,7 @@ std::string parse_error_text(const CLI::App& app, const CLI::ParseError& error, 
   // CLI11 names an ExtrasError after the command, not its kind: told apart by its type.
   std::string text = dynamic_cast<const CLI::ExtrasError*>(&error) && !chosen.empty()
                          ? extras_text(app, *chosen[0])
-                         : one_line(error.what());
+                         : repeated_option_text(one_line(error.what()));
   if (text.size() > 200) text = text.substr(0, 200) + "...";
   const std::string help =
       chosen.empty() ? "rvor --help" : "rvor " + chosen[0]->get_name() + " --help";

@@ -685,6 +685,17 @@ TEST_F(CliErrors, AnUnknownOptionIsNamedWithTheOptionItWasLikelyMeantToBe) {
   EXPECT_FALSE(std::filesystem::exists(out()));
 }
 
+// An option given twice was "--metric: At Most 1 required but received 2", CLI11's words.
+TEST_F(CliErrors, AnOptionGivenTwiceIsCalledSo) {
+  const CommandResult result =
+      run_command(rvor_binary() +
+                  " voronoi --domain rect:-1,-1,1,1 --metric uniform:9,0,1 --metric euclidean " +
+                  "--random-seeds 3 --out " + out());
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_EQ(result.err,
+            "rvor: error: --metric is given 2 times: give it once (see `rvor voronoi --help`)\n");
+}
+
 // Seed files must match the domain: one coordinate count on every line, 3 in 3D, z = 0 in 2D.
 TEST_F(CliErrors, SeedFilesThatDoNotFitTheDomain) {
   struct Case {
