@@ -151,12 +151,15 @@ int seeds_affine_dimension(const std::vector<Vec3>& seeds, int dimension);
 // histogram, angles, edge lengths).
 std::string dual_report_json(const StraightDual& dual);
 
+// Both writers give each element positively oriented (counter-clockwise triangles, tetrahedra of
+// positive volume) unless it is inverted, which they give as its neighbours orient it: negatively.
 // VTK .vtu of the top simplices (tetrahedra / triangles). Cell data: quality, min_angle,
 // max_angle, min_edge_length, max_edge_length, inverted, intersecting, non_manifold, flags;
 // point data: label. With only_flagged, just the offending elements. Atomic.
 void write_dual_vtu(const std::string& path, const StraightDual& dual, bool only_flagged = false);
 
-// Medit .mesh: triangles in 2D; tetrahedra and their boundary triangles in 3D. Reference tags:
+// Medit .mesh: triangles in 2D; tetrahedra and their boundary triangles in 3D, facing out of
+// their tetrahedron (into an inverted one). Reference tags:
 // 1 for valid elements, 2 for flagged ones. Atomic.
 void write_dual_medit(const std::string& path, const StraightDual& dual);
 

@@ -237,15 +237,17 @@ Pairs overlapping_boxes(std::vector<Box> boxes) {
 
 }  // namespace
 
+int orientation_sign(const StraightDual& dual, const std::array<int32_t, 4>& s) {
+  const auto& x = dual.vertices;
+  return dual.dimension == 3
+             ? sign_of(CGAL::orientation(p3(x[s[0]]), p3(x[s[1]]), p3(x[s[2]]), p3(x[s[3]])))
+             : sign_of(CGAL::orientation(p2(x[s[0]]), p2(x[s[1]]), p2(x[s[2]])));
+}
+
 std::vector<int> orientation_signs(const StraightDual& dual) {
   std::vector<int> signs(dual.top_count());
-  for (std::size_t t = 0; t < dual.top_count(); ++t) {
-    const auto s = dual.top_simplex(t);
-    const auto& x = dual.vertices;
-    signs[t] = dual.dimension == 3
-                   ? sign_of(CGAL::orientation(p3(x[s[0]]), p3(x[s[1]]), p3(x[s[2]]), p3(x[s[3]])))
-                   : sign_of(CGAL::orientation(p2(x[s[0]]), p2(x[s[1]]), p2(x[s[2]])));
-  }
+  for (std::size_t t = 0; t < dual.top_count(); ++t)
+    signs[t] = orientation_sign(dual, dual.top_simplex(t));
   return signs;
 }
 

@@ -27,6 +27,8 @@ struct Topology {
 
 Topology analyse_topology(const StraightDual& dual);
 
+// Exact orientation (-1, 0, +1) of the dual's vertices s[0..d] in that order (s[3] unread in 2D).
+int orientation_sign(const StraightDual& dual, const std::array<int32_t, 4>& s);
 // Exact orientation (-1, 0, +1) of each top simplex taken in its sorted vertex order.
 std::vector<int> orientation_signs(const StraightDual& dual);
 

@@ -4,6 +4,7 @@
 #include <map>
 #include <utility>
 
+#include "dual/dual_internal.h"
 #include "rvor/dual.h"
 #include "rvor/medit.h"
 #include "vtu_appended_writer.h"
@@ -23,8 +24,28 @@ struct DualCells {
   std::vector<float> quality, min_angle, max_angle, min_edge, max_edge;
 };
 
+using Top = std::array<int32_t, 4>;
+
+// The top simplices in the vertex order the files give them: positively oriented (counter-
+// clockwise triangles, tetrahedra of positive volume), as mesh readers expect, where the sorted
+// order the dual keeps is either; an inverted element negatively, which is how it comes out when
+// oriented consistently with its neighbours (DualChecks), so a reader sees the fold. Flat ones as
+// they are.
+std::vector<Top> written_order(const StraightDual& dual) {
+  std::vector<Top> written;
+  written.reserve(dual.top_count());
+  for (std::size_t t = 0; t < dual.top_count(); ++t) {
+    Top s = dual.top_simplex(t);
+    const int wanted = (dual.flags[t] & kDualInverted) ? -1 : 1;
+    if (dual::orientation_sign(dual, s) == -wanted) std::swap(s[0], s[1]);
+    written.push_back(s);
+  }
+  return written;
+}
+
 DualCells collect_cells(const StraightDual& dual, bool only_flagged) {
   DualCells c;
+  const std::vector<Top> written = written_order(dual);
   for (std::size_t v = 0; v < dual.vertices.size(); ++v) {
     for (int a = 0; a < 3; ++a) c.points.push_back(dual.vertices[v][a]);
     c.labels.push_back(static_cast<int32_t>(v));
@@ -32,8 +53,7 @@ DualCells collect_cells(const StraightDual& dual, bool only_flagged) {
   for (std::size_t t = 0; t < dual.top_count(); ++t) {
     const uint8_t f = dual.flags[t];
     if (only_flagged && f == 0) continue;
-    const auto s = dual.top_simplex(t);
-    for (int v = 0; v <= dual.dimension; ++v) c.connectivity.push_back(s[v]);
+    for (int v = 0; v <= dual.dimension; ++v) c.connectivity.push_back(written[t][v]);
     c.offsets.push_back(static_cast<int64_t>(c.connectivity.size()));
     c.types.push_back(dual.dimension == 3 ? kVtkTetra : kVtkTriangle);
     c.flags.push_back(f);
@@ -50,9 +70,11 @@ DualCells collect_cells(const StraightDual& dual, bool only_flagged) {
   return c;
 }
 
-// Triangles of exactly one tetrahedron, with the tetrahedron they bound.
+// Triangles of exactly one tetrahedron, with the tetrahedron they bound, facing out of it: the
+// orientation the written tetrahedron induces on them (its opposite vertex behind a positive
+// tetrahedron's face, in front of an inverted one's).
 std::vector<std::pair<std::array<int, 3>, std::size_t>> boundary_triangles(
-    const StraightDual& dual) {
+    const StraightDual& dual, const std::vector<Top>& written) {
   std::map<std::array<int, 3>, std::pair<int, std::size_t>> uses;
   for (std::size_t t = 0; t < dual.tetrahedra.size(); ++t) {
     const auto& s = dual.tetrahedra[t];
@@ -67,8 +89,17 @@ std::vector<std::pair<std::array<int, 3>, std::size_t>> boundary_triangles(
     }
   }
   std::vector<std::pair<std::array<int, 3>, std::size_t>> out;
-  for (const auto& [f, use] : uses)
-    if (use.first == 1) out.push_back({f, use.second});
+  for (const auto& [facet, use] : uses) {
+    if (use.first != 1) continue;
+    std::array<int, 3> f = facet;
+    const Top& s = dual.tetrahedra[use.second];
+    const int32_t opposite = *std::find_if(
+        s.begin(), s.end(), [&](int32_t v) { return std::find(f.begin(), f.end(), v) == f.end(); });
+    const int tetrahedron = dual::orientation_sign(dual, written[use.second]);
+    if (dual::orientation_sign(dual, {f[0], f[1], f[2], opposite}) == tetrahedron)
+      std::swap(f[1], f[2]);
+    out.push_back({f, use.second});
+  }
   return out;
 }
 
@@ -104,19 +135,20 @@ void write_dual_medit(const std::string& path, const StraightDual& dual) {
   MeditMesh mesh;
   mesh.dimension = dual.dimension;
   mesh.vertices = dual.vertices;
+  const std::vector<Top> written = written_order(dual);
   if (dual.dimension == 2) {
-    for (std::size_t t = 0; t < dual.triangles.size(); ++t) {
-      const auto& s = dual.triangles[t];
+    for (std::size_t t = 0; t < written.size(); ++t) {
+      const auto& s = written[t];
       mesh.triangles.push_back({s[0], s[1], s[2]});
       mesh.triangle_refs.push_back(reference_of(dual.flags[t]));
     }
   } else {
-    for (std::size_t t = 0; t < dual.tetrahedra.size(); ++t) {
-      const auto& s = dual.tetrahedra[t];
+    for (std::size_t t = 0; t < written.size(); ++t) {
+      const auto& s = written[t];
       mesh.tetrahedra.push_back({s[0], s[1], s[2], s[3]});
       mesh.tetrahedron_refs.push_back(reference_of(dual.flags[t]));
     }
-    for (const auto& [f, owner] : boundary_triangles(dual)) {
+    for (const auto& [f, owner] : boundary_triangles(dual, written)) {
       mesh.triangles.push_back(f);
       mesh.triangle_refs.push_back(reference_of(dual.flags[owner]));
     }
