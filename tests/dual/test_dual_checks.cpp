@@ -500,6 +500,80 @@ TEST(DualChecks, SeedsTooCloseForTheCanvasAreNotATriangulation) {
   EXPECT_EQ(report["intersecting"], c.intersecting);
 }
 
+// The canvas's topology (its active voxels as closed cubes) that the dual must have, through the
+// dual of one simplex on it.
+int domain_euler_characteristic(const Canvas& canvas, const std::vector<Vec3>& seeds) {
+  const int d = canvas.dimension;
+  std::vector<int32_t> top(static_cast<std::size_t>(d + 1));
+  for (int v = 0; v <= d; ++v) top[static_cast<std::size_t>(v)] = v;
+  return build_straight_dual(canvas, hand_made_nerve(d, seeds.size(), {top}), seeds)
+      .checks.domain_euler_characteristic;
+}
+
+// Clears the voxels of `canvas` whose centres lie in the box [lo, hi].
+void remove_voxels(Canvas& canvas, const Vec3& lo, const Vec3& hi) {
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
+    const Vec3 x = canvas.world_of(slot);
+    if ((x.array() >= lo.array()).all() && (x.array() <= hi.array()).all()) canvas.active[slot] = 0;
+  }
+  canvas.finalize();
+}
+
+TEST(DualChecks, DomainEulerCharacteristicIsTheCanvasTopology) {
+  const std::vector<Vec3> corner3{
+      {0.1, 0.1, 0.1}, {0.3, 0.1, 0.1}, {0.1, 0.3, 0.1}, {0.1, 0.1, 0.3}};
+  const std::vector<Vec3> corner2{{0.1, 0.1, 0}, {0.3, 0.1, 0}, {0.1, 0.3, 0}};
+  EXPECT_EQ(domain_euler_characteristic(unit_canvas(3), corner3), 1);
+  EXPECT_EQ(domain_euler_characteristic(unit_canvas(2), corner2), 1);
+  Canvas cavity = unit_canvas(3);  // a ball with a cavity: 1 + the cavity's sphere's 1
+  remove_voxels(cavity, Vec3(0.4, 0.4, 0.4), Vec3(0.6, 0.6, 0.6));
+  EXPECT_EQ(domain_euler_characteristic(cavity, corner3), 2);
+  Canvas annulus = unit_canvas(2);
+  remove_voxels(annulus, Vec3(0.4, 0.4, -1), Vec3(0.6, 0.6, 1));
+  EXPECT_EQ(domain_euler_characteristic(annulus, corner2), 0);
+  Canvas tunnel = unit_canvas(3);  // a hole through: a solid torus
+  remove_voxels(tunnel, Vec3(0.4, 0.4, -1), Vec3(0.6, 0.6, 2));
+  EXPECT_EQ(domain_euler_characteristic(tunnel, corner3), 0);
+  for (int d : {2, 3}) {  // two pieces: two balls
+    std::vector<Vec3> lower{{-0.8, -0.8, -0.8}, {-0.6, -0.8, -0.8}, {-0.8, -0.6, -0.8}};
+    if (d == 3) lower.push_back({-0.8, -0.8, -0.6});
+    for (Vec3& x : lower) x.z() = d == 3 ? x.z() : 0.0;
+    EXPECT_EQ(domain_euler_characteristic(test::split_inside_a_quarter(d, 0), lower), 2) << d;
+  }
+  const Canvas torus =
+      build_canvas(parse_domain("implicit:torus"), *make_analytic_metric("euclidean", 3), [] {
+        CanvasOptions o;
+        o.resolution = 48;
+        return o;
+      }());
+  EXPECT_EQ(domain_euler_characteristic(torus, {{1, 0, 0}, {1.1, 0, 0}, {1, 0.1, 0}, {1, 0, 0.1}}),
+            0);
+}
+
+// A valid dual of a domain that is not a ball has that domain's topology: two pieces gave two
+// balls (Euler characteristic 2), which the check, asking for one ball, called "NOT a
+// triangulation"; a refinement inserting seeds until it is one would never have stopped.
+TEST(DualChecks, ADualOfTwoPiecesIsATriangulation) {
+  for (int d : {2, 3}) {
+    const Vec3 lo(0, 0, 0), hi(1, 1, 1);
+    Canvas canvas = test::make_uniform_box_canvas(d, lo, hi, d == 3 ? 48 : 128, Mat3::Identity());
+    remove_voxels(canvas, Vec3(0.45, -1, -1), Vec3(0.55, 2, 2));
+    const double h = canvas.voxel_size;
+    const std::size_t count = 60;
+    const std::vector<Vec3> seeds = test::poisson_disk_seeds(
+        d, lo, hi, 2 * h, Mat3::Identity(),
+        test::poisson_radius(d, lo, hi, Mat3::Identity(), count), count, 3,
+        [&](const Vec3& x) { return std::abs(x.x() - 0.5) > 0.05 + 2 * h; });
+    const Nerve nerve = extract_nerve(canvas, test::solve_reference(canvas, seeds), seeds.size());
+    const StraightDual dual = build_straight_dual(canvas, nerve, seeds);
+    EXPECT_EQ(dual.checks.domain_euler_characteristic, 2) << d;
+    EXPECT_EQ(dual.checks.euler_characteristic, 2) << d;
+    EXPECT_EQ(dual.checks.inverted + dual.checks.intersecting + dual.checks.non_manifold, 0u) << d;
+    EXPECT_TRUE(dual.checks.is_triangulation) << d;
+    EXPECT_NE(dual_report_json(dual).find("\"domain_euler_characteristic\": 2"), std::string::npos);
+  }
+}
+
 // Exact: a seed off a line by one ulp raises the hull's dimension; z is not read in 2D.
 TEST(DualChecks, SeedsAffineDimensionIsExact) {
   EXPECT_EQ(seeds_affine_dimension({}, 2), -1);

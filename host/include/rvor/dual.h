@@ -12,11 +12,14 @@
 //    into a manifold (3D: a boundary edge not in exactly two boundary triangles; 2D: a boundary
 //    vertex not in exactly two boundary edges);
 //  - is_triangulation: there are top simplices, none inverted, none intersecting, no
-//    non-manifold facet, and the complex of the top simplices is a topological ball (Euler
-//    characteristic 1, its boundary a sphere of Euler characteristic 2 in 3D). It then is an
-//    embedded triangulation of its own polytope; near the domain boundary this polytope can be
-//    smaller than the domain, because a Delaunay simplex is witnessed only where its Voronoi
-//    vertex lies in the domain (the lower simplices witnessed there stay listed as "dangling").
+//    non-manifold facet, and the complex of the top simplices has the domain's topology as far
+//    as Euler characteristics tell: the canvas's (its active voxels as closed cubes: 1 for a ball,
+//    0 for a solid torus, 2 for two balls or a ball with a cavity), its boundary twice that in 3D
+//    (closed surfaces; circles in 2D, 0). It then is an embedded triangulation of its own polytope;
+//    near the domain boundary this polytope can be smaller than the domain, because a Delaunay
+//    simplex is witnessed only where its Voronoi vertex lies in the domain (the lower simplices
+//    witnessed there stay listed as "dangling"), and a part of the domain too thin for a simplex
+//    can leave seeds out (unused_vertices).
 #include <array>
 #include <cstdint>
 #include <string>
@@ -45,6 +48,7 @@ struct DualChecks {
   std::size_t unused_vertices = 0;        // seeds in no top simplex
   int euler_characteristic = 0;           // of the complex of the top simplices and their faces
   int boundary_euler_characteristic = 0;  // of its boundary (3D: triangles; 2D: edges)
+  int domain_euler_characteristic = 1;    // of the canvas's active voxels as closed cubes
   bool is_triangulation = false;
 
   // Indices into the top simplices, ascending.
@@ -147,7 +151,8 @@ int seeds_affine_dimension(const std::vector<Vec3>& seeds, int dimension);
 // The `dual` object of report.json as JSON text: vertices, edges, triangles, tetrahedra,
 // inverted, intersecting, intersecting_pairs, non_manifold, degenerate_witnesses,
 // near_degenerate (and _removed, _added), dangling,
-// unused_vertices, euler_characteristic, is_triangulation, seconds, and `quality` (min, mean,
+// unused_vertices, euler_characteristic, boundary_euler_characteristic,
+// domain_euler_characteristic, is_triangulation, seconds, and `quality` (min, mean,
 // histogram, angles, edge lengths).
 std::string dual_report_json(const StraightDual& dual);
 

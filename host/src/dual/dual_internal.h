@@ -27,6 +27,11 @@ struct Topology {
 
 Topology analyse_topology(const StraightDual& dual);
 
+// Euler characteristic of the union of the canvas's active voxels as closed cubes (squares in 2D):
+// the domain's topology as the canvas holds it (1 for a ball, 0 for a solid torus, 2 for two balls
+// or a ball with a cavity), which a dual covering it has too.
+int canvas_euler_characteristic(const Canvas& canvas);
+
 // Exact orientation (-1, 0, +1) of the dual's vertices s[0..d] in that order (s[3] unread in 2D).
 int orientation_sign(const StraightDual& dual, const std::array<int32_t, 4>& s);
 // Exact orientation (-1, 0, +1) of each top simplex taken in its sorted vertex order.

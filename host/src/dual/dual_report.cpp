@@ -40,6 +40,7 @@ std::string dual_report_json(const StraightDual& dual) {
                             {"unused_vertices", c.unused_vertices},
                             {"euler_characteristic", c.euler_characteristic},
                             {"boundary_euler_characteristic", c.boundary_euler_characteristic},
+                            {"domain_euler_characteristic", c.domain_euler_characteristic},
                             {"is_triangulation", c.is_triangulation},
                             {"seconds", dual.seconds},
                             {"quality", quality_json(dual.quality_summary)}};

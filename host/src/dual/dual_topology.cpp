@@ -167,7 +167,85 @@ void count_dangling_and_unused(const StraightDual& dual, Topology& topo) {
   }
 }
 
+// Per lattice point p, from the activity of the 2^d voxels p - o (o in {0,1}^d, bit o_x + 2 o_y
+// + 4 o_z of the mask): the cells of the closed voxels whose lowest corner is p, each spanned from
+// p by a set S of axes, counted (-1)^|S|. Such a cell lies in the voxels p - o with o_a = 0 for
+// every a in S, and exists where one of them is active.
+std::array<int, 256> corner_contributions(int dimension) {
+  std::array<int, 256> contribution{};
+  const unsigned voxels = 1u << dimension;
+  for (unsigned mask = 0; mask < (1u << voxels); ++mask)
+    for (unsigned axes = 0; axes < voxels; ++axes) {
+      bool exists = false;
+      for (unsigned o = 0; o < voxels; ++o) exists |= ((mask >> o) & 1u) && (o & axes) == 0;
+      if (exists) contribution[mask] += __builtin_popcount(axes) % 2 ? -1 : 1;
+    }
+  return contribution;
+}
+
+// Per brick: whether every voxel of it is active.
+std::vector<uint8_t> full_bricks(const Canvas& canvas) {
+  const std::size_t volume = static_cast<std::size_t>(canvas.brick_volume());
+  std::vector<uint8_t> full(canvas.brick_count());
+  for (std::size_t b = 0; b < full.size(); ++b) {
+    const auto first = canvas.active.begin() + static_cast<std::ptrdiff_t>(b * volume);
+    full[b] = std::all_of(first, first + static_cast<std::ptrdiff_t>(volume),
+                          [](uint8_t a) { return a != 0; });
+  }
+  return full;
+}
+
+// Which lattice points of brick (bi, bj, bk)'s range (it may lie one past the grid) can count:
+// none unless a brick at (bi, bj, bk) - o, o in {0,1}^d, exists (their voxels are the ones around
+// those points), and none either where all of these are full (every point there is inside: 0).
+bool brick_range_counts(const Canvas& canvas, const std::vector<uint8_t>& full, int bi, int bj,
+                        int bk) {
+  bool any = false, all_full = true;
+  for (int c = 0; c <= (canvas.dimension == 3 ? 1 : 0); ++c)
+    for (int b = 0; b <= 1; ++b)
+      for (int a = 0; a <= 1; ++a) {
+        const int32_t id = canvas.brick_at(bi - a, bj - b, bk - c);
+        any |= id >= 0;
+        all_full &= id >= 0 && full[static_cast<std::size_t>(id)];
+      }
+  return any && !all_full;
+}
+
 }  // namespace
+
+int canvas_euler_characteristic(const Canvas& canvas) {
+  const int d = canvas.dimension;
+  const std::array<int, 256> contribution = corner_contributions(d);
+  const std::vector<uint8_t> full = full_bricks(canvas);
+  const int e = Canvas::kBrickEdge, ez = canvas.brick_edge_z(), lz = d == 3 ? 1 : 0;
+  // Activity of the voxels origin - (1, 1, lz) .. origin + (e, e, ez) - 1 of one brick's range.
+  const int n = e + 1;
+  std::vector<uint8_t> block(static_cast<std::size_t>(n * n * (ez + lz)));
+  const auto at = [&](int x, int y, int z) -> uint8_t& {
+    return block[static_cast<std::size_t>((x + 1) + n * ((y + 1) + n * (z + lz)))];
+  };
+  long chi = 0;
+  const auto& g = canvas.brick_grid_dims;
+  for (int bk = 0; bk < g[2] + lz; ++bk)
+    for (int bj = 0; bj <= g[1]; ++bj)
+      for (int bi = 0; bi <= g[0]; ++bi) {
+        if (!brick_range_counts(canvas, full, bi, bj, bk)) continue;
+        const int ox = bi * e, oy = bj * e, oz = bk * ez;
+        for (int z = -lz; z < ez; ++z)
+          for (int y = -1; y < e; ++y)
+            for (int x = -1; x < e; ++x) at(x, y, z) = canvas.slot_of(ox + x, oy + y, oz + z) >= 0;
+        for (int z = 0; z < ez; ++z)
+          for (int y = 0; y < e; ++y)
+            for (int x = 0; x < e; ++x) {
+              unsigned mask = 0;
+              for (unsigned o = 0; o < (1u << d); ++o)
+                mask |= static_cast<unsigned>(at(x - (o & 1), y - ((o >> 1) & 1), z - (o >> 2)))
+                        << o;
+              chi += contribution[mask];
+            }
+      }
+  return static_cast<int>(chi);
+}
 
 Topology analyse_topology(const StraightDual& dual) {
   Topology topo;

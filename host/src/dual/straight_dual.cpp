@@ -131,11 +131,16 @@ void apply_topology(const dual::Topology& topo, StraightDual& dual) {
   c.unused_vertices = topo.unused_vertices;
 }
 
-bool is_ball_triangulation(const StraightDual& dual) {
+// The complex has the canvas's topology, as far as Euler characteristics tell: a ball where the
+// domain is one, but a solid torus for a torus and two balls for two components (a ball's
+// characteristics made valid duals of these "NOT a triangulation"). A 3-manifold's boundary has
+// twice its characteristic (a pinched vertex or edge breaks that); a surface's boundary circles 0.
+bool is_embedded_triangulation(const StraightDual& dual) {
   const DualChecks& c = dual.checks;
-  const int sphere = dual.dimension == 3 ? 2 : 0;  // boundary: a 2-sphere, or a circle in 2D
+  const int boundary = dual.dimension == 3 ? 2 * c.euler_characteristic : 0;
   return dual.top_count() > 0 && c.inverted == 0 && c.intersecting == 0 && c.non_manifold == 0 &&
-         c.euler_characteristic == 1 && c.boundary_euler_characteristic == sphere;
+         c.euler_characteristic == c.domain_euler_characteristic &&
+         c.boundary_euler_characteristic == boundary;
 }
 
 }  // namespace
@@ -162,7 +167,8 @@ static StraightDual build_straight_dual_itself(const Canvas& canvas, const Nerve
   mark_inverted(topo, orientation, dual);
   mark_intersecting(dual::intersecting_pairs(dual, orientation), dual);
   apply_topology(topo, dual);
-  dual.checks.is_triangulation = is_ball_triangulation(dual);
+  dual.checks.domain_euler_characteristic = dual::canvas_euler_characteristic(canvas);
+  dual.checks.is_triangulation = is_embedded_triangulation(dual);
   dual::measure_quality(dual);
   dual.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return dual;
