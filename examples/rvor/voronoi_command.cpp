@@ -212,9 +212,11 @@ nlohmann::json summary_json(const FieldSummary& s) {
           {"mean_distance", s.mean_distance}};
 }
 
-// The straight dual in the progress line: whether it is a triangulation, and its element count;
-// too few seeds for a simplex, or seeds all on one point, line or plane (which make flat
-// simplices at best), make none, which is not a failed triangulation either: say why.
+// The straight dual in the progress line: whether it is a triangulation, its element count, and
+// the seeds it leaves out (a domain a few voxels thin: "a triangulation, 1 elements" of 60 seeds
+// said nothing of the 56 in none); too few seeds for a simplex, or seeds all on one point, line or
+// plane (which make flat simplices at best), make none, which is not a failed triangulation
+// either: say why.
 std::string straight_dual_detail(const StraightDual& dual, const std::vector<Vec3>& seeds,
                                  int dimension) {
   const std::string simplex = dimension == 2 ? "triangle" : "tetrahedron";
@@ -224,7 +226,10 @@ std::string straight_dual_detail(const StraightDual& dual, const std::vector<Vec
            simplex + " needs " + std::to_string(dimension + 1);
   std::string detail =
       std::string(dual.checks.is_triangulation ? "a triangulation" : "NOT a triangulation") + ", " +
-      std::to_string(dual.top_count()) + " elements";
+      std::to_string(dual.top_count()) + (dual.top_count() == 1 ? " element" : " elements");
+  const std::size_t unused = dual.checks.unused_vertices;
+  if (unused > 0 && dual.top_count() > 0)
+    detail += ", " + std::to_string(unused) + " of the " + count + " seeds in none";
   const int spanned = seeds_affine_dimension(seeds, dimension);
   if (spanned >= dimension) return detail;
   const std::string why = "the " + count + " seeds " +

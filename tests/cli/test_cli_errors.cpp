@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include "rvor/devices.h"
 #include "rvor/spec_text.h"
 #include "support/run_command.h"
@@ -472,6 +474,25 @@ TEST_F(CliErrors, ADualOfDegenerateSeedsSaysWhyItHasNoElements) {
     EXPECT_EQ(result.exit_code, 0) << result.err;
     EXPECT_NE(result.err.find(c.detail), std::string::npos) << result.err;
   }
+}
+
+// A domain too thin for most Voronoi vertices leaves most seeds in no element: the progress line
+// says how many ("a triangulation, 1 elements" of 60 seeds said nothing of the 56 left out).
+TEST_F(CliErrors, ADualThatLeavesSeedsOutSaysHowMany) {
+  const CommandResult result =
+      run_command(rvor_binary() + " voronoi --device cpu --out " + out() +
+                  " --domain box:0,0,0,1,1,0.02 --resolution 96 --random-seeds 60 --dual straight");
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+  const auto report = nlohmann::json::parse(read_text(out() + "/report.json"));
+  const std::size_t unused = report["dual"]["unused_vertices"];
+  const std::size_t elements = report["dual"]["tetrahedra"];
+  ASSERT_GT(unused, 30u);
+  ASSERT_GT(elements, 0u);
+  EXPECT_NE(
+      result.err.find(std::to_string(elements) + (elements == 1 ? " element, " : " elements, ") +
+                      std::to_string(unused) + " of the 60 seeds in none)"),
+      std::string::npos)
+      << result.err;
 }
 
 TEST_F(CliErrors, MalformedDomain) {
