@@ -495,6 +495,28 @@ TEST_F(CliErrors, ADualThatLeavesSeedsOutSaysHowMany) {
       << result.err;
 }
 
+// The curved dual's progress line tells unreached edges from unreached faces: seeds at the box's
+// corners leave faces whose geodesics run along its faces unreached, and "14 geodesic edges, 9
+// faces, 2 unreached" did not say which.
+TEST_F(CliErrors, CurvedDualNamesUnreachedEdgesAndFacesApart) {
+  write_text(dir.file("corners.xyz"),
+             "0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 1 1\n1 1 0\n0.5 0.5 0.5\n0.3 0.7 0.2\n");
+  const CommandResult result = run_command(
+      rvor_binary() + " voronoi --device cpu --out " + out() +
+      " --domain box:0,0,0,1,1,1 --resolution 48 --dual curved --seeds " + dir.file("corners.xyz"));
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+  const auto curved = nlohmann::json::parse(read_text(out() + "/report.json"))["curved_dual"];
+  const std::size_t faces = curved["faces"], unreached_faces = curved["unreached_faces"];
+  ASSERT_GT(unreached_faces, 0u);
+  EXPECT_NE(
+      result.err.find(std::to_string(curved["edges"].get<std::size_t>()) + " geodesic edges (" +
+                      std::to_string(curved["unreached_edges"].get<std::size_t>()) +
+                      " unreached), " + std::to_string(faces) + " faces (" +
+                      std::to_string(unreached_faces) + " unreached))"),
+      std::string::npos)
+      << result.err;
+}
+
 TEST_F(CliErrors, MalformedDomain) {
   expect_error("--domain box:1,2,3 --resolution 16 --random-seeds 3", "box:1,2,3");
 }
