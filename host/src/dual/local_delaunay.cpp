@@ -35,17 +35,20 @@ struct Sphere {
   double radius = 0.0;
 };
 
-// Solves 2 (p_i - p_0)^T G c = |p_i|_G^2 - |p_0|_G^2 for i = 1..d (2D: c_z = p_0z); none when
-// the points are (nearly) flat.
+// Solves 2 (p_i - p_0)^T G c = |p_i - p_0|_G^2 for i = 1..d (2D: c_z = 0), the centre being
+// p_0 + c; none when the points are (nearly) flat. Relative to p_0: |p_i|_G^2 - |p_0|_G^2 lost
+// the centre to cancellation far from the origin (seeds near 10^6: squares of 10^13 for
+// differences of 10^-2, the centre off by about a voxel, and the decisions then added
+// overlapping triangles).
 std::optional<Sphere> circumsphere(const std::vector<Vec3>& seeds, const Top& t, int d,
                                    const Mat3& G) {
   const Vec3& p0 = seeds[t[0]];
   Eigen::Matrix3d A = Eigen::Matrix3d::Identity();
-  Vec3 b(0, 0, p0.z());
+  Vec3 b = Vec3::Zero();
   for (int r = 0; r < d; ++r) {
-    const Vec3& p = seeds[t[r + 1]];
-    A.row(r) = 2.0 * (G * (p - p0)).transpose();
-    b[r] = p.dot(G * p) - p0.dot(G * p0);
+    const Vec3 p = seeds[t[r + 1]] - p0;
+    A.row(r) = 2.0 * (G * p).transpose();
+    b[r] = p.dot(G * p);
   }
   if (d == 2) A.row(2) = Vec3(0, 0, 1).transpose();
   // Closed-form 3x3 inverse (this runs for every top simplex); flat: det small against the rows.
@@ -53,8 +56,9 @@ std::optional<Sphere> circumsphere(const std::vector<Vec3>& seeds, const Top& t,
   const double det = A.determinant();
   if (!(std::abs(det) > 1e-12 * scale)) return std::nullopt;
   Sphere s;
-  s.centre = A.inverse() * b;
-  s.radius = metric_length(G, s.centre - p0);
+  const Vec3 c = A.inverse() * b;
+  s.centre = p0 + c;
+  s.radius = metric_length(G, c);
   return s;
 }
 
@@ -236,8 +240,8 @@ class Resolver {
     const std::vector<int32_t>& near = d.configuration;
     const std::vector<int32_t> around = without(ring_of(near.begin(), near.end()), near);
     const Mat3 F = metric_sqrt(d.G);
-    std::vector<Vec3> mapped;
-    for (int32_t e : near) mapped.push_back(F * seeds_[e]);
+    std::vector<Vec3> mapped;  // from the first seed, which keeps them exact far from the origin
+    for (int32_t e : near) mapped.push_back(F * (seeds_[e] - seeds_[near.front()]));
     Found found;
     for (const Top& local : delaunay_of(mapped, d_)) {
       Top c{-1, -1, -1, -1};
