@@ -12,5 +12,8 @@ function(rvor_component name)
     $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/host/include>
     $<INSTALL_INTERFACE:include>)
   target_link_libraries(${name} PUBLIC ${ARG_PUBLIC_LIBS} PRIVATE ${ARG_PRIVATE_LIBS})
+  # The public headers are C++17 (std::optional, inline variables): a project that links the
+  # installed package gets C++17 whatever its compiler's default (clang 14's is C++14).
+  target_compile_features(${name} PUBLIC cxx_std_17)
   rvor_set_warnings(${name})
 endfunction()

@@ -28,7 +28,6 @@ mkdir -p "$work/app"
 {
   echo "cmake_minimum_required(VERSION 3.16)"
   echo "project(readme_example CXX)"
-  echo "set(CMAKE_CXX_STANDARD 17)"
   echo "add_executable(app main.cpp)"
 } >"$work/app/CMakeLists.txt"
 blocks cmake >>"$work/app/CMakeLists.txt"
@@ -45,8 +44,10 @@ if ! grep -q 'find_package(rvor' "$work/app/CMakeLists.txt" || ! grep -q 'rvor::
   exit 1
 fi
 
+# No C++ standard in the project, as the README has none; C++14 stands for a compiler whose default
+# it is (clang 14): the package itself must ask for the C++17 its headers need.
 cmake -S "$work/app" -B "$work/app/build" -DCMAKE_PREFIX_PATH="$work/prefix" \
-  -DCMAKE_BUILD_TYPE=Release >"$work/configure.log" 2>&1 ||
+  -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_STANDARD=14 >"$work/configure.log" 2>&1 ||
   { cat "$work/configure.log" >&2; exit 1; }
 cmake --build "$work/app/build" >"$work/build.log" 2>&1 ||
   { cat "$work/app/main.cpp" "$work/build.log" >&2; exit 1; }
