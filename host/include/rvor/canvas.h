@@ -41,7 +41,9 @@ class Canvas {
   int brick_edge_z() const { return dimension == 3 ? kBrickEdge : 1; }
   int brick_volume() const { return kBrickEdge * kBrickEdge * brick_edge_z(); }
   std::size_t brick_count() const { return brick_origins.size(); }
-  std::size_t slot_count() const { return brick_count() * brick_volume(); }
+  std::size_t slot_count() const {
+    return brick_count() * static_cast<std::size_t>(brick_volume());
+  }
 
   // Id of the brick at brick-grid coordinates (bi, bj, bk): -1 outside the grid or where empty.
   int32_t brick_at(int bi, int bj, int bk) const;
