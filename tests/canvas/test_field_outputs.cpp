@@ -2,11 +2,13 @@
 // an error naming themselves (they read past its arrays before, or crashed).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -78,6 +80,62 @@ TEST(FieldOutputs, LabelsBeyondTheSeedsAndNonFiniteProbesAreErrors) {
       << message;
   // A finite point far away is taken to the nearest voxel (documented), not refused.
   EXPECT_EQ(probe_field(canvas, field, {Vec3(1e300, 0, 0)}).size(), 1u);
+}
+
+// The squared index distance from a point to its nearest active voxel, by brute force.
+double nearest_squared_distance(const Canvas& canvas, const Vec3& index_point) {
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {
+    if (!canvas.active[slot]) continue;
+    const VoxelIndex v = canvas.voxel_of(slot);
+    best = std::min(best, (Vec3(v.i, v.j, v.k) - index_point).squaredNorm());
+  }
+  return best;
+}
+
+// Probes answer the nearest active voxel wherever they lie: inside the canvas, in a hole of it,
+// on voxel boundaries (ties), and beyond it, measured from the point itself (moved onto the
+// canvas's index box first, (0, 0, 5) over a ring took a voxel of its inner rim, 0.14 farther
+// than one on its top).
+TEST(FieldOutputs, ProbesTakeTheNearestActiveVoxelInsideAndOutsideTheCanvas) {
+  for (const int dimension : {2, 3}) {
+    const int resolution = dimension == 3 ? 40 : 96;
+    Canvas canvas = test::make_uniform_box_canvas(dimension, Vec3(-1, -1, -0.25), Vec3(1, 1, 0.25),
+                                                  resolution, Mat3::Identity());
+    for (std::size_t slot = 0; slot < canvas.slot_count(); ++slot) {  // a ring: a hole, and a top
+      const Vec3 x = canvas.world_of(slot);
+      const double r = std::hypot(x.x(), x.y());
+      canvas.active[slot] = canvas.active[slot] && r > 0.6 && r < 0.9 && x.z() < 0.1;
+    }
+    canvas.finalize();
+    const VoronoiField field = test::constant_field(canvas, 1.0f, 0);
+    std::vector<Vec3> points = {Vec3(0, 0, 5),     Vec3(0, 0, 0),     Vec3(0.3, 0.2, 0),
+                                Vec3(-7, 0.5, -3), Vec3(40, -30, 20), Vec3(0.75, 0, 0.5),
+                                Vec3(0, 0, -1e6)};
+    std::mt19937 random(7);
+    std::uniform_real_distribution<double> coordinate(-3, 3);
+    for (int n = 0; n < 200; ++n)
+      points.emplace_back(coordinate(random), coordinate(random), coordinate(random));
+    // Points on voxel faces, edges and corners: equally near two or more voxels.
+    const double h = canvas.voxel_size;
+    for (int n = 0; n < 100; ++n)
+      points.push_back(canvas.origin + h * Vec3(std::round(coordinate(random) / h * 2) / 2 + 0.5,
+                                                std::round(coordinate(random) / h) + 0.5,
+                                                std::round(coordinate(random) / h) - 0.5));
+    const std::vector<ProbeSample> samples = probe_field(canvas, field, points);
+    for (std::size_t n = 0; n < points.size(); ++n) {
+      Vec3 p = canvas.index_coordinates(points[n]);
+      if (dimension == 2) p.z() = 0.0;
+      const double best = nearest_squared_distance(canvas, p);
+      const double taken = (canvas.index_coordinates(samples[n].voxel_centre) - p).squaredNorm();
+      // Equally near voxels (a point on a face between them) may differ by rounding alone.
+      EXPECT_LE(taken, best * (1 + 1e-12))
+          << dimension << "D, point " << n << " (" << points[n].transpose() << ")";
+    }
+    // Beyond a billion voxels a point is taken along its direction, here the same voxel.
+    EXPECT_EQ(probe_field(canvas, field, {Vec3(1e300, 0.3, 0.1)})[0].voxel_centre,
+              probe_field(canvas, field, {Vec3(1e6, 0.3, 0.1)})[0].voxel_centre);
+  }
 }
 
 // Coordinates far from the origin keep every digit of the voxel centre (9 significant digits

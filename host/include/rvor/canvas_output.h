@@ -23,7 +23,9 @@ struct ProbeSample {
   float distance;
   int label;
 };
-// For each point, the nearest active voxel (by index distance, searched outwards in shells).
+// For each point, the nearest active voxel to the point itself (by distance in index space; in 2D
+// z is ignored), wherever it lies: a point beyond a billion voxels from the canvas is taken that
+// far along the same direction. Of equally near voxels, the one nearest the rounded point.
 std::vector<ProbeSample> probe_field(const Canvas& canvas, const VoronoiField& field,
                                      const std::vector<Vec3>& points);
 // CSV with header x,y,z,distance,label (x,y,z = the voxel centre). Atomic.
