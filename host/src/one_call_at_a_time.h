@@ -11,12 +11,14 @@ namespace rvor {
 
 class OneCallAtATime {
  public:
-  // `busy` is the propagator's flag; `what` names it in the error ("the CPU reference").
-  OneCallAtATime(std::atomic<bool>& busy, const std::string& what) : busy_(busy) {
+  // `busy` is the object's flag; `what` names it in the error ("the CPU reference"), `kind` is
+  // what it is ("propagator", "session").
+  OneCallAtATime(std::atomic<bool>& busy, const std::string& what,
+                 const std::string& kind = "propagator")
+      : busy_(busy) {
     if (busy_.exchange(true, std::memory_order_acquire))
-      throw Error(what +
-                  " was called while another call on it ran (from another thread): a propagator "
-                  "serves one call at a time; make one propagator per thread");
+      throw Error(what + " was called while another call on it ran (from another thread): a " +
+                  kind + " serves one call at a time; make one " + kind + " per thread");
   }
   OneCallAtATime(const OneCallAtATime&) = delete;
   OneCallAtATime& operator=(const OneCallAtATime&) = delete;

@@ -4,6 +4,7 @@
 // insertion has to make sure it continues the field the propagator returned last.
 // (Propagator::insert reads every slot of a caller's field to make sure: 16.8M slots at 256^3,
 // 3-5 ms on the 16 host cores of an NVIDIA H200 machine, as long as the insertion's rounds there.)
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -18,6 +19,10 @@ class VoronoiSession {
  public:
   // Throws rvor::Error for a null propagator.
   explicit VoronoiSession(std::unique_ptr<Propagator> propagator);
+
+  // One call at a time, as its propagator: a solve() or insert() that overlaps another on the same
+  // session (from another thread) throws rvor::Error and changes nothing; field() and seeds() are
+  // not to be read while a call runs. Use one session per thread.
 
   // Solves `seeds` on `canvas` from scratch (Propagator::solve); seed i gets label i. After a
   // failed solve, seeds() and field() are empty and insert() refuses until a solve succeeds.
@@ -36,6 +41,10 @@ class VoronoiSession {
   std::string device_description() const { return propagator_->device_description(); }
 
  private:
+  // solve() and insert() once the call is the session's only one.
+  PropagationStats solve_alone(const Canvas& canvas, std::vector<Vec3> seeds);
+  PropagationStats insert_alone(const Canvas& canvas, const std::vector<Vec3>& new_seeds);
+
   std::unique_ptr<Propagator> propagator_;
   std::vector<Vec3> seeds_;
   VoronoiField field_;
@@ -43,6 +52,8 @@ class VoronoiSession {
   std::optional<std::uint64_t> solved_canvas_;  // the content hash of the last solve's canvas
   // field_ is, bit for bit, what the propagator returned last (false after a failed call).
   bool returned_last_ = false;
+  // Set while a call runs; held apart so that a session can still be moved.
+  std::unique_ptr<std::atomic<bool>> busy_;
 };
 
 }  // namespace rvor
