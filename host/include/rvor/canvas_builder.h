@@ -17,8 +17,10 @@ inline constexpr int kLeastCanvasResolution = 2;
 inline constexpr int kMostCanvasResolution = 65536;
 
 struct CanvasOptions {
-  int resolution = 128;             // voxels along the longest side of the domain's bounding box
-  std::uint64_t memory_budget = 0;  // bytes; 0 = 75% of physical memory
+  int resolution = 128;  // voxels along the longest side of the domain's bounding box
+  // Bytes; 0: default_memory_budget(), 75% of physical memory or of the process's limit (a
+  // container's, RLIMIT_AS) where that is lower.
+  std::uint64_t memory_budget = 0;
 };
 
 // Throws rvor::Error when the resolution is not in [2, 65536], the domain is empty, the estimate
