@@ -50,6 +50,12 @@ class NearestActiveVoxel {
   }
 
   int64_t find() {
+    // A point in an active voxel: that voxel is nearest along every axis, and wins ties with the
+    // rounded point's rule. Dense probes (one per voxel) read one voxel each, not a brick or more.
+    if (beyond_.isZero()) {
+      const int64_t own = canvas_.slot_of(rounded_[0], rounded_[1], rounded_[2]);
+      if (own >= 0) return own;
+    }
     const auto& grid = canvas_.brick_grid_dims;
     int last_shell = 0;
     for (int a = 0; a < 3; ++a)
