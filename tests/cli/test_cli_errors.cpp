@@ -31,6 +31,15 @@ class CliErrors : public ::testing::Test {
     write_text(dir.file("seeds.xyz"), "0.1 0.2\n-0.5 0.3\n");
     return dir.file("seeds.xyz");
   }
+  // A one-triangle Medit mesh (m.mesh) and its metric (m.sol), the second vertex's tensor given.
+  void write_one_triangle_metric(const std::string& second_tensor) const {
+    write_text(dir.file("m.mesh"),
+               "MeshVersionFormatted 2\nDimension 2\nVertices\n3\n0 0 0\n1 0 0\n0 1 "
+               "0\nTriangles\n1\n1 2 3 0\nEnd\n");
+    write_text(dir.file("m.sol"),
+               "MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n3\n1 3\n1 0 1\n" +
+                   second_tensor + "\n1 0 1\nEnd\n");
+  }
 
   void expect_error(const std::string& args, const std::string& fragment) const {
     const CommandResult result = run_command(voronoi(args));
@@ -546,12 +555,7 @@ TEST_F(CliErrors, TruncatedMeditMesh) {
 }
 
 TEST_F(CliErrors, NonSpdTensorInSol) {
-  write_text(dir.file("m.mesh"),
-             "MeshVersionFormatted 2\nDimension 2\nVertices\n3\n0 0 0\n1 0 0\n0 1 "
-             "0\nTriangles\n1\n1 2 3 0\nEnd\n");
-  write_text(
-      dir.file("m.sol"),
-      "MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n3\n1 3\n1 0 1\n1 5 1\n1 0 1\nEnd\n");
+  write_one_triangle_metric("1 5 1");
   expect_error("--domain rect:0,0,1,1 --resolution 16 --metric-mesh " + dir.file("m.mesh") +
                    " --metric-file " + dir.file("m.sol") + " --seeds " + seeds2d(),
                "m.sol");
@@ -560,12 +564,7 @@ TEST_F(CliErrors, NonSpdTensorInSol) {
 // A .sol given to --metric-mesh (or a .mesh to --metric-file) failed with the reader's words
 // only ("m.sol: no Tetrahedra to interpolate the metric on"): the error names what each takes.
 TEST_F(CliErrors, SwappedMeditFilesAreNamedWithWhatEachOptionTakes) {
-  write_text(dir.file("m.mesh"),
-             "MeshVersionFormatted 2\nDimension 2\nVertices\n3\n0 0 0\n1 0 0\n0 1 "
-             "0\nTriangles\n1\n1 2 3 0\nEnd\n");
-  write_text(
-      dir.file("m.sol"),
-      "MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n3\n1 3\n1 0 1\n1 0 1\n1 0 1\nEnd\n");
+  write_one_triangle_metric("1 0 1");
   expect_error("--domain rect:0,0,1,1 --resolution 16 --metric-mesh " + dir.file("m.sol") +
                    " --metric-file " + dir.file("m.mesh") + " --seeds " + seeds2d(),
                "m.sol: no Triangles to interpolate the metric on (--metric-mesh "
