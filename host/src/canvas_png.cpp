@@ -1,8 +1,10 @@
 #include "rvor/canvas_png.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <cairo.h>
@@ -93,7 +95,18 @@ void draw_seeds(cairo_t* cr, const Canvas& canvas, const std::vector<Vec3>& seed
   }
 }
 
+// Pixels per voxel side: as asked, or about 1024 pixels along the longest side, at least one.
+int png_scale(const Canvas& canvas, int pixels_per_voxel) {
+  const int longest = std::max(canvas.dims[0], canvas.dims[1]);
+  return pixels_per_voxel > 0 ? pixels_per_voxel : std::max(1, 1024 / longest);
+}
+
 }  // namespace
+
+std::array<long long, 2> canvas_png_size(const Canvas& canvas, int pixels_per_voxel) {
+  const long long scale = png_scale(canvas, pixels_per_voxel);
+  return {canvas.dims[0] * scale, canvas.dims[1] * scale};
+}
 
 void write_canvas_png(const std::string& path, const Canvas& canvas, const VoronoiField& field,
                       const std::vector<Vec3>& seeds, const StraightDual* dual,
@@ -102,9 +115,13 @@ void write_canvas_png(const std::string& path, const Canvas& canvas, const Voron
     throw Error("a PNG picture needs a 2D canvas (--png is for rect domains)");
   require_field_for(canvas, field, "cannot write " + path);
   if (dual) require_consistent_dual(*dual, "cannot write " + path);
-  const int longest = std::max(canvas.dims[0], canvas.dims[1]);
-  const int scale = pixels_per_voxel > 0 ? pixels_per_voxel : std::max(1, 1024 / longest);
-  const int width = canvas.dims[0] * scale, height = canvas.dims[1] * scale;
+  const std::array<long long, 2> size = canvas_png_size(canvas, pixels_per_voxel);
+  if (std::max(size[0], size[1]) > kLargestPngSide)
+    throw Error("cannot write " + path + ": the picture would be " + std::to_string(size[0]) + "x" +
+                std::to_string(size[1]) + " pixels, and cairo draws at most " +
+                std::to_string(kLargestPngSide) + " a side");
+  const int scale = png_scale(canvas, pixels_per_voxel);
+  const int width = static_cast<int>(size[0]), height = static_cast<int>(size[1]);
   cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, width, height);
   if (cairo_surface_status(surface) != CAIRO_STATUS_SUCCESS)
     throw Error("cannot write " + path + ": cairo could not allocate a " + std::to_string(width) +

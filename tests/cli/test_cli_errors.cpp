@@ -613,6 +613,22 @@ TEST_F(CliErrors, PngOf3DRun) {
   EXPECT_FALSE(std::filesystem::exists(out()));
 }
 
+// Cairo draws no picture wider than 32767 pixels: a 2D canvas of 33000 voxels along x was solved
+// and its outputs written, then the PNG failed ("cairo could not allocate") and took them all.
+// It is refused with the inputs, before the solve and before --out is created.
+TEST_F(CliErrors, PngWiderThanCairoDrawsIsRefusedBeforeTheSolve) {
+  const CommandResult result = run_command(
+      rvor_binary() + " voronoi --out " + out() +
+      " --domain rect:0,0,100,0.1 --resolution 33000 --random-seeds 5 --device cpu --png");
+  EXPECT_EQ(result.exit_code, 1) << result.err;
+  EXPECT_NE(result.err.find("building canvas ... failed\nrvor: error: --png: "), std::string::npos)
+      << result.err;
+  EXPECT_NE(result.err.find("33000x33 pixels"), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find("32767"), std::string::npos) << result.err;
+  EXPECT_EQ(result.err.find("propagating"), std::string::npos) << result.err;
+  EXPECT_FALSE(std::filesystem::exists(out()));
+}
+
 TEST_F(CliErrors, UnknownDevice) {
   expect_error("--domain rect:-1,-1,1,1 --resolution 16 --device quantum --seeds " + seeds2d(),
                "quantum");
