@@ -2,7 +2,8 @@
 # The README's "Using the tool" against the tool: every default that `rvor voronoi --help` shows
 # (OPTION TYPE=DEFAULT) is the one the README's option table gives on that option's row; and its
 # "Layout" names every top-level folder of the source tree; and the first example of its "Using
-# the tool" block runs as written (build/bin/rvor being RVOR), in a fresh directory.
+# the tool" block runs as written (build/bin/rvor being RVOR), in a fresh directory; and its table
+# of report.json's keys names exactly those a run writes.
 # Usage: readme_agrees.sh RVOR README.md
 set -euo pipefail
 rvor=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")  # absolute: the example runs elsewhere
@@ -56,6 +57,74 @@ awk '/^## Using the tool/ {on = 1; next} /^## / {if (on) done = 1; on = 0}
 if ! (cd "$work" && RVOR=$rvor RVOR_DEVICE=cpu bash -e example.sh >log 2>&1 && [ -s out/uniform/probe.csv ]); then
   echo "README: the first example of \"Using the tool\" fails as written:" >&2
   cat "$work/example.sh" "$work/log" >&2
+  failed=1
+fi
+
+# report.json against the README's table of its keys: a run with every optional part (probes, both
+# duals, a metric mesh) writes exactly the keys the table names. A row's first cell lists keys,
+# the later ones relative to the first one's parent ("`timings.canvas`, `total`").
+cat >"$work/m.mesh" <<'MESH'
+MeshVersionFormatted 2
+Dimension 3
+Vertices
+4
+0 0 0 0
+2 0 0 0
+0 2 0 0
+0 0 2 0
+Tetrahedra
+1
+1 2 3 4 0
+End
+MESH
+cat >"$work/m.sol" <<'SOL'
+MeshVersionFormatted 2
+Dimension 3
+SolAtVertices
+4
+1 3
+4 0 1 0 0 1
+1 0 1 0 0 1
+1 0 4 0 0 1
+1 0 1 0 0 4
+End
+SOL
+printf '0.5 0.5 0.5\n5 5 5\n' >"$work/probes.xyz"
+if ! (cd "$work" && RVOR_DEVICE=cpu "$rvor" voronoi --quiet --domain box:0,0,0,1,1,1 \
+  --metric-mesh m.mesh --metric-file m.sol --resolution 12 --random-seeds 12 --dual both \
+  --probe probes.xyz --out keys >log 2>&1); then
+  echo "README: the report.json run failed:" >&2
+  cat "$work/log" >&2
+  failed=1
+elif ! /usr/bin/python3 - "$readme" "$work/keys/report.json" <<'PY'; then
+import json, re, sys
+
+readme, report = open(sys.argv[1]).read(), json.load(open(sys.argv[2]))
+if "`report.json`, key by key" not in readme:
+    sys.exit("README: no table of report.json's keys (\"`report.json`, key by key\")")
+section = readme.split("`report.json`, key by key", 1)[1].split("\n\n| key |", 1)[1]
+documented = set()
+for row in re.findall(r"^\| (`[^|]*`) \|", section.split("\n\n", 1)[0], re.M):
+    names = re.findall(r"`([^`]+)`", row)
+    parent = names[0].rpartition(".")[0]
+    documented |= {names[0]} | {(parent + "." if parent else "") + n for n in names[1:]}
+
+
+def leaves(value, prefix=""):
+    for key, inner in value.items():
+        if isinstance(inner, dict):
+            yield from leaves(inner, prefix + key + ".")
+        else:
+            yield prefix + key
+
+
+written = set(leaves(report))
+for key in sorted(written - documented):
+    print(f"README: report.json's key {key} is not in its table", file=sys.stderr)
+for key in sorted(documented - written):
+    print(f"README: the report.json table names {key}, which the run did not write", file=sys.stderr)
+sys.exit(written != documented)
+PY
   failed=1
 fi
 
