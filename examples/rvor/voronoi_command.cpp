@@ -417,16 +417,19 @@ void write_voronoi(const VoronoiOptions& o, const std::vector<std::string>& crea
 
     const double total =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    // JSON strings are UTF-8, and nlohmann refuses to write anything else: a file name in
+    // Latin-1 (mesh:tw\xFFo.off, --metric-file m\xE9.sol) failed the run after everything was
+    // computed. Such bytes are written as \xNN, as errors write them.
     nlohmann::json report = {{"generator", "rvor voronoi"},
-                             {"domain", domain.description()},
-                             {"metric", metric->description()},
+                             {"domain", printable_text(domain.description())},
+                             {"metric", printable_text(metric->description())},
                              {"dimension", canvas.dimension},
                              {"resolution", o.resolution},
                              {"voxel_size", canvas.voxel_size},
                              {"index_box", canvas.dims},
                              {"active_voxels", canvas.active_voxel_count},
                              {"seeds", seeds.size()},
-                             {"device", device},
+                             {"device", printable_text(device)},
                              {"iterations", stats.iterations},
                              {"voxel_updates", stats.voxel_updates},
                              {"brick_relaxations", stats.brick_relaxations},

@@ -88,6 +88,25 @@ TEST_F(CliOutputs, VoxelsBeyondTheMetricMeshAreCounted) {
   EXPECT_EQ(inside["voxels_outside_metric_mesh"].get<int>(), 0);
 }
 
+// report.json's strings are UTF-8: a metric file named in Latin-1 ("m\xE9.sol") made nlohmann's
+// dump throw ("invalid UTF-8 byte") once the run was done, and it failed with nothing written.
+// The byte is written as the text \xE9, as errors write it.
+TEST_F(CliOutputs, ReportOfAFileNameThatIsNotUtf8IsWritten) {
+  write_text(dir.file("m.mesh"),
+             "MeshVersionFormatted 2\nDimension 2\nVertices\n4\n0 0 0\n1 0 0\n1 1 0\n0 1 "
+             "0\nTriangles\n2\n1 2 3 0\n1 3 4 0\nEnd\n");
+  const std::string latin1_sol = dir.file("m\xE9.sol");
+  write_text(latin1_sol,
+             "MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n4\n1 3\n1 0 1\n1 0 1\n1 0 "
+             "1\n1 0 1\nEnd\n");
+  const nlohmann::json report =
+      report_of("--domain rect:0,0,1,1 --resolution 16 --random-seeds 3 --metric-mesh " +
+                dir.file("m.mesh") + " --metric-file '" + latin1_sol + "'");
+  ASSERT_FALSE(report.is_null());
+  EXPECT_NE(report["metric"].get<std::string>().find("m\\xE9.sol"), std::string::npos)
+      << report["metric"];
+}
+
 TEST_F(CliOutputs, ReportHoldsTheRunFacts) {
   const CommandResult result = run_uniform_2d("--device cpu");
   ASSERT_EQ(result.exit_code, 0) << result.err;
