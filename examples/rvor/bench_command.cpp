@@ -243,15 +243,17 @@ nlohmann::json or_null(const std::optional<T>& value) {
   return value ? nlohmann::json(*value) : nlohmann::json(nullptr);
 }
 
+// Texts as printable_text writes them: JSON strings are UTF-8, and nlohmann throws on other bytes
+// (a mesh named in Latin-1, mesh:tw\xFFo.off, failed --json after the benchmark had run).
 nlohmann::json case_json(const BenchResult& r) {
-  return {{"domain", r.bench_case.domain},
-          {"metric", r.bench_case.metric},
-          {"metric_description", r.metric_description},
+  return {{"domain", printable_text(r.bench_case.domain)},
+          {"metric", printable_text(r.bench_case.metric)},
+          {"metric_description", printable_text(r.metric_description)},
           {"resolution", r.bench_case.resolution},
           {"seeds", r.bench_case.seeds},
           {"rng_seed", r.bench_case.rng_seed},
-          {"device", r.bench_case.device},
-          {"device_description", r.device_description},
+          {"device", printable_text(r.bench_case.device)},
+          {"device_description", printable_text(r.device_description)},
           {"active_voxels", r.active_voxels},
           {"max_anisotropy", r.max_anisotropy},
           {"seconds", r.seconds},

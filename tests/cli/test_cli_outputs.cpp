@@ -471,6 +471,24 @@ TEST_F(CliOutputs, BenchDefaultDomainOfA2DField) {
   EXPECT_EQ(report["cases"][0]["domain"].get<std::string>().rfind("rect:", 0), 0u) << result.out;
 }
 
+// bench --json writes a domain's bytes that are not UTF-8 as \xNN: a mesh named in Latin-1 made
+// nlohmann's dump throw after the benchmark had run ("invalid UTF-8 byte").
+TEST_F(CliOutputs, BenchJsonOfAFileNameThatIsNotUtf8) {
+  const std::string latin1_off = dir.file("cube\xFF.off");
+  write_text(latin1_off,
+             "OFF\n8 12 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n0 0 1\n1 0 1\n0 1 1\n1 1 1\n3 0 2 3\n3 "
+             "0 3 1\n3 4 5 7\n3 4 7 6\n3 0 1 5\n3 0 5 4\n3 2 6 7\n3 2 7 3\n3 0 4 6\n3 0 6 2\n3 "
+             "1 3 7\n3 1 7 5\n");
+  const CommandResult result =
+      run_command(rvor_binary() + " bench --quiet --domain 'mesh:" + latin1_off +
+                  "' --resolution 16 --seeds 3 --repeat 1 --no-reference --no-fastsweeping --json");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const auto report = nlohmann::json::parse(result.out);
+  EXPECT_NE(report["cases"][0]["domain"].get<std::string>().find("cube\\xFF.off"),
+            std::string::npos)
+      << result.out;
+}
+
 TEST_F(CliOutputs, TopLevelHelpListsSubcommandsWithExamples) {
   const CommandResult result = run_command(rvor_binary() + " --help");
   ASSERT_EQ(result.exit_code, 0);
