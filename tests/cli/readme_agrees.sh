@@ -3,7 +3,8 @@
 # (OPTION TYPE=DEFAULT) is the one the README's option table gives on that option's row; and its
 # "Layout" names every top-level folder of the source tree; and the first example of its "Using
 # the tool" block runs as written (build/bin/rvor being RVOR), in a fresh directory; and its table
-# of report.json's keys names exactly those a run writes.
+# of report.json's keys names exactly those a run writes, and each .vtu's arrays are named where
+# the README describes that file.
 # Usage: readme_agrees.sh RVOR README.md
 set -euo pipefail
 rvor=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")  # absolute: the example runs elsewhere
@@ -92,12 +93,12 @@ SOL
 printf '0.5 0.5 0.5\n5 5 5\n' >"$work/probes.xyz"
 if ! (cd "$work" && RVOR_DEVICE=cpu "$rvor" voronoi --quiet --domain box:0,0,0,1,1,1 \
   --metric-mesh m.mesh --metric-file m.sol --resolution 12 --random-seeds 12 --dual both \
-  --probe probes.xyz --out keys >log 2>&1); then
+  --probe probes.xyz --vtu --out keys >log 2>&1); then
   echo "README: the report.json run failed:" >&2
   cat "$work/log" >&2
   failed=1
 elif ! /usr/bin/python3 - "$readme" "$work/keys/report.json" <<'PY'; then
-import json, re, sys
+import json, os, re, sys
 
 readme, report = open(sys.argv[1]).read(), json.load(open(sys.argv[2]))
 if "`report.json`, key by key" not in readme:
@@ -123,7 +124,20 @@ for key in sorted(written - documented):
     print(f"README: report.json's key {key} is not in its table", file=sys.stderr)
 for key in sorted(documented - written):
     print(f"README: the report.json table names {key}, which the run did not write", file=sys.stderr)
-sys.exit(written != documented)
+# Each .vtu's arrays, named in the README's paragraph that describes that file ("`dual.vtu`: ...").
+undescribed = []
+paragraphs = readme.split("\n\n")
+for name in report["outputs"]:
+    if not name.endswith(".vtu"):
+        continue
+    header = open(os.path.join(os.path.dirname(sys.argv[2]), name), "rb").read(1 << 16)
+    header = header.split(b"<AppendedData", 1)[0].decode()
+    arrays = set(re.findall(r'Name="([^"]+)"', header)) - {"connectivity", "offsets", "types"}
+    text = " ".join(p for p in paragraphs if f"`{name}`:" in p)
+    undescribed += [f"{name}'s array {a}" for a in sorted(arrays) if f"`{a}`" not in text]
+for what in undescribed:
+    print(f"README: no paragraph describing its file names {what}", file=sys.stderr)
+sys.exit(written != documented or bool(undescribed))
 PY
   failed=1
 fi
