@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -203,6 +204,38 @@ TEST_F(CliOutputs, CurvedFacesTryEverySeedOfTheirTriangleAsApex) {
 // before the tracer's arrival in the seed blocks); with the bound, none.
 TEST_F(CliOutputs, LocalFieldsReachEveryPointOfTheirCurvedFaces) {
   expect_every_curved_face_reached(32, 200, 2000);
+}
+
+// probe.csv as the README gives it: a row per probe in the file's order, holding its nearest
+// active voxel's centre (not the probe), and inf and -1 in a piece of the canvas no seed reached.
+TEST_F(CliOutputs, ProbeRowsHoldTheNearestVoxelsCentreAndUnreachedValues) {
+  // Two unit cubes 1 apart along x; the seed in the first. At resolution 24, h = 0.125.
+  std::string off = "OFF\n16 24 0\n";
+  for (int x0 : {0, 2})
+    for (int c = 0; c < 8; ++c)
+      off += std::to_string(x0 + (c & 1)) + " " + std::to_string((c >> 1) & 1) + " " +
+             std::to_string((c >> 2) & 1) + "\n";
+  for (int base : {0, 8})
+    for (const char* quad : {"0 2 3 1", "4 5 7 6", "0 1 5 4", "2 6 7 3", "0 4 6 2", "1 3 7 5"}) {
+      int v[4];
+      std::sscanf(quad, "%d %d %d %d", &v[0], &v[1], &v[2], &v[3]);
+      for (const auto& [a, b] : {std::pair{1, 2}, std::pair{2, 3}})
+        off += "3 " + std::to_string(base + v[0]) + " " + std::to_string(base + v[a]) + " " +
+               std::to_string(base + v[b]) + "\n";
+    }
+  write_text(dir.file("two.off"), off);
+  write_text(dir.file("seed.xyz"), "0.5 0.5 0.5\n");
+  write_text(dir.file("probes.xyz"), "2.5 0.5 0.5\n0.6 0.55 0.5\n");
+  ASSERT_FALSE(report_of("--domain mesh:" + dir.file("two.off") +
+                         " --resolution 24 --device cpu --seeds " + dir.file("seed.xyz") +
+                         " --probe " + dir.file("probes.xyz"))
+                   .is_null());
+  const std::string csv = read_text(out() + "/probe.csv");
+  EXPECT_EQ(csv.substr(0, csv.find('\n', csv.find('\n') + 1)),
+            "x,y,z,distance,label\n2.5625,0.5625,0.5625,inf,-1")
+      << csv;
+  EXPECT_NE(csv.find("\n0.5625,0.5625,0.5625,"), std::string::npos) << csv;
+  EXPECT_EQ(csv.substr(csv.size() - 3), ",0\n") << csv;
 }
 
 // A probe far outside the canvas is answered by its nearest voxel, as documented, but no longer
