@@ -268,6 +268,18 @@ TEST(DualChecks, EntryPointsReadSeedsAsThePropagatorsDoAndCheckTheNerve) {
                                                      Mat3(Vec3(9, 1, 1).asDiagonal()));
   const LocalFields elsewhere = compute_local_fields(other, nerve, seeds);
   EXPECT_THROW(build_curved_dual(canvas, field, nerve, seeds, &elsewhere), Error);
+  // Local fields of the seeds in another order: the geodesics descended other seeds' distances
+  // (swirl, 5 seeds: 6 of 7 edges unreached), with no error.
+  std::vector<Vec3> swapped = seeds;
+  std::swap(swapped[0], swapped[1]);
+  const LocalFields of_swapped = compute_local_fields(canvas, nerve, swapped);
+  const std::string swapped_message =
+      test::error_of([&] { build_curved_dual(canvas, field, nerve, seeds, &of_swapped); });
+  EXPECT_NE(swapped_message.find("curved dual: the local fields were computed for other seeds "
+                                 "(seed 0 differs)"),
+            std::string::npos)
+      << swapped_message;
+  EXPECT_NO_THROW(build_curved_dual(canvas, field, nerve, swapped, &of_swapped));
 }
 
 // LocalFieldOptions are checked: a negative or huge margin sized a vector past max_size

@@ -114,6 +114,10 @@ struct LocalFields {
   // Canvas::content_hash of the canvas they were computed on (build_curved_dual refuses them on
   // another).
   std::optional<std::uint64_t> canvas_hash;
+  // The seeds they were solved for (z = 0 on a 2D canvas): build_curved_dual refuses them for
+  // other seeds, which it traced on without an error (every geodesic towards a field of another
+  // seed, most of them unreached).
+  std::vector<Vec3> seeds;
 };
 
 // Solves u_i for every seed i over its star (`nerve` gives the simplices). Throws rvor::Error

@@ -59,6 +59,15 @@ CurvedEdge trace_edge(const Canvas& canvas, const GeodesicTracer& tracer, const 
   return out;
 }
 
+// Local fields of other seeds (the same count, other places or order) gave geodesics that
+// descended towards the wrong seed's distance, with no error.
+void require_seeds_of_locals(const LocalFields& locals, const std::vector<Vec3>& seeds) {
+  for (std::size_t s = 0; s < seeds.size(); ++s)
+    if (s >= locals.seeds.size() || locals.seeds[s] != seeds[s])
+      throw Error("curved dual: the local fields were computed for other seeds (seed " +
+                  std::to_string(s) + " differs); compute them for these seeds");
+}
+
 void check_inputs(const Canvas& canvas, const VoronoiField& field, const std::vector<Vec3>& seeds,
                   const LocalFields* locals) {
   if (field.distance.size() != canvas.slot_count() || field.label.size() != canvas.slot_count())
@@ -75,6 +84,7 @@ void check_inputs(const Canvas& canvas, const VoronoiField& field, const std::ve
     throw Error(
         "curved dual: the local fields were computed on another canvas (or this one "
         "changed since)");
+  if (locals) require_seeds_of_locals(*locals, seeds);
 }
 
 // Faces need u_a beyond a's cell: only with local fields. The opposite edge of a triangle is a

@@ -399,6 +399,7 @@ static LocalFields compute_local_fields_itself(const Canvas& canvas, const Nerve
 
   LocalFields out;
   out.canvas_hash = canvas.content_hash();
+  out.seeds = seeds;
   out.fields.resize(seeds.size());
   // One seed per task: solves are independent and each is large enough to amortise a thread.
   const std::size_t to_solve = static_cast<std::size_t>(
