@@ -281,6 +281,7 @@ CurvedDual build_curved(const Canvas& canvas, const VoronoiField& field, const N
             {"unreached_faces", curved.unreached_faces},
             {"staircase_edges", curved.staircase_edges},
             {"staircase_faces", curved.staircase_faces},
+            {"straightened_edges", curved.straightened_edges},
             {"local_fields",
              {{"voxels", locals.voxels},
               {"solved_voxels", locals.solved_voxels},

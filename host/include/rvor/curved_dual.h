@@ -31,7 +31,11 @@
 // by steepest descent over voxels (a staircase), which is then pulled taut: a later point replaces
 // the points before it where a straight segment through known voxels is no longer in the metric.
 // A trace that no descent brings to its seed is reported as not reached (the polyline ends where
-// it stopped).
+// it stopped). An edge reached on both sides whose polyline is longer than the straight segment
+// between its seeds (each measured as CurvedEdge::length is, the segment on active voxels) is
+// replaced by that segment: a geodesic is the shortest path, and such a trace went astray (seeds
+// the canvas does not resolve in a fast-varying metric) or zigzags more than the geodesic bends
+// (common in 3D shock metrics at coarse resolutions; README, "Straightened edges").
 //
 // Faces (local fields only): the curved edge (b, c) is sampled every ~2 voxels of its length
 // (2 to 16 intervals); from each sample a geodesic to a is traced by descending u_a; the
@@ -64,6 +68,11 @@ struct CurvedEdge {
   // where the descent of u stalled.
   std::array<bool, 2> side_reached{false, false};
   std::array<bool, 2> side_staircase{false, false};
+  // Whether the traced polyline, reached on both sides, came out longer than the straight segment
+  // between the seeds (in the same measure, the segment on active voxels) and was replaced by it:
+  // points are then the two seeds and the segment's metric midpoint, the bisector point
+  // (CurvedDualOptions::straighten_longer_edges). The side flags above say how it was traced.
+  bool straightened = false;
   bool reached() const { return side_reached[0] && side_reached[1]; }
   bool staircase() const { return side_staircase[0] || side_staircase[1]; }
 };
@@ -88,16 +97,21 @@ struct CurvedDual {
   std::vector<CurvedFace>
       faces;  // one per nerve triangle, in its order; empty without local fields
   std::size_t unreached_edges = 0;
-  std::size_t unreached_faces = 0;  // faces with an unreached geodesic
-  std::size_t staircase_edges = 0;  // edges with a side ended by the fallback (CurvedEdge)
-  std::size_t staircase_faces = 0;  // faces with a geodesic ended so
-  bool local_fields = false;        // whether local fields were given
-  double seconds = 0.0;             // edges and faces, not the local fields
+  std::size_t unreached_faces = 0;     // faces with an unreached geodesic
+  std::size_t staircase_edges = 0;     // edges with a side ended by the fallback (CurvedEdge)
+  std::size_t staircase_faces = 0;     // faces with a geodesic ended so
+  std::size_t straightened_edges = 0;  // edges replaced by their straight segment (CurvedEdge)
+  bool local_fields = false;           // whether local fields were given
+  double seconds = 0.0;                // edges and faces, not the local fields
 };
 
 struct CurvedDualOptions {
   // Pull staircases taut (above). Off only to measure what the pulling changes.
   bool pull_staircases = true;
+  // A geodesic is the shortest path between its seeds: a traced edge longer than the straight
+  // segment between them is replaced by the segment (CurvedEdge::straightened). Off only to
+  // measure the traces themselves.
+  bool straighten_longer_edges = true;
 };
 
 // Traces every nerve edge and, with `locals` (compute_local_fields on the same canvas, field,
@@ -109,8 +123,8 @@ CurvedDual build_curved_dual(const Canvas& canvas, const VoronoiField& field, co
                              const CurvedDualOptions& options = {});
 
 // VTK .vtu of the curved edges as polylines (VTK_POLY_LINE, cell type 4). Cell data: length
-// (Float64, in the metric), reached (UInt8, 1 when both sides reached their seed), seed_a, seed_b
-// (Int32). Atomic.
+// (Float64, in the metric), reached (UInt8, 1 when both sides reached their seed), staircase,
+// straightened (UInt8, CurvedEdge), seed_a, seed_b (Int32). Atomic.
 void write_curved_dual_vtu(const std::string& path, const CurvedDual& dual);
 // Throws rvor::Error (prefixed with `where`) where an edge or face names a seed that is not one of
 // the dual's vertices, an edge's bisector index lies past its points or a face's triangle uses a
