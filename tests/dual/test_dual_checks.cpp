@@ -282,6 +282,30 @@ TEST(DualChecks, EntryPointsReadSeedsAsThePropagatorsDoAndCheckTheNerve) {
   EXPECT_NO_THROW(build_curved_dual(canvas, field, nerve, swapped, &of_swapped));
 }
 
+// The curved dual reads the field at its seeds: seeds the field was not solved for (moved by 3
+// voxels here) were traced with no error, every edge reached, under a nerve of other seeds. A
+// seed's voxel holds at most its own distance from it in a field solved for it.
+TEST(DualChecks, CurvedDualRefusesSeedsTheFieldWasNotSolvedFor) {
+  const std::unique_ptr<MetricField> metric = make_analytic_metric("swirl", 2);
+  CanvasOptions options;
+  options.resolution = 64;
+  const Canvas canvas = build_canvas(parse_domain("rect:-1,-1,1,1"), *metric, options);
+  const std::vector<Vec3> seeds{Vec3(-0.5, -0.4, 0), Vec3(0.4, 0.3, 0), Vec3(0.1, -0.6, 0),
+                                Vec3(-0.3, 0.5, 0), Vec3(0.6, -0.1, 0)};
+  const VoronoiField field = test::solve_reference(canvas, seeds);
+  const Nerve nerve = extract_nerve(canvas, field, seeds.size());
+  EXPECT_NO_THROW(build_curved_dual(canvas, field, nerve, seeds));
+  std::vector<Vec3> moved = seeds;
+  for (Vec3& s : moved) s.x() += 3 * canvas.voxel_size;
+  const LocalFields locals = compute_local_fields(canvas, nerve, moved);
+  const std::string message =
+      test::error_of([&] { build_curved_dual(canvas, field, nerve, moved, &locals); });
+  EXPECT_EQ(
+      message.rfind("curved dual: seed 0 is not one the field was solved for: its voxel (", 0), 0u)
+      << message;
+  EXPECT_NE(message.find("pass the seeds the field was solved for"), std::string::npos) << message;
+}
+
 // LocalFieldOptions are checked: a negative or huge margin sized a vector past max_size
 // (std::length_error), NaN was taken.
 TEST(DualChecks, LocalFieldOptionsOutOfRangeAreNamed) {

@@ -117,7 +117,9 @@ struct CurvedDualOptions {
 // Traces every nerve edge and, with `locals` (compute_local_fields on the same canvas, field,
 // nerve and seeds), every nerve triangle. `field` is the labeled canvas the nerve was extracted
 // from and `seeds` the propagation's seeds (label i = seeds[i]). Throws rvor::Error when the field
-// does not match the canvas, or the nerve or the local fields do not match the seeds.
+// does not match the canvas, or the nerve or the local fields do not match the seeds, or a seed's
+// voxel holds a distance larger than the seed's own from it by more than a voxel diagonal (the
+// field was solved for other seeds; seeds in another order are not detected).
 CurvedDual build_curved_dual(const Canvas& canvas, const VoronoiField& field, const Nerve& nerve,
                              const std::vector<Vec3>& seeds, const LocalFields* locals = nullptr,
                              const CurvedDualOptions& options = {});

@@ -113,6 +113,29 @@ void require_seeds_of_locals(const LocalFields& locals, const std::vector<Vec3>&
                   std::to_string(s) + " differs); compute them for these seeds");
 }
 
+// A field solved for these seeds holds, at each seed's voxel, at most that seed's own distance
+// there (the engines start a seed's voxel at it; another seed only lowers it). Seeds that are not
+// the field's (another run's, moved) were traced with no error, from a nerve of other seeds. The
+// bound allows a voxel diagonal in the metric beyond that distance, for fields not solved by an
+// engine (an exact one under a varying metric); a seed moved by a voxel or so passes.
+void require_seeds_of_field(const Canvas& canvas, const VoronoiField& field,
+                            const std::vector<Vec3>& seeds) {
+  const Vec3 diagonal = canvas.voxel_size * (canvas.dimension == 3 ? Vec3(1, 1, 1) : Vec3(1, 1, 0));
+  for (std::size_t s = 0; s < seeds.size(); ++s) {
+    const VoxelIndex v = canvas.voxel_containing(seeds[s]);
+    const auto slot = static_cast<std::size_t>(canvas.slot_of(v));  // active: checked before
+    const Mat3 G = canvas.metric_at(slot);
+    const double own = metric_length(G, canvas.world_of(slot) - seeds[s]);
+    const double bound = own + metric_length(G, diagonal);
+    if (!(field.distance[slot] <= bound))
+      throw Error("curved dual: seed " + std::to_string(s) + " is not one the field was solved " +
+                  "for: its voxel (" + std::to_string(v.i) + ", " + std::to_string(v.j) + ", " +
+                  std::to_string(v.k) + ") holds distance " + std::to_string(field.distance[slot]) +
+                  ", where the seed is " + std::to_string(own) +
+                  " away; pass the seeds the field was solved for, in its order");
+  }
+}
+
 void check_inputs(const Canvas& canvas, const VoronoiField& field, const std::vector<Vec3>& seeds,
                   const LocalFields* locals) {
   if (field.distance.size() != canvas.slot_count() || field.label.size() != canvas.slot_count())
@@ -122,6 +145,7 @@ void check_inputs(const Canvas& canvas, const VoronoiField& field, const std::ve
   // As the nerve checks it (the seeds were, by checked_dual_seeds): bad labels and NaN distances
   // gave edges and faces with no error, unreached.
   require_insertable_field(canvas, field, seeds.size(), "curved dual");
+  require_seeds_of_field(canvas, field, seeds);
   if (locals && locals->fields.size() != seeds.size())
     throw Error("curved dual: " + std::to_string(locals->fields.size()) + " local fields for " +
                 std::to_string(seeds.size()) + " seeds");
