@@ -160,17 +160,30 @@ bool looks_like_option(const std::string& word) {
   return word.size() > 1 && word[0] == '-' && !parse_decimal(word);
 }
 
+// Whether `word` stands on the command line before the sub-command's name. CLI11 gives the words
+// after "--" to the main command as well, so that its remaining() does not tell.
+bool typed_before(const std::string& word, const CLI::App& command, int argc, char** argv) {
+  for (int n = 1; n < argc; ++n) {
+    if (argv[n] == command.get_name()) return false;
+    if (argv[n] == word) return true;
+  }
+  return false;
+}
+
 // An ExtrasError's text: an unknown option, named with the option it was likely meant to be, or
 // the words no option took, in the order they were typed (CLI11's message lists them backwards).
-std::string extras_text(const CLI::App& app, const CLI::App& command) {
-  std::vector<std::string> left = app.remaining();  // before the sub-command's name
+std::string extras_text(const CLI::App& app, const CLI::App& command, int argc, char** argv) {
+  std::vector<std::string> left = app.remaining();  // before the sub-command's name, or after --
   for (const std::string& word : command.remaining()) left.push_back(word);
   for (const std::string& word : left) {
     if (!looks_like_option(word)) continue;
     const std::string meant = nearest_option(command, word);
-    if (meant == word.substr(0, word.find('=')))  // typed before the sub-command's name
-      return "option '" + meant + "' comes before the sub-command: write it after `rvor " +
-             command.get_name() + "`";
+    if (meant == word.substr(0, word.find('='))) {
+      if (typed_before(word, command, argc, argv))
+        return "option '" + meant + "' comes before the sub-command: write it after `rvor " +
+               command.get_name() + "`";
+      continue;  // after "--", which makes every later word a value: nothing was mistyped
+    }
     return "unknown option '" + word + "' for `rvor " + command.get_name() + "`" +
            (meant.empty() ? "" : " (did you mean " + meant + "?)");
   }
@@ -204,7 +217,7 @@ std::string parse_error_text(const CLI::App& app, const CLI::ParseError& error, 
   }
   // CLI11 names an ExtrasError after the command, not its kind: told apart by its type.
   std::string text = dynamic_cast<const CLI::ExtrasError*>(&error) && !chosen.empty()
-                         ? extras_text(app, *chosen[0])
+                         ? extras_text(app, *chosen[0], argc, argv)
                          : repeated_option_text(one_line(error.what()));
   if (text.size() > 200) text = text.substr(0, 200) + "...";
   const std::string help =

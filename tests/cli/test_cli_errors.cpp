@@ -733,6 +733,8 @@ TEST_F(CliErrors, AnUnknownOptionIsNamedWithTheOptionItWasLikelyMeantToBe) {
             "--resolution?)"},
            {run + "--verbose", "unknown option '--verbose' for `rvor voronoi` (see"},
            {"--rng-seed 4 " + run, "option '--rng-seed' comes before the sub-command"},
+           // After "--" an option's name is a word no option took, not one typed too early.
+           {run + "-- --out x", "unexpected arguments '--out x --out "},
            {"voronoi --domain rect:-1 -1 1 1 --random-seeds 3",
             "unexpected arguments '-1 1 1': each option takes one value"}}) {
     const CommandResult result = run_command(tool + args + " --out " + out());
