@@ -175,10 +175,14 @@ bool is_convex(const SurfaceMesh& mesh, double voxel_size) {
   for (std::size_t t = 0; t < triangles.size(); ++t)
     for (const int v : triangles[t]) around[v].push_back(static_cast<int>(t));
   // A dent of a hundredth of a voxel changes no voxel much; coordinates written with 6 digits (or
-  // stored as floats, binary STL) put the corners of a flat face that far off its plane.
+  // stored as floats, binary STL) put the corners of a flat face that far off its plane. That
+  // allowance is held to a tenth of a voxel: unbounded, it grew with the distance from the origin
+  // and passed a C-shaped prism 0.08 across at 1e5 (tolerance 0.1) as convex. A flat face rounded
+  // further off is only called non-convex, which costs the exact start time, not correctness.
   const double largest_coordinate =
       std::max(box.lo.cwiseAbs().maxCoeff(), box.hi.cwiseAbs().maxCoeff());
-  const double tolerance = std::max(0.01 * voxel_size, 1e-6 * largest_coordinate);
+  const double tolerance =
+      std::max(0.01 * voxel_size, std::min(1e-6 * largest_coordinate, 0.1 * voxel_size));
   for (const std::vector<int>& star : around) {
     std::vector<int> corners;  // of the star's faces
     for (const int face : star)

@@ -114,6 +114,31 @@ TEST(SurfaceMesh, AHighDegreeFanIsAcceptedAndAFanThroughItselfIsNot) {
   EXPECT_NE(message.find("mesh pushed intersects itself: triangle "), std::string::npos) << message;
 }
 
+// A C-shaped prism (a square 0.08 across with a slot 0.056 deep) far from the origin: the
+// allowance for rounded coordinates (1e-6 of the largest, 0.1 here) exceeded the whole shape, and
+// is_convex said yes; a convex domain starts every voxel at its straight distance to the seed.
+TEST(SurfaceMesh, ANonConvexMeshFarFromTheOriginIsNotConvex) {
+  const std::vector<std::pair<double, double>> outline = {
+      {0, 0}, {1, 0}, {1, 0.3}, {0.3, 0.3}, {0.3, 0.7}, {1, 0.7}, {1, 1}, {0, 1}};
+  for (const double offset : {0.0, 1e5}) {
+    SurfaceMesh mesh;
+    for (const double z : {0.0, 0.2})
+      for (const auto& [x, y] : outline)
+        mesh.vertices.push_back(Vec3(offset, offset, offset) + 0.08 * Vec3(x, y, z));
+    const int n = static_cast<int>(outline.size());
+    std::vector<int> bottom, top;
+    for (int i = 0; i < n; ++i) {
+      bottom.push_back(n - 1 - i);  // facing -z
+      top.push_back(n + i);
+    }
+    add_polygon(mesh, bottom);
+    add_polygon(mesh, top);
+    for (int i = 0; i < n; ++i) add_polygon(mesh, {i, (i + 1) % n, n + (i + 1) % n, n + i});
+    ASSERT_NO_THROW(require_closed(mesh, "C"));
+    EXPECT_FALSE(is_convex(mesh, 0.08 / 64)) << "offset " << offset;
+  }
+}
+
 // The ear clipping tested every corner left against each ear (9 s for this 40k-gon face); a
 // convex face is now cut without the search, into the same triangles.
 TEST(SurfaceMesh, AConvexFaceOfManyCornersIsCutAsByEarClipping) {
