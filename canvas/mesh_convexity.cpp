@@ -1,10 +1,16 @@
 // is_convex (surface_mesh.h). A closed, connected surface without self-intersections bounds one
-// solid; where that solid is locally convex at every point it is convex (Tietze's theorem). Inside
-// a face it always is; at an edge and at a vertex it is when every face around the vertex has the
-// vertex's whole star on its inner side. So the surface is oriented outward by a flood fill over
-// its edges, and every face around each vertex is tested against the vertices of that star.
+// solid, which is convex when every face's plane has all the surface's vertices on its inner
+// side: each face then lies on the boundary of the vertices' hull. The surface is oriented outward
+// by a flood fill over its edges, and every face is tested against all vertices at once (a tree
+// of boxes). The test was local (each face against the star of each of its vertices: Tietze's
+// theorem), but within a tolerance local convexity does not add up: a torus of 120k triangles
+// bends less than a hundredth of a voxel at each edge and passed as convex.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <unordered_map>
 #include <utility>
@@ -92,8 +98,8 @@ Vec3 face_normal(const SurfaceMesh& mesh, const Triangle& t) {
 }
 
 // Points in a tree of boxes, to tell whether any lies above a plane without testing each where
-// the boxes tell: testing the whole star of a vertex against each of its faces was quadratic in
-// its degree (a cone's apex of 100k triangles: minutes). A box is passed when the plane's
+// the boxes tell (every face against every vertex would be quadratic; a face of a convex surface
+// opens the few boxes its plane cuts). A box is passed when the plane's
 // function is at most the tolerance at its corners; that bound and a point's own value differ by
 // rounding, far below the tolerance.
 class PointTree {
@@ -171,9 +177,6 @@ bool is_convex(const SurfaceMesh& mesh, double voxel_size) {
   const Box box = bounds_of(mesh);
   if (signed_volume_6(mesh, triangles, 0.5 * (box.lo + box.hi)) < 0)
     for (Triangle& t : triangles) std::swap(t[1], t[2]);
-  std::vector<std::vector<int>> around(mesh.vertices.size());  // the triangles at each vertex
-  for (std::size_t t = 0; t < triangles.size(); ++t)
-    for (const int v : triangles[t]) around[v].push_back(static_cast<int>(t));
   // A dent of a hundredth of a voxel changes no voxel much; coordinates written with 6 digits (or
   // stored as floats, binary STL) put the corners of a flat face that far off its plane. That
   // allowance is held to a tenth of a voxel: unbounded, it grew with the distance from the origin
@@ -183,21 +186,22 @@ bool is_convex(const SurfaceMesh& mesh, double voxel_size) {
       std::max(box.lo.cwiseAbs().maxCoeff(), box.hi.cwiseAbs().maxCoeff());
   const double tolerance =
       std::max(0.01 * voxel_size, std::min(1e-6 * largest_coordinate, 0.1 * voxel_size));
-  for (const std::vector<int>& star : around) {
-    std::vector<int> corners;  // of the star's faces
-    for (const int face : star)
-      corners.insert(corners.end(), triangles[face].begin(), triangles[face].end());
-    std::sort(corners.begin(), corners.end());
-    corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
-    std::vector<Vec3> points;
-    for (const int x : corners) points.push_back(mesh.vertices[x]);
-    const PointTree tree(std::move(points));
-    for (const int face : star)
-      if (tree.any_above(face_normal(mesh, triangles[face]), mesh.vertices[triangles[face][0]],
-                         tolerance))
-        return false;
-  }
-  return true;
+  std::vector<bool> used(mesh.vertices.size(), false);
+  for (const Triangle& t : triangles)
+    for (const int v : t) used[v] = true;
+  std::vector<Vec3> points;
+  for (std::size_t v = 0; v < used.size(); ++v)
+    if (used[v]) points.push_back(mesh.vertices[v]);
+  const PointTree tree(std::move(points));
+  // In parallel: a convex sphere of 327k triangles took 1.7 s on one core.
+  std::atomic<bool> convex{true};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles.size()), [&](const auto& range) {
+    for (std::size_t n = range.begin(); n != range.end() && convex.load(); ++n) {
+      const Triangle& t = triangles[n];
+      if (tree.any_above(face_normal(mesh, t), mesh.vertices[t[0]], tolerance)) convex = false;
+    }
+  });
+  return convex;
 }
 
 }  // namespace rvor

@@ -32,9 +32,10 @@ void require_closed(const SurfaceMesh& mesh, const std::string& path);
 void require_no_self_intersection(const SurfaceMesh& mesh, const std::string& path);
 
 // Whether a closed surface without self-intersections (require_closed,
-// require_no_self_intersection) bounds a convex solid: it is one connected, orientable sheet,
-// convex at every edge and around every vertex, to a hundredth of `voxel_size` or the rounding
-// of 6-digit coordinates (mesh_convexity.cpp). Triangulated flat faces pass.
+// require_no_self_intersection) bounds a convex solid: it is one connected, orientable sheet and
+// every vertex lies on the inner side of every face's plane, to a hundredth of `voxel_size` or the
+// rounding of 6-digit coordinates, at most a tenth of a voxel (mesh_convexity.cpp). Triangulated
+// flat faces pass.
 bool is_convex(const SurfaceMesh& mesh, double voxel_size);
 
 // Voxels [i_begin, i_end) of the row (j, k) of an index box.

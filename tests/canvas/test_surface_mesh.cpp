@@ -139,6 +139,30 @@ TEST(SurfaceMesh, ANonConvexMeshFarFromTheOriginIsNotConvex) {
   }
 }
 
+// A torus (R = 1, r = 0.3) of 400 x 150 quads bends by about 2e-5 at each edge, below a
+// hundredth of its 64^3 voxels (4e-4): the test of each face against its vertices' stars passed
+// it as convex, and so any finely tessellated saddle or groove. A coarse one was caught.
+TEST(SurfaceMesh, AFinelyTessellatedTorusIsNotConvex) {
+  for (const int around : {40, 400}) {
+    const int across = around * 3 / 8;
+    SurfaceMesh mesh;
+    for (int i = 0; i < around; ++i)
+      for (int j = 0; j < across; ++j) {
+        const double u = 2 * M_PI * i / around, v = 2 * M_PI * j / across;
+        mesh.vertices.emplace_back((1 + 0.3 * std::cos(v)) * std::cos(u),
+                                   (1 + 0.3 * std::cos(v)) * std::sin(u), 0.3 * std::sin(v));
+      }
+    for (int i = 0; i < around; ++i)
+      for (int j = 0; j < across; ++j) {
+        const int next_i = (i + 1) % around, next_j = (j + 1) % across;
+        add_polygon(mesh, {i * across + j, next_i * across + j, next_i * across + next_j,
+                           i * across + next_j});
+      }
+    ASSERT_NO_THROW(require_closed(mesh, "torus"));
+    EXPECT_FALSE(is_convex(mesh, 2.6 / 64)) << around << " x " << across;
+  }
+}
+
 // The ear clipping tested every corner left against each ear (9 s for this 40k-gon face); a
 // convex face is now cut without the search, into the same triangles.
 TEST(SurfaceMesh, AConvexFaceOfManyCornersIsCutAsByEarClipping) {
