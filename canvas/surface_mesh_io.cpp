@@ -323,13 +323,63 @@ std::string point_text(const Vec3& p) {
   return text.str();
 }
 
+namespace {
+
+// The vertices at the ends of open edges (used by one triangle).
+std::vector<int> open_edge_vertices(const std::map<std::pair<int, int>, int>& edge_uses) {
+  std::vector<int> vertices;
+  for (const auto& [edge, uses] : edge_uses)
+    if (uses == 1) vertices.insert(vertices.end(), {edge.first, edge.second});
+  std::sort(vertices.begin(), vertices.end());
+  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+  return vertices;
+}
+
+// What lies by the open edge a-b: a vertex of another open edge inside it (a T-junction), or the
+// open-edge vertex nearest a, which a gap or an unwelded copy puts there (an OFF or OBJ written
+// from STL facets repeats every vertex). Without this the message named an edge and its
+// vertices, which hid the cause.
+std::string open_edge_cause(const SurfaceMesh& mesh,
+                            const std::map<std::pair<int, int>, int>& edge_uses, int a, int b) {
+  const Vec3 &pa = mesh.vertices[a], &pb = mesh.vertices[b];
+  const double length = (pb - pa).norm();
+  int nearest = -1;
+  double best = HUGE_VAL;
+  for (const int w : open_edge_vertices(edge_uses)) {
+    if (w == a || w == b) continue;
+    const Vec3& p = mesh.vertices[w];
+    const double along = (p - pa).dot(pb - pa) / (length * length);
+    if (along > 1e-9 && along < 1 - 1e-9 && (pa + along * (pb - pa) - p).norm() <= 1e-9 * length)
+      return "; vertex " + std::to_string(w) + " " + point_text(p) +
+             " lies inside it: a T-junction (split its triangle at that vertex)";
+    const double d = (p - pa).norm();
+    if (d < best) best = d, nearest = w;
+  }
+  if (nearest < 0) return "";
+  std::ostringstream text;
+  text.precision(3);
+  text << "; vertex " << a << " ";
+  if (best == 0)
+    text << "has the position of vertex " << nearest
+         << ", also on an open edge: the file's vertices are not merged (welded)";
+  else
+    text << "lies " << best << " from vertex " << nearest << " "
+         << point_text(mesh.vertices[nearest]) << ", the nearest vertex on another open edge"
+         << (best < 1e-3 * length ? ": a gap (merge such vertices)" : "");
+  return text.str();
+}
+
+}  // namespace
+
 void require_closed(const SurfaceMesh& mesh, const std::string& path) {
   if (mesh.triangles.empty()) throw Error("mesh file " + path + " has no triangles");
   std::map<std::pair<int, int>, int> edge_uses;
-  for (const auto& t : mesh.triangles)
+  std::map<std::pair<int, int>, int> edge_triangle;  // the first triangle along each edge
+  for (std::size_t n = 0; n < mesh.triangles.size(); ++n)
     for (int e = 0; e < 3; ++e) {
-      const int a = t[e], b = t[(e + 1) % 3];
-      ++edge_uses[{std::min(a, b), std::max(a, b)}];
+      const int a = mesh.triangles[n][e], b = mesh.triangles[n][(e + 1) % 3];
+      const std::pair<int, int> edge{std::min(a, b), std::max(a, b)};
+      if (edge_uses[edge]++ == 0) edge_triangle[edge] = static_cast<int>(n);
     }
   // Open edges (one triangle) first: an open surface is the likelier mistake.
   std::size_t open = 0, non_manifold = 0;
@@ -341,16 +391,20 @@ void require_closed(const SurfaceMesh& mesh, const std::string& path) {
   }
   if (open + non_manifold == 0) return;
   const auto* example = first_open ? first_open : first_non_manifold;
-  throw Error("mesh " + path + (first_open ? " is not closed: " : " is not manifold: ") +
-              std::to_string(open) + " edge(s) used by one triangle, " +
-              std::to_string(non_manifold) + " by more than two; e.g. the edge between vertices " +
-              std::to_string(example->first.first) + " and " +
-              std::to_string(example->first.second) +
-              " (0-based; in an STL file, in the order they first appear) from " +
-              point_text(mesh.vertices[example->first.first]) + " to " +
-              point_text(mesh.vertices[example->first.second]) + " is used by " +
-              std::to_string(example->second) +
-              " triangle(s); a mesh domain must be a closed manifold surface");
+  throw Error(
+      "mesh " + path + (first_open ? " is not closed: " : " is not manifold: ") +
+      std::to_string(open) + " edge(s) used by one triangle, " + std::to_string(non_manifold) +
+      " by more than two; e.g. the edge between vertices " + std::to_string(example->first.first) +
+      " and " + std::to_string(example->first.second) +
+      " (0-based; in an STL file, in the order they first appear) from " +
+      point_text(mesh.vertices[example->first.first]) + " to " +
+      point_text(mesh.vertices[example->first.second]) + " is used by " +
+      std::to_string(example->second) + " triangle(s), the first triangle " +
+      std::to_string(edge_triangle.at(example->first)) +
+      " (0-based, polygons counted as the triangles they are cut into)" +
+      (first_open ? open_edge_cause(mesh, edge_uses, example->first.first, example->first.second)
+                  : "") +
+      "; a mesh domain must be a closed manifold surface");
 }
 
 Box bounds_of(const SurfaceMesh& mesh) {

@@ -57,6 +57,46 @@ TEST(SurfaceMesh, OpenMeshIsRejected) {
   EXPECT_NE(message.find("4 edge(s) used by one triangle"), std::string::npos) << message;
 }
 
+// A unit cube of 12 triangles, to be opened in the ways meshes arrive open.
+SurfaceMesh unit_cube() {
+  SurfaceMesh mesh;
+  for (int i = 0; i < 8; ++i) mesh.vertices.emplace_back(i & 1, (i >> 1) & 1, (i >> 2) & 1);
+  mesh.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                    {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  return mesh;
+}
+
+// An open surface's message named an edge and its ends only; it now says why the edge is open
+// where it can tell: vertices repeated at one position (an OFF or OBJ written from STL facets), a
+// vertex inside the edge (a T-junction), a vertex a hair away (a gap), and names a triangle.
+TEST(SurfaceMesh, AnOpenEdgeMessageSaysWhyTheEdgeIsOpen) {
+  SurfaceMesh unwelded = unit_cube();
+  unwelded.vertices.push_back(unwelded.vertices[0]);
+  unwelded.triangles[0][0] = 8;
+  std::string message = error_of([&] { require_closed(unwelded, "u.off"); });
+  EXPECT_NE(message.find("has the position of vertex 8, also on an open edge: the file's vertices "
+                         "are not merged (welded)"),
+            std::string::npos)
+      << message;
+  EXPECT_NE(message.find("the first triangle 4 "), std::string::npos) << message;
+
+  SurfaceMesh gap = unwelded;
+  gap.vertices[8] += Vec3(1e-9, 1e-9, 1e-9);
+  message = error_of([&] { require_closed(gap, "g.off"); });
+  EXPECT_NE(message.find("lies 1.73e-09 from vertex 8 (1e-09, 1e-09, 1e-09), the nearest vertex "
+                         "on another open edge: a gap"),
+            std::string::npos)
+      << message;
+
+  SurfaceMesh junction = unit_cube();
+  junction.vertices.emplace_back(0.5, 0, 0);  // splits the front face's edge 0-1, not the bottom's
+  junction.triangles[4] = {0, 8, 4};
+  junction.triangles.push_back({8, 1, 4});
+  message = error_of([&] { require_closed(junction, "t.off"); });
+  EXPECT_NE(message.find("vertex 8 (0.5, 0, 0) lies inside it: a T-junction"), std::string::npos)
+      << message;
+}
+
 // Two closed tetrahedra sharing an edge: every edge has an even use count, but that one has four.
 TEST(SurfaceMesh, NonManifoldEdgeIsRejectedAsSuch) {
   TempDir dir;
