@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "surface_mesh.h"
@@ -66,14 +67,38 @@ class SlabCrossings {
         std::max(k0_, static_cast<int>(std::ceil(std::min({a.yz.y(), b.yz.y(), c.yz.y()}))));
     const int k1 =
         std::min(k1_ - 1, static_cast<int>(std::floor(std::max({a.yz.y(), b.yz.y(), c.yz.y()}))));
-    for (int k = k0; k <= k1; ++k)
-      for (int j = j0; j <= j1; ++j) {
+    for (int k = k0; k <= k1; ++k) {
+      const auto [row_j0, row_j1] = row_span(a.yz, b.yz, c.yz, k);
+      for (int j = std::max(j0, row_j0); j <= std::min(j1, row_j1); ++j) {
         const Point2 q(j, k);
         if (side(a.yz, b.yz, q) != expected || side(b.yz, c.yz, q) != expected ||
             side(c.yz, a.yz, q) != expected)
           continue;
         row(j, k).push_back(crossing_x(a, b, c, q, area));
       }
+    }
+  }
+
+  // The j's of row k that may lie in the (y, z) triangle u v w: between its edges' crossings
+  // with z = k, widened by a voxel against their rounding (the exact side tests decide). The whole
+  // bounding box was tested before: a fan of 200k slivers across a cylinder's end took 12 s at
+  // 512^3 for an area of a few thousand rows.
+  static std::pair<int, int> row_span(const Point2& u, const Point2& v, const Point2& w, int k) {
+    double lo = HUGE_VAL, hi = -HUGE_VAL;
+    for (const auto& [p, q] : {std::pair{u, v}, std::pair{v, w}, std::pair{w, u}}) {
+      if (std::min(p.y(), q.y()) > k || std::max(p.y(), q.y()) < k) continue;
+      if (p.y() == q.y()) {  // along the row
+        lo = std::min({lo, p.x(), q.x()});
+        hi = std::max({hi, p.x(), q.x()});
+        continue;
+      }
+      const double y = p.x() + (k - p.y()) / (q.y() - p.y()) * (q.x() - p.x());
+      lo = std::min(lo, y);
+      hi = std::max(hi, y);
+    }
+    if (!(lo <= hi)) return {0, -1};
+    return {static_cast<int>(std::max(-1e9, std::floor(lo) - 1)),
+            static_cast<int>(std::min(1e9, std::ceil(hi) + 1))};
   }
 
   // Where the ray through q meets the triangle, which holds it: barycentric interpolation of the

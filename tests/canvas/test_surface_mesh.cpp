@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -201,6 +202,37 @@ TEST(SurfaceMesh, AFinelyTessellatedTorusIsNotConvex) {
     ASSERT_NO_THROW(require_closed(mesh, "torus"));
     EXPECT_FALSE(is_convex(mesh, 2.6 / 64)) << around << " x " << across;
   }
+}
+
+// A cylinder along x whose ends are fans of 20k slivers from their centres, 600 voxels in radius:
+// the voxelizer tested every (j, k) of each sliver's bounding box (about 7e4 each, 3e9 in all:
+// 20 s here), and now only the rows' spans between its edges (0.2 s).
+TEST(SurfaceMesh, AFanOfSliversIsVoxelizedByItsRowsNotItsBoundingBoxes) {
+  constexpr int kRim = 20000;
+  constexpr double kRadius = 600;
+  SurfaceMesh mesh;
+  mesh.vertices = {Vec3(0, 0, 0), Vec3(4, 0, 0)};
+  for (const double x : {0.0, 4.0})
+    for (int i = 0; i < kRim; ++i) {
+      const double angle = 2 * M_PI * i / kRim;
+      mesh.vertices.emplace_back(x, kRadius * std::cos(angle), kRadius * std::sin(angle));
+    }
+  for (int i = 0; i < kRim; ++i) {
+    const int next = (i + 1) % kRim;
+    mesh.triangles.push_back({0, 2 + next, 2 + i});
+    mesh.triangles.push_back({1, 2 + kRim + i, 2 + kRim + next});
+    add_polygon(mesh, {2 + i, 2 + next, 2 + kRim + next, 2 + kRim + i});
+  }
+  ASSERT_NO_THROW(require_closed(mesh, "cylinder"));
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<VoxelRun> runs =
+      inside_runs(mesh, Vec3(0.5, -kRadius + 0.5, -kRadius + 0.5), 1.0, {4, 1200, 1200});
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_LT(seconds, 3.0);
+  double voxels = 0;
+  for (const VoxelRun& run : runs) voxels += run.i_end - run.i_begin;
+  EXPECT_NEAR(voxels, 4 * M_PI * kRadius * kRadius, 1e-3 * voxels);
 }
 
 // The ear clipping tested every corner left against each ear (9 s for this 40k-gon face); a
