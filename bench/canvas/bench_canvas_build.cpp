@@ -2,7 +2,8 @@
 // metric sampled and checked at every voxel, and the canvas's content hash. Active voxels per
 // second, for a uniform field (stored once, the canvas's uniform form) and for varying ones
 // (a tensor per voxel). And the checks of a mesh domain on a double cone, whose two fans made
-// them quadratic in the fan's size.
+// them quadratic in the fan's size; and the voxelisation of a cylinder whose ends are fans of
+// slivers, which tested every voxel of each sliver's bounding box.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -18,6 +19,7 @@
 #include "rvor/canvas_builder.h"
 #include "rvor/domain.h"
 #include "rvor/metric_field.h"
+#include "surface_mesh.h"
 
 namespace {
 
@@ -81,6 +83,36 @@ void BM_MeshDomainChecks(benchmark::State& state) {
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * 2 * rim);
 }
 
+// A cylinder along x, radius `radius` voxels and 4 long, its two ends fans of `rim` slivers.
+rvor::SurfaceMesh sliver_fan_cylinder(int rim, double radius) {
+  rvor::SurfaceMesh mesh;
+  mesh.vertices = {rvor::Vec3(0, 0, 0), rvor::Vec3(4, 0, 0)};
+  for (const double x : {0.0, 4.0})
+    for (int i = 0; i < rim; ++i)
+      mesh.vertices.emplace_back(x, radius * std::cos(2 * M_PI * i / rim),
+                                 radius * std::sin(2 * M_PI * i / rim));
+  for (int i = 0; i < rim; ++i) {
+    const int next = (i + 1) % rim;
+    mesh.triangles.push_back({0, 2 + next, 2 + i});
+    mesh.triangles.push_back({1, 2 + rim + i, 2 + rim + next});
+    rvor::add_polygon(mesh, {2 + i, 2 + next, 2 + rim + next, 2 + rim + i});
+  }
+  return mesh;
+}
+
+// inside_runs alone on the sliver fans, 4 x 1200 x 1200 voxels (the canvas's other checks would
+// outweigh it). Items: triangles. Each sliver tested its whole (y, z) bounding box: 18 s at a rim
+// of 20 000 before the rows between its edges were taken instead.
+void BM_VoxelizeSliverFans(benchmark::State& state) {
+  const int rim = static_cast<int>(state.range(0));
+  const double radius = 600;
+  const rvor::SurfaceMesh mesh = sliver_fan_cylinder(rim, radius);
+  const rvor::Vec3 origin(0.5, 0.5 - radius, 0.5 - radius);
+  for (auto _ : state)
+    benchmark::DoNotOptimize(rvor::inside_runs(mesh, origin, 1.0, {4, 1200, 1200}));
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * mesh.triangles.size()));
+}
+
 }  // namespace
 
 BENCHMARK(BM_BuildCanvas)->DenseRange(0, 3)->Unit(benchmark::kMillisecond)->UseRealTime();
@@ -88,5 +120,10 @@ BENCHMARK(BM_MeshDomainChecks)
     ->Arg(5000)
     ->Arg(20000)
     ->Arg(100000)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_VoxelizeSliverFans)
+    ->Arg(2000)
+    ->Arg(20000)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();

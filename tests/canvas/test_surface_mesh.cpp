@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -206,8 +205,9 @@ TEST(SurfaceMesh, AFinelyTessellatedTorusIsNotConvex) {
 
 // A cylinder along x whose ends are fans of 20k slivers from their centres, 600 voxels in radius:
 // the voxelizer tested every (j, k) of each sliver's bounding box (about 7e4 each, 3e9 in all:
-// 20 s here), and now only the rows' spans between its edges (0.2 s).
-TEST(SurfaceMesh, AFanOfSliversIsVoxelizedByItsRowsNotItsBoundingBoxes) {
+// 20 s here), and now only the rows' spans between its edges (0.2 s). The spans must still hold
+// every voxel the slivers cover: the cylinder's volume in voxels.
+TEST(SurfaceMesh, AFanOfSliversIsVoxelizedToTheCylindersVolume) {
   constexpr int kRim = 20000;
   constexpr double kRadius = 600;
   SurfaceMesh mesh;
@@ -224,12 +224,9 @@ TEST(SurfaceMesh, AFanOfSliversIsVoxelizedByItsRowsNotItsBoundingBoxes) {
     add_polygon(mesh, {2 + i, 2 + next, 2 + kRim + next, 2 + kRim + i});
   }
   ASSERT_NO_THROW(require_closed(mesh, "cylinder"));
-  const auto start = std::chrono::steady_clock::now();
+  // The time is measured by bench_canvas_build (BM_VoxelizeSliverFans), not here.
   const std::vector<VoxelRun> runs =
       inside_runs(mesh, Vec3(0.5, -kRadius + 0.5, -kRadius + 0.5), 1.0, {4, 1200, 1200});
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  EXPECT_LT(seconds, 3.0);
   double voxels = 0;
   for (const VoxelRun& run : runs) voxels += run.i_end - run.i_begin;
   EXPECT_NEAR(voxels, 4 * M_PI * kRadius * kRadius, 1e-3 * voxels);
