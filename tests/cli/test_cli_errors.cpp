@@ -911,6 +911,35 @@ TEST_F(CliErrors, UnusablePoclCacheDirectoriesAreNamed) {
   }
 }
 
+// Where POCL_CACHE_DIR is unset PoCL keeps its kernels under $XDG_CACHE_HOME or $HOME (a service
+// account's /nonexistent, a file) and lists no device when it cannot make that directory; a stale
+// POCL_DEVICES or OCL_ICD_VENDORS empties the list too. The error said only "devices found: none".
+TEST_F(CliErrors, AnEmptyDeviceListNamesPoclsDefaultCacheAndTheDiscoveryVariables) {
+  if (list_opencl_devices().empty()) GTEST_SKIP() << "no OpenCL device";
+  const std::string file = dir.file("home-is-a-file");
+  write_text(file, "x\n");
+  const std::string run = voronoi("--domain rect:-1,-1,1,1 --resolution 16 --random-seeds 3");
+  const CommandResult home =
+      run_command("env -u POCL_CACHE_DIR -u XDG_CACHE_HOME HOME=" + file + " " + run);
+  EXPECT_EQ(home.exit_code, 1) << "stderr: " << home.err;
+  EXPECT_EQ(home.err.find('\n'), home.err.size() - 1) << "more than one line: " << home.err;
+  EXPECT_NE(home.err.find("PoCL's kernel cache " + file +
+                          "/.cache/pocl/kcache (from HOME) is not a writable directory"),
+            std::string::npos)
+      << home.err;
+  EXPECT_NE(home.err.find("set POCL_CACHE_DIR to a writable directory"), std::string::npos)
+      << home.err;
+  const CommandResult xdg = run_command("env -u POCL_CACHE_DIR XDG_CACHE_HOME=" + file + " " + run);
+  EXPECT_NE(xdg.err.find(file + "/pocl/kcache (from XDG_CACHE_HOME)"), std::string::npos)
+      << xdg.err;
+  const CommandResult devices = run_command("POCL_DEVICES=no-such-kind " + run);
+  EXPECT_EQ(devices.exit_code, 1) << "stderr: " << devices.err;
+  EXPECT_NE(devices.err.find("devices found: none; set in the environment: "
+                             "POCL_DEVICES=no-such-kind"),
+            std::string::npos)
+      << devices.err;
+}
+
 bool has_pocl_device() {
   const std::vector<OpenCLDeviceInfo> devices = list_opencl_devices();
   return std::any_of(devices.begin(), devices.end(), [](const OpenCLDeviceInfo& device) {

@@ -10,6 +10,7 @@
 #include <map>
 #include <mutex>
 #include <tuple>
+#include <utility>
 
 #include "rvor/devices.h"
 #include "rvor/error.h"
@@ -61,16 +62,47 @@ void refuse_empty_pocl_cache_dir() {
         "writable directory for PoCL's compiled kernels");
 }
 
-// "; POCL_CACHE_DIR=... is not a writable directory ..." when it is set to a path PoCL cannot use,
-// else "". Called once something failed: a missing directory is created, as PoCL would have.
+// The directory PoCL keeps its compiled kernels in, and what chose it (PoCL 3.1's
+// pocl_cache_init_topdir): POCL_CACHE_DIR, else $XDG_CACHE_HOME/pocl/kcache, else
+// $HOME/.cache/pocl/kcache, else /tmp/pocl/kcache. A service account's home (/nonexistent) or a
+// /tmp/pocl another user made leaves PoCL with no device, as a bad POCL_CACHE_DIR does.
+std::pair<std::string, std::string> pocl_cache_dir() {
+  if (const char* value = std::getenv("POCL_CACHE_DIR"); value && *value)
+    return {value, "POCL_CACHE_DIR=" + std::string(value)};
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg)
+    return {std::string(xdg) + "/pocl/kcache",
+            "PoCL's kernel cache " + std::string(xdg) + "/pocl/kcache (from XDG_CACHE_HOME)"};
+  if (const char* home = std::getenv("HOME"))
+    return {std::string(home) + "/.cache/pocl/kcache",
+            "PoCL's kernel cache " + std::string(home) + "/.cache/pocl/kcache (from HOME)"};
+  return {"/tmp/pocl/kcache", "PoCL's kernel cache /tmp/pocl/kcache (HOME is unset)"};
+}
+
+// "; POCL_CACHE_DIR=... is not a writable directory ..." when PoCL's cache directory (set or its
+// default) is one it cannot use, else "". Called once something failed: a missing directory is
+// created, as PoCL would have.
 std::string pocl_cache_problem() {
-  const char* value = std::getenv("POCL_CACHE_DIR");
-  if (!value || !*value) return "";
+  const auto [path, named] = pocl_cache_dir();
   std::error_code error;
-  std::filesystem::create_directories(value, error);
-  if (std::filesystem::is_directory(value, error) && access(value, W_OK | X_OK) == 0) return "";
-  return std::string("; POCL_CACHE_DIR=") + value +
-         " is not a writable directory, and PoCL needs one for its compiled kernels";
+  std::filesystem::create_directories(path, error);
+  if (std::filesystem::is_directory(path, error) && access(path.c_str(), W_OK | X_OK) == 0)
+    return "";
+  const bool set = named.rfind("POCL_CACHE_DIR=", 0) == 0;
+  return "; " + named +
+         " is not a writable directory, and PoCL needs one for its compiled kernels" +
+         (set ? "" : " (set POCL_CACHE_DIR to a writable directory)");
+}
+
+// "; set in the environment: POCL_DEVICES=basic, ..." for the variables that steer which
+// platforms and devices the ICD loader and PoCL offer, where no device was found: a stale one
+// empties the list with no other sign.
+std::string discovery_variables() {
+  std::string text;
+  for (const char* name :
+       {"OCL_ICD_VENDORS", "OCL_ICD_FILENAMES", "OPENCL_VENDOR_PATH", "POCL_DEVICES"})
+    if (const char* value = std::getenv(name))
+      text += std::string(text.empty() ? "; set in the environment: " : ", ") + name + "=" + value;
+  return text;
 }
 
 std::vector<cl::Platform> platforms_or_none() {
@@ -142,7 +174,8 @@ Device select_device(const std::string& name) {
   const Device* device = find_device(devices, name);
   if (!device)
     throw Error("no OpenCL device matches '" + name + "'" + kFallbackHint +
-                "; OpenCL devices found:" + list_for_message(devices) + pocl_cache_problem());
+                "; OpenCL devices found:" + list_for_message(devices) +
+                (devices.empty() ? discovery_variables() : "") + pocl_cache_problem());
   if (!device->info.missing_requirement.empty())
     throw Error("OpenCL device '" + device->info.name +
                 "' cannot run rvor's kernels: " + device->info.missing_requirement + kFallbackHint);
