@@ -5,6 +5,7 @@
 #include <sys/syscall.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <climits>
 #include <cstring>
@@ -21,6 +22,10 @@ constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP};
 char staging_path[PATH_MAX];
 char created_paths[InterruptCleanup::kMostCreatedFolders][PATH_MAX];  // innermost first
 volatile sig_atomic_t created_count = 0;
+volatile sig_atomic_t armed = 0;  // an InterruptCleanup is live: the paths above are its
+// report_aborts()'s line, "rvor: error: ...\n", written by the SIGABRT handler.
+char abort_message[2048];
+std::size_t abort_message_size = 0;
 struct sigaction previous[sizeof kSignals / sizeof *kSignals];
 // hold(): a signal is kept in `pending` rather than acted on. (sigprocmask would block it for the
 // calling thread only, and PoCL's and TBB's threads can take it.)
@@ -32,16 +37,9 @@ std::atomic_flag cleaning = ATOMIC_FLAG_INIT;  // lock-free, so a handler may us
 // (8 bytes each), the record's length (2), the entry's type (1), then its name.
 constexpr int kRecordLengthAt = 16, kNameAt = 19;
 
-// Only async-signal-safe calls: open, getdents64, unlinkat, close, rmdir, write, sigaction, raise.
-void remove_staging_and_die(int signal_number) {
-  if (holding) {
-    pending = signal_number;
-    return;
-  }
-  // `timeout` signals the process and then its group: the second signal can reach another thread
-  // while the first cleans, and must wait for it rather than kill the process midway.
-  if (cleaning.test_and_set())
-    for (;;) pause();
+// Only async-signal-safe calls: open, getdents64, unlinkat, close, rmdir.
+void remove_staging() {
+  if (!armed) return;
   const int dir = open(staging_path, O_RDONLY | O_DIRECTORY);
   if (dir >= 0) {
     alignas(8) char buffer[4096];
@@ -57,10 +55,27 @@ void remove_staging_and_die(int signal_number) {
     rmdir(staging_path);
   }
   for (int n = 0; n < created_count; ++n) rmdir(created_paths[n]);  // only when empty
+}
+
+void write_to_stderr(const char* text, std::size_t size) {
+  [[maybe_unused]] const ssize_t written =  // nothing more to do where stderr is gone
+      write(STDERR_FILENO, text, size);
+}
+
+// Only async-signal-safe calls: those of remove_staging, write, sigaction, raise.
+void remove_staging_and_die(int signal_number) {
+  if (holding) {
+    pending = signal_number;
+    return;
+  }
+  // `timeout` signals the process and then its group: the second signal can reach another thread
+  // while the first cleans, and must wait for it rather than kill the process midway.
+  if (cleaning.test_and_set())
+    for (;;) pause();
+  remove_staging();
   if (progress_line_open) {
     constexpr char kInterrupted[] = " interrupted\n";
-    [[maybe_unused]] const ssize_t written =  // nothing more to do where stderr is gone
-        write(STDERR_FILENO, kInterrupted, sizeof kInterrupted - 1);
+    write_to_stderr(kInterrupted, sizeof kInterrupted - 1);
   }
   // Death by this signal, as without the handler: the default action, pending until the handler
   // returns (the signal is blocked while it runs).
@@ -68,6 +83,20 @@ void remove_staging_and_die(int signal_number) {
   default_action.sa_handler = SIG_DFL;
   sigaction(signal_number, &default_action, nullptr);
   raise(signal_number);
+}
+
+// Only async-signal-safe calls: those of remove_staging, write, _exit. A second abort (another
+// thread's) waits for the first, which ends the process.
+void report_abort_and_exit(int) {
+  if (cleaning.test_and_set())
+    for (;;) pause();
+  if (!holding) remove_staging();  // while publishing, the set may be half moved: left to the user
+  if (progress_line_open) {
+    constexpr char kFailed[] = " failed\n";
+    write_to_stderr(kFailed, sizeof kFailed - 1);
+  }
+  write_to_stderr(abort_message, abort_message_size);
+  _exit(1);
 }
 
 // record_ignored_signals(): which of kSignals were ignored when the process started.
@@ -79,6 +108,23 @@ void copy_path(const std::string& path, char (&into)[PATH_MAX]) {
 }
 
 }  // namespace
+
+void report_aborts(const std::string& message) {
+  const std::string line = "rvor: error: " + message + "\n";
+  abort_message_size = std::min(line.size(), sizeof abort_message - 1);
+  std::memcpy(abort_message, line.data(), abort_message_size);
+  abort_message[abort_message_size - 1] = '\n';  // also where the message was cut
+  keep_reporting_aborts();
+}
+
+void keep_reporting_aborts() {
+  if (abort_message_size == 0) return;  // report_aborts() was not called
+  struct sigaction action {};
+  action.sa_handler = report_abort_and_exit;
+  sigemptyset(&action.sa_mask);
+  for (int s : kSignals) sigaddset(&action.sa_mask, s);  // not an interrupt's cleanup as well
+  sigaction(SIGABRT, &action, nullptr);
+}
 
 void set_progress_line_open(bool open) {
   progress_line_open = open ? 1 : 0;
@@ -100,6 +146,8 @@ InterruptCleanup::InterruptCleanup(const std::string& staging,
     copy_path(*folder, created_paths[created_count++]);
   holding = pending = 0;
   cleaning.clear();
+  armed = 1;
+  keep_reporting_aborts();  // the OpenCL device has been looked up: LLVM's handler is in its place
   struct sigaction action {};
   action.sa_handler = remove_staging_and_die;
   sigemptyset(&action.sa_mask);
@@ -118,6 +166,7 @@ void InterruptCleanup::hold() {
 }
 
 InterruptCleanup::~InterruptCleanup() {
+  armed = 0;
   for (std::size_t n = 0; n < sizeof kSignals / sizeof *kSignals; ++n)
     sigaction(kSignals[n], &previous[n], nullptr);
   if (pending != 0) raise(pending);  // held during publication: acted on now, as its old handler

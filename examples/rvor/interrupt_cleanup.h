@@ -12,6 +12,15 @@ namespace rvor::cli {
 // starts, and a run under nohup then died of the terminal's SIGHUP. Call first in main().
 void record_ignored_signals();
 
+// An abort (SIGABRT: PoCL's assertions and its failed dlopen of a damaged kernel cache's .so, which
+// left exit 134, PoCL's lines and the staging directory behind) removes what an interrupt does,
+// ends the open progress line with " failed", prints `message` as rvor's one error line and exits
+// with code 1. Call once in main(), before OpenCL starts.
+void report_aborts(const std::string& message);
+// Puts report_aborts()'s handler back: PoCL's LLVM installs its own for SIGABRT (which prints and
+// dies) when OpenCL lists its devices. Call after that; InterruptCleanup calls it.
+void keep_reporting_aborts();
+
 // Whether a progress line is open on stderr (Progress sets it): a run stopped by a signal ends it
 // with " interrupted", so that the shell's prompt does not land on it.
 void set_progress_line_open(bool open);

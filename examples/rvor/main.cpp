@@ -7,6 +7,7 @@
 
 #include "commands.h"
 #include "interrupt_cleanup.h"
+#include "rvor/devices.h"
 #include "rvor/input_file.h"
 #include "rvor/spec_text.h"
 #include "terminal.h"
@@ -16,6 +17,10 @@ int main(int argc, char** argv) {
   // Past a file size limit the kernel sends SIGXFSZ, whose default kills the process: ignored, the
   // write fails with EFBIG and the writer reports it, naming the file.
   std::signal(SIGXFSZ, SIG_IGN);
+  rvor::cli::report_aborts(rvor::printable_text(
+      "the run aborted in a library it calls (its own message is above); PoCL aborts so on a "
+      "damaged kernel cache: remove PoCL's, " +
+      rvor::pocl_kernel_cache_directory() + ", and run again, or use --device cpu"));
   rvor::set_fifo_wait_notice(rvor::cli::print_fifo_wait);
   CLI::App app{"rvor: Riemannian Voronoi diagrams and Delaunay duals on sparse canvases"};
   app.require_subcommand(1);

@@ -320,8 +320,11 @@ CLI::Option* add_device_option(CLI::App* command, std::string& device,
 }
 
 void require_chosen_device(const CLI::Option* option, const std::string& device) {
-  if (option->count() > 0) return require_device(device);
-  with_default_device([](const std::string& name) { require_device(name); });
+  if (option->count() > 0)
+    require_device(device);
+  else
+    with_default_device([](const std::string& name) { require_device(name); });
+  keep_reporting_aborts();  // OpenCL, started by the look-up, has put LLVM's SIGABRT handler in
 }
 
 // Beyond this many updates per voxel the summary suggests the reference: the standard cases make

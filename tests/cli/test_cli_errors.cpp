@@ -947,6 +947,48 @@ bool has_pocl_device() {
   });
 }
 
+// A damaged PoCL kernel cache: an empty program.bc reads back as a program without kernels (the
+// error was CL_INVALID_KERNEL_NAME alone), a garbled one fails PoCL's assertion, and garbled kernel
+// .so files its dlopen, both of which aborted rvor (exit 134, its staging directory left). Now each
+// ends with one rvor error line naming the cache to remove, exit code 1, and no output folders.
+TEST_F(CliErrors, ADamagedPoclKernelCacheIsNamedAndAbortsBecomeErrors) {
+  if (!has_pocl_device()) GTEST_SKIP() << "no PoCL device";
+  const std::string cache = dir.file("pocl-cache");
+  const std::string run = "POCL_CACHE_DIR=" + cache + " " + rvor_binary() +
+                          " voronoi --quiet --device pocl --domain rect:-1,-1,1,1 --resolution 16 "
+                          "--random-seeds 3 --out ";
+  ASSERT_EQ(run_command(run + dir.file("warm")).exit_code, 0) << "filling the cache";
+  struct Case {
+    const char* damage;  // to each matching file of the cache
+    const char* files;
+    const char* expected;
+  };
+  for (const Case c :
+       {Case{"truncate -s 0", "program.bc", "the compiled program lacks rvor's kernels"},
+        Case{"sh -c 'head -c 2000 /dev/urandom >\"$0\"'", "program.bc", "the run aborted"},
+        Case{"sh -c 'head -c 100 /dev/urandom >\"$0\"'", "*.so", "the run aborted"}}) {
+    const std::string copy = dir.file("damaged");
+    ASSERT_EQ(run_command("rm -rf " + copy + " && cp -a " + cache + " " + copy + " && find " +
+                          copy + " -name '" + c.files + "' -exec " + c.damage + " {} \\;")
+                  .exit_code,
+              0);
+    const std::string made = dir.file("made");
+    const CommandResult result = run_command("POCL_CACHE_DIR=" + copy + " " + rvor_binary() +
+                                             " voronoi --quiet --device pocl --domain "
+                                             "rect:-1,-1,1,1 --resolution 16 --random-seeds 3 "
+                                             "--out " +
+                                             made + "/out");
+    EXPECT_EQ(result.exit_code, 1) << c.files << ": " << result.err;
+    const std::size_t last = result.err.rfind('\n', result.err.size() - 2);
+    const std::string last_line = result.err.substr(last == std::string::npos ? 0 : last + 1);
+    EXPECT_EQ(last_line.rfind("rvor: error: ", 0), 0u) << result.err;
+    EXPECT_NE(last_line.find(c.expected), std::string::npos) << result.err;
+    EXPECT_NE(last_line.find("remove PoCL's, " + copy + ", and run again"), std::string::npos)
+        << result.err;
+    EXPECT_FALSE(std::filesystem::exists(made)) << c.files << ": " << result.err;
+  }
+}
+
 // A canvas too big for the device is refused before the solve with the sizes, not a failure at a
 // later command. POCL_MEMORY_LIMIT=1 gives PoCL's device 1 GiB, buffers up to 256 MiB; the stencil
 // records of radial_shock_3d at 224^3 (28 B for each of 11.2M slots) need 300.1 MiB.

@@ -30,6 +30,11 @@ struct OpenCLDeviceInfo {
 // Every device of every OpenCL platform (empty when there is no OpenCL runtime or platform).
 std::vector<OpenCLDeviceInfo> list_opencl_devices();
 
+// The directory PoCL keeps its compiled kernels in: $POCL_CACHE_DIR, else
+// $XDG_CACHE_HOME/pocl/kcache, else $HOME/.cache/pocl/kcache, else /tmp/pocl/kcache. Named in
+// errors, since a damaged one fails (or aborts) runs that its removal mends.
+std::string pocl_kernel_cache_directory();
+
 // The device name for library users: $RVOR_DEVICE when set and non-empty, else "auto".
 std::string default_device_name();
 // Whether default_device_name() is $RVOR_DEVICE's value.

@@ -275,9 +275,24 @@ std::string status_name(cl_int status) {
   return found != names.end() ? found->second : "OpenCL status " + std::to_string(status);
 }
 
+namespace {
+
+// A program that built yet lacks its kernels, or whose binary is unusable, comes from a damaged
+// kernel cache (PoCL reads a truncated program.bc back as a program without kernels): the source
+// is embedded in rvor, so its kernel names are right.
+std::string damaged_cache_hint(cl_int status) {
+  if (status != CL_INVALID_KERNEL_NAME && status != CL_INVALID_PROGRAM_EXECUTABLE) return "";
+  return "; the compiled program lacks rvor's kernels, as one read back from a damaged kernel "
+         "cache does: remove PoCL's, " +
+         pocl_cache_dir().first + ", and run again";
+}
+
+}  // namespace
+
 void throw_opencl_error(const cl::Error& error, const std::string& doing) {
   throw Error(std::string("OpenCL call ") + error.what() + " failed: " + status_name(error.err()) +
-              " (" + std::to_string(error.err()) + ") while " + doing);
+              " (" + std::to_string(error.err()) + ") while " + doing +
+              damaged_cache_hint(error.err()));
 }
 
 }  // namespace rvor::opencl
@@ -298,6 +313,10 @@ void check_device_name(const std::string& name) {
 
 void require_device(const std::string& name) {
   if (name != "cpu") opencl::select_device(name);
+}
+
+std::string pocl_kernel_cache_directory() {
+  return opencl::pocl_cache_dir().first;
 }
 
 std::vector<OpenCLDeviceInfo> list_opencl_devices() {
