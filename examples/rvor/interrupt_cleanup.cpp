@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <atomic>
 #include <climits>
+#include <cstdlib>
 #include <cstring>
 
 #include "rvor/error.h"
@@ -23,9 +24,9 @@ char staging_path[PATH_MAX];
 char created_paths[InterruptCleanup::kMostCreatedFolders][PATH_MAX];  // innermost first
 volatile sig_atomic_t created_count = 0;
 volatile sig_atomic_t armed = 0;  // an InterruptCleanup is live: the paths above are its
-// report_aborts()'s line, "rvor: error: ...\n", written by the SIGABRT handler.
-char abort_message[2048];
-std::size_t abort_message_size = 0;
+// report_aborts()'s lines, "rvor: error: ...\n", written by the SIGABRT handler and at exit().
+char abort_message[2048], exit_message[2048];
+std::size_t abort_message_size = 0, exit_message_size = 0;
 struct sigaction previous[sizeof kSignals / sizeof *kSignals];
 // hold(): a signal is kept in `pending` rather than acted on. (sigprocmask would block it for the
 // calling thread only, and PoCL's and TBB's threads can take it.)
@@ -109,11 +110,35 @@ void copy_path(const std::string& path, char (&into)[PATH_MAX]) {
 
 }  // namespace
 
-void report_aborts(const std::string& message) {
+namespace {
+
+std::size_t copy_error_line(const std::string& message, char (&into)[2048]) {
   const std::string line = "rvor: error: " + message + "\n";
-  abort_message_size = std::min(line.size(), sizeof abort_message - 1);
-  std::memcpy(abort_message, line.data(), abort_message_size);
-  abort_message[abort_message_size - 1] = '\n';  // also where the message was cut
+  const std::size_t size = std::min(line.size(), sizeof into - 1);
+  std::memcpy(into, line.data(), size);
+  into[size - 1] = '\n';  // also where the message was cut
+  return size;
+}
+
+// At exit() (LLVM's fatal errors, "LLVM ERROR: IO failure on output stream: No space left on
+// device" from PoCL's compiler, call it with code 1): a run still under way cleans up as for an
+// abort; a run that ended normally has destroyed its InterruptCleanup, and this does nothing.
+void report_exit_midrun() {
+  if (!armed || holding || cleaning.test_and_set()) return;
+  remove_staging();
+  if (progress_line_open) {
+    constexpr char kFailed[] = " failed\n";
+    write_to_stderr(kFailed, sizeof kFailed - 1);
+  }
+  write_to_stderr(exit_message, exit_message_size);
+}
+
+}  // namespace
+
+void report_aborts(const std::string& on_abort, const std::string& on_exit) {
+  abort_message_size = copy_error_line(on_abort, abort_message);
+  exit_message_size = copy_error_line(on_exit, exit_message);
+  std::atexit(report_exit_midrun);
   keep_reporting_aborts();
 }
 

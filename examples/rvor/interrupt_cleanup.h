@@ -14,9 +14,10 @@ void record_ignored_signals();
 
 // An abort (SIGABRT: PoCL's assertions and its failed dlopen of a damaged kernel cache's .so, which
 // left exit 134, PoCL's lines and the staging directory behind) removes what an interrupt does,
-// ends the open progress line with " failed", prints `message` as rvor's one error line and exits
-// with code 1. Call once in main(), before OpenCL starts.
-void report_aborts(const std::string& message);
+// ends the open progress line with " failed", prints `on_abort` as rvor's error line and exits with
+// code 1. An exit() in the middle of a run (LLVM's fatal errors: a full disk under PoCL's cache)
+// does the same with `on_exit`. Call once in main(), before OpenCL starts.
+void report_aborts(const std::string& on_abort, const std::string& on_exit);
 // Puts report_aborts()'s handler back: PoCL's LLVM installs its own for SIGABRT (which prints and
 // dies) when OpenCL lists its devices. Call after that; InterruptCleanup calls it.
 void keep_reporting_aborts();

@@ -4,6 +4,7 @@
 #include <exception>
 #include <iostream>
 #include <new>
+#include <string>
 
 #include "commands.h"
 #include "interrupt_cleanup.h"
@@ -17,10 +18,17 @@ int main(int argc, char** argv) {
   // Past a file size limit the kernel sends SIGXFSZ, whose default kills the process: ignored, the
   // write fails with EFBIG and the writer reports it, naming the file.
   std::signal(SIGXFSZ, SIG_IGN);
-  rvor::cli::report_aborts(rvor::printable_text(
-      "the run aborted in a library it calls (its own message is above); PoCL aborts so on a "
-      "damaged kernel cache: remove PoCL's, " +
-      rvor::pocl_kernel_cache_directory() + ", and run again, or use --device cpu"));
+  const std::string pocl_cache = rvor::pocl_kernel_cache_directory();
+  rvor::cli::report_aborts(
+      rvor::printable_text("the run aborted in a library it calls (its own message is above); "
+                           "PoCL aborts so on a damaged kernel cache: remove PoCL's, " +
+                           pocl_cache + ", and run again, or use --device cpu"),
+      rvor::printable_text("a library it calls ended the run (its own message is above); an "
+                           "'LLVM ERROR' on output is PoCL's compiler failing to write its kernel "
+                           "cache, " +
+                           pocl_cache +
+                           " (a full disk, a quota or a file size limit): free space there or set "
+                           "POCL_CACHE_DIR elsewhere, or use --device cpu"));
   rvor::set_fifo_wait_notice(rvor::cli::print_fifo_wait);
   CLI::App app{"rvor: Riemannian Voronoi diagrams and Delaunay duals on sparse canvases"};
   app.require_subcommand(1);

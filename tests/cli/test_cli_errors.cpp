@@ -989,6 +989,29 @@ TEST_F(CliErrors, ADamagedPoclKernelCacheIsNamedAndAbortsBecomeErrors) {
   }
 }
 
+// LLVM ends the process with exit(1) where PoCL's compiler cannot write its kernel cache past a
+// point (a full disk: "LLVM ERROR: IO failure on output stream"; here a file size limit): the run
+// left its staging directory and created folders, its progress line open, and no rvor error line.
+TEST_F(CliErrors, AnExitInsidePoclsCompilerCleansUpAndNamesTheCache) {
+  if (!has_pocl_device()) GTEST_SKIP() << "no PoCL device";
+  const std::string cache = dir.file("fresh-pocl-cache");
+  const std::string made = dir.file("made");
+  const CommandResult result =
+      run_command("(ulimit -f 400; POCL_CACHE_DIR=" + cache + " " + rvor_binary() +
+                  " voronoi --device pocl --domain rect:-1,-1,1,1 --resolution 16 "
+                  "--random-seeds 3 --out " +
+                  made + "/out)");
+  if (result.err.find("LLVM ERROR") == std::string::npos)
+    GTEST_SKIP() << "the limit did not reach LLVM's output here: " << result.err;
+  EXPECT_EQ(result.exit_code, 1) << result.err;
+  EXPECT_NE(result.err.find("\n failed\nrvor: error: a library it calls ended the run"),
+            std::string::npos)
+      << result.err;
+  EXPECT_NE(result.err.find("kernel cache, " + cache + " (a full disk"), std::string::npos)
+      << result.err;
+  EXPECT_FALSE(std::filesystem::exists(made)) << result.err;
+}
+
 // A canvas too big for the device is refused before the solve with the sizes, not a failure at a
 // later command. POCL_MEMORY_LIMIT=1 gives PoCL's device 1 GiB, buffers up to 256 MiB; the stencil
 // records of radial_shock_3d at 224^3 (28 B for each of 11.2M slots) need 300.1 MiB.
