@@ -1026,6 +1026,8 @@ TEST_F(CliErrors, CanvasTooBigForTheDeviceNamesTheSizes) {
             std::string::npos)
       << result.err;
   EXPECT_NE(result.err.find("allocates (256 MiB)"), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find("or --device cpu (the CPU reference solver"), std::string::npos)
+      << result.err;
   EXPECT_FALSE(std::filesystem::exists(out() + "/voronoi.vdb"));
 }
 

@@ -21,8 +21,8 @@ DeviceMemory device_memory(const cl::Context& context) {
 void require_room_for_buffer(const DeviceMemory& memory, std::uint64_t allocated,
                              std::uint64_t size) {
   const std::string advice =
-      ": use a coarser resolution, a smaller domain or a device with more "
-      "memory (`rvor devices` lists them)";
+      ": use a coarser resolution, a smaller domain, a device with more memory (`rvor devices` "
+      "lists them) or --device cpu (the CPU reference solver, in host memory)";
   if (size > memory.largest_buffer_bytes)
     throw Error("the canvas needs a device buffer of " + mebibytes(size) +
                 ", over the largest one OpenCL device '" + memory.device + "' allocates (" +
