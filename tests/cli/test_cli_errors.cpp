@@ -940,6 +940,25 @@ TEST_F(CliErrors, AnEmptyDeviceListNamesPoclsDefaultCacheAndTheDiscoveryVariable
       << devices.err;
 }
 
+// PoCL's pthread device crashes (SIGSEGV, exit 139) while OpenCL starts where
+// POCL_MAX_PTHREAD_COUNT is negative, in `rvor devices` as in a run: refused before it starts.
+TEST_F(CliErrors, ANegativePoclThreadCountIsRefusedBeforePoclStarts) {
+  for (const std::string& command :
+       {rvor_binary() + " devices",
+        voronoi("--domain rect:-1,-1,1,1 --resolution 16 --random-seeds 3 --device pocl")}) {
+    const CommandResult result = run_command("POCL_MAX_PTHREAD_COUNT=-1 " + command);
+    EXPECT_EQ(result.exit_code, 1) << command << ": " << result.err;
+    EXPECT_NE(result.err.find("rvor: error: POCL_MAX_PTHREAD_COUNT=-1 is negative (PoCL would "
+                              "crash)"),
+              std::string::npos)
+        << result.err;
+  }
+  const CommandResult cpu =
+      run_command("POCL_MAX_PTHREAD_COUNT=-1 " +
+                  voronoi("--domain rect:-1,-1,1,1 --resolution 16 --random-seeds 3 --device cpu"));
+  EXPECT_EQ(cpu.exit_code, 0) << "the reference does not start OpenCL: " << cpu.err;
+}
+
 bool has_pocl_device() {
   const std::vector<OpenCLDeviceInfo> devices = list_opencl_devices();
   return std::any_of(devices.begin(), devices.end(), [](const OpenCLDeviceInfo& device) {

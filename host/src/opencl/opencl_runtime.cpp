@@ -62,6 +62,16 @@ void refuse_empty_pocl_cache_dir() {
         "writable directory for PoCL's compiled kernels");
 }
 
+// PoCL 3.1's pthread device sizes its thread pool by POCL_MAX_PTHREAD_COUNT, read as a C integer:
+// a negative count crashes it (SIGSEGV) while it starts, before any OpenCL call returns.
+void refuse_negative_pocl_thread_count() {
+  const char* value = std::getenv("POCL_MAX_PTHREAD_COUNT");
+  if (!value || std::strtol(value, nullptr, 0) >= 0) return;
+  throw Error(std::string("POCL_MAX_PTHREAD_COUNT=") + value +
+              " is negative (PoCL would crash): unset it, or set it to the number of threads "
+              "PoCL's CPU device may use");
+}
+
 // The directory PoCL keeps its compiled kernels in, and what chose it (PoCL 3.1's
 // pocl_cache_init_topdir): POCL_CACHE_DIR, else $XDG_CACHE_HOME/pocl/kcache, else
 // $HOME/.cache/pocl/kcache, else /tmp/pocl/kcache. A service account's home (/nonexistent) or a
@@ -107,6 +117,7 @@ std::string discovery_variables() {
 
 std::vector<cl::Platform> platforms_or_none() {
   refuse_empty_pocl_cache_dir();
+  refuse_negative_pocl_thread_count();
   std::vector<cl::Platform> platforms;
   try {
     cl::Platform::get(&platforms);
