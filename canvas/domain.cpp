@@ -19,10 +19,15 @@ namespace {
   throw Error("malformed domain '" + spec + "': " + why);
 }
 
+std::vector<std::string> trim_each(std::vector<std::string> items) {
+  for (std::string& item : items) item = trim_blanks(item);
+  return items;
+}
+
 std::vector<double> parse_numbers(const std::string& spec, const std::string& list,
                                   std::size_t count) {
   std::vector<double> numbers;
-  for (const std::string& item : split_commas(list)) {
+  for (const std::string& item : trim_each(split_commas(list))) {
     if (item.empty()) fail(spec, "empty number (two commas in a row, or a trailing comma?)");
     const std::optional<double> value = parse_decimal(item);
     if (!value) fail(spec, "'" + item + "' is not a finite number");

@@ -37,7 +37,8 @@ Parameters parse_parameters(const std::string& spec, const std::string& list) {
   Parameters parameters;
   if (list.empty()) return parameters;  // "sphere:" means no parameters
   std::string current;
-  for (const std::string& token : split_commas(list)) {
+  for (const std::string& item : split_commas(list)) {
+    const std::string token = trim_blanks(item);
     if (token.empty()) fail(spec, "empty parameter (two commas in a row, or a trailing comma?)");
     const auto equals = token.find('=');
     if (equals == std::string::npos) {
@@ -45,12 +46,12 @@ Parameters parse_parameters(const std::string& spec, const std::string& list) {
       parameters.values[current].push_back(token);
       continue;
     }
-    current = token.substr(0, equals);
+    current = trim_blanks(token.substr(0, equals));
     if (current.empty()) fail(spec, "empty parameter name");
     if (parameters.values.count(current))
       fail(spec, "parameter " + quoted_text(current) + " given twice");
     parameters.keys.push_back(current);
-    parameters.values[current].push_back(token.substr(equals + 1));
+    parameters.values[current].push_back(trim_blanks(token.substr(equals + 1)));
   }
   return parameters;
 }

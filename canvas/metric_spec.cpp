@@ -60,7 +60,7 @@ class SpecParser {
     if (dimension_ != 2 && dimension_ != 3)
       fail("dimension " + std::to_string(dimension_) + " is not 2 or 3");
     const std::size_t colon = spec_.find(':');
-    const FieldKind& kind = find_kind(trim(spec_.substr(0, colon)));
+    const FieldKind& kind = find_kind(trim_blanks(spec_.substr(0, colon)));
     check_dimension(kind);
     if (colon != std::string::npos) parse_parameters(spec_.substr(colon + 1), kind);
     FieldArguments arguments;
@@ -73,13 +73,6 @@ class SpecParser {
  private:
   [[noreturn]] void fail(const std::string& problem) const {
     throw Error("metric '" + spec_ + "': " + problem);
-  }
-
-  static std::string trim(const std::string& text) {
-    const char* blanks = " \t";
-    const std::size_t first = text.find_first_not_of(blanks);
-    if (first == std::string::npos) return "";
-    return text.substr(first, text.find_last_not_of(blanks) - first + 1);
   }
 
   const FieldKind& find_kind(const std::string& name) const {
@@ -109,8 +102,8 @@ class SpecParser {
   }
 
   void parse_parameters(const std::string& list, const FieldKind& kind) {
-    if (trim(list).empty()) return;  // "swirl:" means no parameters
-    for (const std::string& token : split_commas(list)) parse_parameter(trim(token), kind);
+    if (trim_blanks(list).empty()) return;  // "swirl:" means no parameters
+    for (const std::string& token : split_commas(list)) parse_parameter(trim_blanks(token), kind);
   }
 
   void parse_parameter(const std::string& token, const FieldKind& kind) {
@@ -122,8 +115,8 @@ class SpecParser {
       components_.push_back(token);
       return;
     }
-    const std::string key = trim(token.substr(0, equals));
-    const std::string value = trim(token.substr(equals + 1));
+    const std::string key = trim_blanks(token.substr(0, equals));
+    const std::string value = trim_blanks(token.substr(equals + 1));
     if (key != "scale") fail("unknown key '" + key + "' (known: " + kKnownKeys + ")");
     if (scale_) fail("key 'scale' is given twice");
     const std::optional<double> scale = parse_decimal(value);

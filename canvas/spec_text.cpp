@@ -138,4 +138,11 @@ std::vector<std::string> split_commas(std::string_view text) {
   return split_at(text, ',');
 }
 
+std::string trim_blanks(std::string_view text) {
+  const char* blanks = " \t";
+  const std::size_t first = text.find_first_not_of(blanks);
+  if (first == std::string_view::npos) return "";
+  return std::string(text.substr(first, text.find_last_not_of(blanks) - first + 1));
+}
+
 }  // namespace rvor

@@ -72,6 +72,16 @@ TEST(ParseDomain, ImplicitShapes) {
   EXPECT_EQ(parse_domain("implicit:sphere").description(), "implicit:sphere:center=0,0,0,r=1");
 }
 
+// Blanks around numbers and parameters are taken as metric specs take them: "rect: -1, -1, 1, 1"
+// was refused with "' -1' is not a finite number".
+TEST(ParseDomain, BlanksAroundItemsAreTakenAsInMetricSpecs) {
+  EXPECT_EQ(parse_domain("rect: -1, -1,\t1, 1 ").description(), "rect:-1,-1,1,1");
+  EXPECT_EQ(parse_domain("box:0, 0, 0, 1, 2, 3").description(), "box:0,0,0,1,2,3");
+  EXPECT_EQ(parse_domain("implicit:sphere: center = 1, 2, 3, r = 0.5").description(),
+            "implicit:sphere:center=1,2,3,r=0.5");
+  EXPECT_THROW(parse_domain("rect:0, ,1,1"), Error);  // an item of blanks is still empty
+}
+
 TEST(ParseDomain, MalformedSpecsNameTheSpec) {
   for (const std::string spec : {"box:0,0,0,1,1",
                                  "box:0,0,0,1,1,x",
@@ -92,7 +102,6 @@ TEST(ParseDomain, MalformedSpecsNameTheSpec) {
                                  "rect:0,0,1,1,",
                                  "rect:0,,1,1",
                                  "rect:0x0,0,1,1",
-                                 "rect: 0,0,1,1",
                                  "rect:0,0,1,inf",
                                  "rect:0,0,1,1e999",
                                  "implicit:sphere:r=1,",

@@ -43,4 +43,8 @@ std::vector<std::string> split_at(std::string_view text, char separator);
 // split_at(text, ','): the lists of specs and options.
 std::vector<std::string> split_commas(std::string_view text);
 
+// `text` without the blanks (spaces, tabs) around it: specs take "rect: -1, -1, 1, 1" as they
+// take "rect:-1,-1,1,1", in domains and metrics alike.
+std::string trim_blanks(std::string_view text);
+
 }  // namespace rvor
