@@ -1,4 +1,5 @@
 // `rvor devices`: the compute devices rvor can use, in the order "opencl:N" counts them.
+#include <algorithm>
 #include <iostream>
 
 #include "commands.h"
@@ -9,6 +10,18 @@
 namespace rvor::cli {
 
 namespace {
+
+// PoCL's kernel cache, where a PoCL device is listed: one it cannot write fails every kernel build,
+// which the list alone would not show (the device looks usable).
+void print_pocl_cache(const std::vector<OpenCLDeviceInfo>& devices) {
+  const bool pocl = std::any_of(devices.begin(), devices.end(), [](const OpenCLDeviceInfo& d) {
+    return d.platform.find("Portable Computing Language") != std::string::npos;
+  });
+  if (!pocl) return;
+  const std::string problem = pocl_kernel_cache_problem();
+  std::cout << "PoCL kernel cache: " << printable_text(pocl_kernel_cache_directory())
+            << (problem.empty() ? "" : " (unusable: " + printable_text(problem) + ")") << "\n";
+}
 
 void print_devices() {
   std::cout << "cpu        CPU reference solver (sequential, double precision)\n";
@@ -25,6 +38,7 @@ void print_devices() {
     std::cout << "\n";
   }
   if (devices.empty()) std::cout << "(no OpenCL device found: use --device cpu)\n";
+  print_pocl_cache(devices);
   const std::string chosen = default_device_name();
   std::cout << "default: " << printable_text(chosen) << " (set RVOR_DEVICE to change it)";
   try {
@@ -42,7 +56,8 @@ void add_devices_command(CLI::App& app) {
   command->footer(
       "Prints one line per device: cpu (the reference solver), then opencl:N for every OpenCL\n"
       "device (name, kind, compute units, memory, largest buffer, platform, driver; why it cannot\n"
-      "run the kernels, if so), and the default (--device of voronoi and bench: $RVOR_DEVICE,\n"
+      "run the kernels, if so), PoCL's kernel cache where a PoCL device is listed (and why PoCL\n"
+      "cannot use it, if so), and the default (--device of voronoi and bench: $RVOR_DEVICE,\n"
       "else auto).\n"
       "Example:\n"
       "  rvor devices && RVOR_DEVICE=opencl:1 rvor voronoi --domain rect:-1,-1,1,1 "

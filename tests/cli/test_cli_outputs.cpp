@@ -282,6 +282,31 @@ TEST_F(CliOutputs, DefaultDeviceIsOpenCLWhenOneIsPresent) {
   EXPECT_EQ(device.rfind("OpenCL", 0), 0u) << device;
 }
 
+// `rvor devices` listed PoCL's device as usable with POCL_CACHE_DIR naming a file, where every
+// kernel build fails: it names the cache, and why PoCL cannot use it.
+TEST_F(CliOutputs, DevicesNamePoclsKernelCacheAndWhyItIsUnusable) {
+  const bool pocl = [] {
+    for (const OpenCLDeviceInfo& d : list_opencl_devices())
+      if (d.platform.find("Portable Computing Language") != std::string::npos) return true;
+    return false;
+  }();
+  if (!pocl) GTEST_SKIP() << "no PoCL device on this machine";
+  const std::string cache = dir.file("cache");
+  const CommandResult usable =
+      run_command("POCL_CACHE_DIR=" + cache + " " + rvor_binary() + " devices");
+  ASSERT_EQ(usable.exit_code, 0) << usable.err;
+  EXPECT_NE(usable.out.find("PoCL kernel cache: " + cache + "\n"), std::string::npos) << usable.out;
+  write_text(dir.file("a-file"), "");
+  const CommandResult file =
+      run_command("POCL_CACHE_DIR=" + dir.file("a-file") + " " + rvor_binary() + " devices");
+  ASSERT_EQ(file.exit_code, 0) << file.err;
+  EXPECT_NE(file.out.find("PoCL kernel cache: " + dir.file("a-file") +
+                          " (unusable: POCL_CACHE_DIR=" + dir.file("a-file") +
+                          " is not a writable directory"),
+            std::string::npos)
+      << file.out;
+}
+
 // Strong rotated anisotropy with one seed: the OpenCL engine's brick schedule revisits voxels
 // scores of times where the reference's value order does not, and the summary says so (2D
 // anisotropy 50 at 0.3 rad, 128^2: ~176 updates per voxel); not on the reference.

@@ -34,6 +34,9 @@ std::vector<OpenCLDeviceInfo> list_opencl_devices();
 // $XDG_CACHE_HOME/pocl/kcache, else $HOME/.cache/pocl/kcache, else /tmp/pocl/kcache. Named in
 // errors, since a damaged one fails (or aborts) runs that its removal mends.
 std::string pocl_kernel_cache_directory();
+// Why PoCL cannot use that directory (not a directory, not writable: every kernel build fails),
+// or "" where it can. Creates the directory where it is missing, as PoCL would.
+std::string pocl_kernel_cache_problem();
 
 // The device name for library users: $RVOR_DEVICE when set and non-empty, else "auto".
 std::string default_device_name();

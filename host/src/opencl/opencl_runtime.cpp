@@ -330,6 +330,11 @@ std::string pocl_kernel_cache_directory() {
   return opencl::pocl_cache_dir().first;
 }
 
+std::string pocl_kernel_cache_problem() {
+  const std::string problem = opencl::pocl_cache_problem();
+  return problem.empty() ? problem : problem.substr(2);  // without its leading "; "
+}
+
 std::vector<OpenCLDeviceInfo> list_opencl_devices() {
   std::vector<OpenCLDeviceInfo> infos;
   for (const opencl::Device& device : opencl::enumerate_devices()) infos.push_back(device.info);
