@@ -203,14 +203,13 @@ std::size_t voxels_outside(const Canvas& canvas, const Box& box) {
 
 // A picture too large for cairo failed as voronoi.png was written, after the solve and the
 // duals, and took the run's other outputs with it: refuse it with the inputs' checks instead.
-void require_drawable_png(const Canvas& canvas) {
-  const std::array<long long, 2> size = canvas_png_size(canvas);
-  if (std::max(size[0], size[1]) <= kLargestPngSide) return;
-  throw Error("--png: a picture of this " + std::to_string(canvas.dims[0]) + "x" +
-              std::to_string(canvas.dims[1]) + "-voxel canvas would be " + std::to_string(size[0]) +
-              "x" + std::to_string(size[1]) + " pixels, and cairo draws at most " +
-              std::to_string(kLargestPngSide) +
-              " a side: lower --resolution, or leave out --png (--vtu for ParaView)");
+void require_png_fits(const Canvas& canvas) {
+  try {
+    require_drawable_png(canvas, 0, "--png");
+  } catch (const Error& error) {
+    throw Error(std::string(error.what()) +
+                ": lower --resolution, or leave out --png (--vtu for ParaView)");
+  }
 }
 
 nlohmann::json summary_json(const FieldSummary& s) {
@@ -322,7 +321,7 @@ void write_voronoi(const VoronoiOptions& o, const std::vector<std::string>& crea
   const std::unique_ptr<MetricField> metric =
       load_metric(o, domain.dimension(), canvas_options.memory_budget);
   const Canvas canvas = build_canvas(domain, *metric, canvas_options);
-  if (o.png) require_drawable_png(canvas);
+  if (o.png) require_png_fits(canvas);
   const MetricReach reach = sampled_metric_reach(canvas);
   const double canvas_seconds =
       progress.end(std::to_string(canvas.active_voxel_count) + " active voxels");

@@ -108,6 +108,15 @@ std::array<long long, 2> canvas_png_size(const Canvas& canvas, int pixels_per_vo
   return {canvas.dims[0] * scale, canvas.dims[1] * scale};
 }
 
+void require_drawable_png(const Canvas& canvas, int pixels_per_voxel, const std::string& where) {
+  const std::array<long long, 2> size = canvas_png_size(canvas, pixels_per_voxel);
+  if (std::max(size[0], size[1]) <= kLargestPngSide) return;
+  throw Error(where + ": a picture of this " + std::to_string(canvas.dims[0]) + "x" +
+              std::to_string(canvas.dims[1]) + "-voxel canvas would be " + std::to_string(size[0]) +
+              "x" + std::to_string(size[1]) + " pixels, and cairo draws at most " +
+              std::to_string(kLargestPngSide) + " a side");
+}
+
 void write_canvas_png(const std::string& path, const Canvas& canvas, const VoronoiField& field,
                       const std::vector<Vec3>& seeds, const StraightDual* dual,
                       const CurvedDual* curved, int pixels_per_voxel) {
@@ -115,11 +124,8 @@ void write_canvas_png(const std::string& path, const Canvas& canvas, const Voron
     throw Error("a PNG picture needs a 2D canvas (--png is for rect domains)");
   require_field_for(canvas, field, "cannot write " + path);
   if (dual) require_consistent_dual(*dual, "cannot write " + path);
+  require_drawable_png(canvas, pixels_per_voxel, "cannot write " + path);
   const std::array<long long, 2> size = canvas_png_size(canvas, pixels_per_voxel);
-  if (std::max(size[0], size[1]) > kLargestPngSide)
-    throw Error("cannot write " + path + ": the picture would be " + std::to_string(size[0]) + "x" +
-                std::to_string(size[1]) + " pixels, and cairo draws at most " +
-                std::to_string(kLargestPngSide) + " a side");
   const int scale = png_scale(canvas, pixels_per_voxel);
   const int width = static_cast<int>(size[0]), height = static_cast<int>(size[1]);
   cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, width, height);

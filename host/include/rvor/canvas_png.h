@@ -19,9 +19,12 @@ struct CurvedDual;
 constexpr int kLargestPngSide = 32767;
 
 // The picture's width and height in pixels for a 2D canvas: `pixels_per_voxel` per voxel side (0 =
-// about 1024 pixels along the longest side, at least one per voxel). Known once the canvas is
-// built, so a caller can refuse a picture larger than kLargestPngSide before computing the field.
+// about 1024 pixels along the longest side, at least one per voxel).
 std::array<long long, 2> canvas_png_size(const Canvas& canvas, int pixels_per_voxel = 0);
+
+// Throws rvor::Error (prefixed with `where`) where that picture has a side over kLargestPngSide.
+// Known once the canvas is built, so a caller can refuse the picture before computing the field.
+void require_drawable_png(const Canvas& canvas, int pixels_per_voxel, const std::string& where);
 
 // Throws rvor::Error for 3D canvases and pictures with a side over kLargestPngSide. One canvas
 // voxel becomes `pixels_per_voxel`^2 pixels (0 = choose so the longest side is about 1024 pixels).
