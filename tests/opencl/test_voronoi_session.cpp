@@ -62,6 +62,26 @@ TEST(VoronoiSession, InsertionsEqualASolveWithAllSeedsOnTheReference) {
   expect_insertions_equal_a_solve(make_reference_propagator(), make_reference_propagator());
 }
 
+// The refusals of overlapping calls two threads met: an error other than the expected refusal is
+// kept for the test's message.
+struct OverlapRefusals {
+  explicit OverlapRefusals(std::string rule) : rule(std::move(rule)) {}
+  void record(const Error& error) {
+    const std::lock_guard<std::mutex> lock(mutex);
+    if (std::string(error.what()).find(rule) == std::string::npos)
+      unexpected.push_back(error.what());
+    ++count;
+  }
+  void expect_some_and_only_refusals() const {
+    EXPECT_GE(count.load(), 1);
+    EXPECT_TRUE(unexpected.empty()) << unexpected.front();
+  }
+  const std::string rule;
+  std::atomic<int> count{0};
+  std::vector<std::string> unexpected;
+  std::mutex mutex;
+};
+
 // Two threads calling one propagator at once: each overlapping call is an rvor::Error naming the
 // rule, the others solve correctly (they shared its canvas and field, and the process crashed).
 // One thread makes a single solve of a canvas large enough to take a while; the other calls
@@ -76,20 +96,14 @@ void expect_overlapping_calls_refused(Propagator& propagator) {
   VoronoiField expected3, expected2;
   make_reference_propagator()->solve(large, seeds3, expected3);
   make_reference_propagator()->solve(flat, seeds2, expected2);
-  std::atomic<int> refused{0};
-  std::vector<std::string> unexpected;
-  std::mutex unexpected_mutex;
+  OverlapRefusals refusals("a propagator serves one call at a time");
   const auto call = [&](const Canvas& canvas, const std::vector<Vec3>& seeds,
                         const VoronoiField& expected) {
     VoronoiField field;
     try {
       propagator.solve(canvas, seeds, field);
     } catch (const Error& error) {
-      const std::lock_guard<std::mutex> lock(unexpected_mutex);
-      if (std::string(error.what()).find("a propagator serves one call at a time") ==
-          std::string::npos)
-        unexpected.push_back(error.what());
-      ++refused;
+      refusals.record(error);
       return;
     }
     test::expect_same_field(canvas, expected, field);
@@ -101,8 +115,7 @@ void expect_overlapping_calls_refused(Propagator& propagator) {
   });
   while (!large_done) call(flat, seeds2, expected2);
   other.join();
-  EXPECT_GE(refused.load(), 1);
-  EXPECT_TRUE(unexpected.empty()) << unexpected.front();
+  refusals.expect_some_and_only_refusals();
 }
 
 TEST(Propagators, OverlappingCallsFromTwoThreadsAreRefused) {
@@ -122,19 +135,13 @@ void expect_overlapping_session_calls_refused(std::unique_ptr<Propagator> propag
   const std::vector<Vec3> seeds = test::random_points(kLo, kHi, 3, 41, 9);
   VoronoiSession session(std::move(propagator));
   session.solve(canvas, {seeds[0]});
-  std::atomic<int> refused{0};
-  std::vector<std::string> unexpected;
-  std::mutex unexpected_mutex;
+  OverlapRefusals refusals("a session serves one call at a time");
   const auto insert = [&](std::size_t begin, std::size_t end) {
     try {
       session.insert(canvas, seeds_between(seeds, begin, end));
       return true;
     } catch (const Error& error) {
-      const std::lock_guard<std::mutex> lock(unexpected_mutex);
-      if (std::string(error.what()).find("a session serves one call at a time") ==
-          std::string::npos)
-        unexpected.push_back(error.what());
-      ++refused;
+      refusals.record(error);
       return false;
     }
   };
@@ -145,8 +152,7 @@ void expect_overlapping_session_calls_refused(std::unique_ptr<Propagator> propag
   });
   for (std::size_t n = 21; !long_done; n = n + 1 < seeds.size() ? n + 1 : 21) insert(n, n + 1);
   other.join();
-  EXPECT_GE(refused.load(), 1);
-  EXPECT_TRUE(unexpected.empty()) << unexpected.front();
+  refusals.expect_some_and_only_refusals();
   VoronoiField expected;
   make_reference_propagator()->solve(canvas, session.seeds(), expected);
   test::expect_same_field(canvas, expected, session.field());
