@@ -89,13 +89,17 @@ TEST(DualChecks, BothDiagonalsOfASquareOverlap) {
   for (uint8_t f : dual.flags) EXPECT_TRUE(f & kDualIntersecting);
 }
 
-TEST(DualChecks, AFoldedTriangleIsInverted) {
-  // Triangles 0-1-2 and 0-1-3 share edge 0-1 with 2 and 3 on the same side: a fold. Two more
-  // triangles properly around vertex 2 make the fold the minority.
+// Triangles 0-1-2 and 0-1-3 share edge 0-1 with 2 and 3 on the same side: a fold. Two more
+// triangles properly around vertex 2 make the fold the minority.
+StraightDual folded_dual() {
   const std::vector<Vec3> seeds{{0.2, 0.2, 0}, {0.8, 0.2, 0}, {0.5, 0.8, 0},
                                 {0.5, 0.5, 0}, {0.9, 0.9, 0}, {0.1, 0.9, 0}};
-  const StraightDual dual = build_straight_dual(
+  return build_straight_dual(
       unit_canvas(2), hand_made_nerve(2, 6, {{0, 1, 2}, {0, 1, 3}, {1, 2, 4}, {0, 2, 5}}), seeds);
+}
+
+TEST(DualChecks, AFoldedTriangleIsInverted) {
+  const StraightDual dual = folded_dual();
   EXPECT_EQ(dual.checks.inverted, 1u);
   ASSERT_EQ(dual.checks.inverted_elements.size(), 1u);
   EXPECT_EQ(dual.triangles[dual.checks.inverted_elements[0]], (std::array<int32_t, 3>{0, 1, 3}));
@@ -805,10 +809,7 @@ TEST(DualFiles, ElementsArePositivelyOrientedAndBoundaryTrianglesFaceOutwards) {
 
 // An inverted element is written as its neighbours orient it: negatively, the fold visible.
 TEST(DualFiles, AnInvertedElementIsWrittenNegativelyOriented) {
-  const std::vector<Vec3> seeds{{0.2, 0.2, 0}, {0.8, 0.2, 0}, {0.5, 0.8, 0},
-                                {0.5, 0.5, 0}, {0.9, 0.9, 0}, {0.1, 0.9, 0}};
-  const StraightDual dual = build_straight_dual(
-      unit_canvas(2), hand_made_nerve(2, 6, {{0, 1, 2}, {0, 1, 3}, {1, 2, 4}, {0, 2, 5}}), seeds);
+  const StraightDual dual = folded_dual();
   ASSERT_EQ(dual.checks.inverted, 1u);
   test::TempDir dir;
   write_dual_medit(dir.file("dual.mesh"), dual);
