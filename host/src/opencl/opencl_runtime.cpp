@@ -88,9 +88,9 @@ std::pair<std::string, std::string> pocl_cache_dir() {
   return {"/tmp/pocl/kcache", "PoCL's kernel cache /tmp/pocl/kcache (HOME is unset)"};
 }
 
-// "; POCL_CACHE_DIR=... is not a writable directory ..." when PoCL's cache directory (set or its
-// default) is one it cannot use, else "". Called once something failed: a missing directory is
-// created, as PoCL would have.
+// "POCL_CACHE_DIR=... is not a writable directory ..." when PoCL's cache directory (set or its
+// default) is one it cannot use, else "". Called once something failed, or by `rvor devices`: a
+// missing directory is created, as PoCL would have.
 std::string pocl_cache_problem() {
   const auto [path, named] = pocl_cache_dir();
   std::error_code error;
@@ -98,9 +98,14 @@ std::string pocl_cache_problem() {
   if (std::filesystem::is_directory(path, error) && access(path.c_str(), W_OK | X_OK) == 0)
     return "";
   const bool set = named.rfind("POCL_CACHE_DIR=", 0) == 0;
-  return "; " + named +
-         " is not a writable directory, and PoCL needs one for its compiled kernels" +
+  return named + " is not a writable directory, and PoCL needs one for its compiled kernels" +
          (set ? "" : " (set POCL_CACHE_DIR to a writable directory)");
+}
+
+// pocl_cache_problem() as a clause of an error message ("; ..."), or "".
+std::string pocl_cache_clause() {
+  const std::string problem = pocl_cache_problem();
+  return problem.empty() ? "" : "; " + problem;
 }
 
 // "; set in the environment: POCL_DEVICES=basic, ..." for the variables that steer which
@@ -186,7 +191,7 @@ Device select_device(const std::string& name) {
   if (!device)
     throw Error("no OpenCL device matches '" + name + "'" + kFallbackHint +
                 "; OpenCL devices found:" + list_for_message(devices) +
-                (devices.empty() ? discovery_variables() : "") + pocl_cache_problem());
+                (devices.empty() ? discovery_variables() : "") + pocl_cache_clause());
   if (!device->info.missing_requirement.empty())
     throw Error("OpenCL device '" + device->info.name +
                 "' cannot run rvor's kernels: " + device->info.missing_requirement + kFallbackHint);
@@ -251,7 +256,7 @@ cl::Program build_program(const cl::Context& context, const cl::Device& device,
       log = "(no build log)";
     }
     throw Error("OpenCL program build failed (" + status_name(e.err()) + ", options '" + options +
-                "'" + pocl_cache_problem() + without_diagnostics(log) + "); build log:\n" + log);
+                "'" + pocl_cache_clause() + without_diagnostics(log) + "); build log:\n" + log);
   }
   cache.emplace(key, program);
   return program;
@@ -331,8 +336,7 @@ std::string pocl_kernel_cache_directory() {
 }
 
 std::string pocl_kernel_cache_problem() {
-  const std::string problem = opencl::pocl_cache_problem();
-  return problem.empty() ? problem : problem.substr(2);  // without its leading "; "
+  return opencl::pocl_cache_problem();
 }
 
 std::vector<OpenCLDeviceInfo> list_opencl_devices() {
