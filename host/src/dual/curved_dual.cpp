@@ -24,21 +24,6 @@ constexpr uint8_t kVtkPolyLine = 4;
 using detail::GeodesicTracer;
 using detail::world_of_index;
 
-// Whether the segment p-q (index coordinates) stays on the canvas: the voxel nearest each point
-// every half voxel along it is active.
-bool segment_on_canvas(const Canvas& canvas, const Vec3& p, const Vec3& q) {
-  const int samples =
-      std::max(1, static_cast<int>(std::ceil(2.0 * (q - p).cwiseAbs().maxCoeff() - 1e-9)));
-  for (int n = 0; n <= samples; ++n) {
-    const Vec3 x = p + (q - p) * (static_cast<double>(n) / samples);
-    const int k = canvas.dimension == 3 ? static_cast<int>(std::lround(x.z())) : 0;
-    if (canvas.slot_of(static_cast<int>(std::lround(x.x())), static_cast<int>(std::lround(x.y())),
-                       k) < 0)
-      return false;
-  }
-  return true;
-}
-
 // A geodesic is the shortest path between its seeds, so a traced edge longer than the straight
 // segment between them (in the same measure, on the canvas) is no better an approximation of it
 // than that segment: the edge becomes the segment, split at its metric midpoint (the bisector
@@ -50,7 +35,7 @@ void keep_straight_if_shorter(const Canvas& canvas, const GeodesicTracer& tracer
                               CurvedEdge& out) {
   if (!out.reached()) return;
   const double straight = canvas.voxel_size * tracer.segment_length(ends[0], ends[1]);
-  if (!(straight < out.length) || !segment_on_canvas(canvas, ends[0], ends[1])) return;
+  if (!(straight < out.length) || !tracer.segment_on_canvas(ends[0], ends[1])) return;
   double lo = 0.0, hi = 1.0;  // the parameter of the metric midpoint, by bisection
   for (int n = 0; n < 40; ++n) {
     const double t = 0.5 * (lo + hi);

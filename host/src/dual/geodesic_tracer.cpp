@@ -268,6 +268,15 @@ bool GeodesicTracer::in_seed_block(const Vec3& x, const VoxelIndex& seed_voxel,
 // centres sampled every half voxel the ties are exact (a quotient of integers that is a
 // half-integer is representable); a shortcut sampled finer may graze a cell's corner by less than
 // its spacing unseen.
+bool GeodesicTracer::segment_on_canvas(const Vec3& p, const Vec3& q) const {
+  const int samples =
+      std::max(1, static_cast<int>(std::ceil(2.0 * (q - p).cwiseAbs().maxCoeff() - 1e-9)));
+  for (int n = 0; n <= samples; ++n)
+    if (canvas_.slot_of(nearest_voxel(p + (q - p) * (static_cast<double>(n) / samples))) < 0)
+      return false;
+  return true;
+}
+
 bool GeodesicTracer::segment_carries(const Vec3& p, const Vec3& q, int32_t label,
                                      double spacing) const {
   const VoxelIndex from = nearest_voxel(p), to = nearest_voxel(q);

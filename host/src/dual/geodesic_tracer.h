@@ -51,6 +51,9 @@ class GeodesicTracer {
   // Metric length of the segment p-q (index coordinates, so in voxels: times h for world
   // units), summed over pieces of at most half a voxel, each in the metric at its midpoint.
   double segment_length(const Vec3& p, const Vec3& q) const;
+  // Whether the segment p-q (index coordinates) stays on the canvas: the voxel nearest each point
+  // every half voxel along it is active.
+  bool segment_on_canvas(const Vec3& p, const Vec3& q) const;
 
  private:
   VoxelIndex nearest_voxel(const Vec3& x) const;
